@@ -1,0 +1,56 @@
+"""One parameter point end to end: integrate, estimate lambda_max, classify."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+from core.classify import Summary, classify
+from core.lyapunov import LyapunovEstimate, estimate
+from core.params import Params
+from core.solve import SolverSettings, Trajectory, simulate
+
+
+@dataclass(frozen=True, slots=True)
+class PointResult:
+    """The outcome of one run: its summary, lambda_max and the trajectory it came from."""
+
+    params: Params
+    settings: SolverSettings
+    summary: Summary
+    lyap: LyapunovEstimate | None
+    t_blowup: float | None
+    runtime_s: float
+    trajectory: Trajectory
+
+    def as_record(self) -> dict[str, object]:
+        """The flat record the CLI prints with --json and the store keeps."""
+        s = self.summary
+        return {
+            "regime": s.regime,
+            "detail": s.detail,
+            "lambda_max": self.lyap.value if self.lyap else math.nan,
+            "lambda_err": self.lyap.error if self.lyap else math.nan,
+            "amplitude": s.amplitude,
+            "period": s.period,
+            "period_count": s.period_count,
+            "peaks": list(s.peaks),
+            "frequency": s.frequency,
+            "drift": s.drift,
+            "zero_one_k": s.zero_one_k,
+            "t_blowup": self.t_blowup,
+            "runtime_s": self.runtime_s,
+            "dt": self.trajectory.grid.dt,
+            "t_end": self.trajectory.grid.t_end,
+        }
+
+
+def run_point(p: Params, s: SolverSettings | None = None) -> PointResult:
+    """Run one point with settings s (defaults: Euler, dt 1e-3, t_end 1e5, window 1000)."""
+    s = s or SolverSettings()
+    t0 = time.perf_counter()
+    tr = simulate(p, s)
+    lyap = estimate(tr.lyap_logs, tr.grid.renorm_interval) if s.lyap and not tr.blew_up else None
+    summary = classify(tr.window_t, tr.window, tr.blew_up, lyap)
+    return PointResult(p, s, summary, lyap, tr.t_blowup, time.perf_counter() - t0, tr)

@@ -1,0 +1,5 @@
+import sys
+
+from slopetui.cli import main
+
+sys.exit(main())
