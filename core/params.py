@@ -163,7 +163,8 @@ def fixed_points(p: Params) -> list[dict[str, float]]:
     """
     if p.k == 0.0:
         return [dict(m_y=0.0, s_x=0.0, s_y=0.0, u=0.0)] if p.d == 0.0 else []
-    if p.q != 0.0:
+    # 3av - b = 0 is tested up to round-off: v = b / (3a) rarely lands on it exactly
+    if abs(p.q) > 1e-12 * max(abs(p.b), 1.0):
         return [dict(m_y=0.0, s_x=0.0, s_y=0.0, u=0.0)] if p.d == 0.0 else []
     if p.a == 0.0:
         # eq. 14b degenerates to F' s_y = d

@@ -102,6 +102,24 @@ def leading_root(p: Params) -> complex:
     raise ArithmeticError("no nonzero root found")  # pragma: no cover - h always has one
 
 
+def variance_roots(p: Params) -> np.ndarray:
+    """Roots of the delay-free factors -(lam + F') (lam^2 + 2 F' lam + 4k): the variance
+    block (6c-6e) linearised at the sliding state."""
+    quad = np.roots([1.0, 2.0 * p.F1, 4.0 * p.k]).astype(complex)
+    return np.concatenate(([complex(-p.F1)], quad))
+
+
+def leading_exponent(p: Params) -> float:
+    """Real part of the leading nonzero root of the *full* characteristic function.
+
+    This is what lambda_max of a sliding run converges to. Usually the delay factor h
+    leads, but for small tau its roots move far left and the variance block's -F'
+    (e.g. -3.456 at the defaults with tau = 0.2, k = 12, where h's leading root is -10.35)
+    takes over.
+    """
+    return max(leading_root(p).real, float(np.max(variance_roots(p).real)))
+
+
 def hopf_k(tau: float, f1: float) -> float:
     """k_H(tau): the critical stiffness on the first Hopf branch, for F' = f1 > 0.
 

@@ -1,0 +1,105 @@
+"""The classifier on windows whose answer is known by construction."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from core import LyapunovEstimate, classify
+from core.classify import dominant_frequency, find_peaks, peak_period, zero_one_test
+
+T = np.arange(0.0, 1000.0, 0.01)
+
+
+def window(y: np.ndarray, drift: float = 0.0) -> np.ndarray:
+    w = np.zeros((5, len(y)))
+    w[0] = drift * T
+    w[1] = y
+    return w
+
+
+def test_constant_window_is_sliding_at_rest_with_its_drift():
+    s = classify(T, window(np.full_like(T, 4e-6), drift=4e-6))
+    assert s.regime == "sliding" and s.detail == "at rest"
+    assert s.drift == pytest.approx(4e-6)
+
+
+def test_slow_decay_near_hopf_is_sliding():
+    y = 0.3 * np.exp(-1e-4 * T) * np.sin(2 * np.pi * 0.1 * T)   # decay rate 1e-4
+    s = classify(T, window(y))
+    assert s.regime == "sliding" and s.detail.startswith("decaying")
+
+
+def test_steady_cycle_is_oscillatory_with_its_period_and_frequency():
+    def cycle(t):
+        return np.sin(2 * np.pi * t / 10.5) + 0.3 * np.sin(4 * np.pi * t / 10.5 + 1.0)
+
+    y = cycle(T)
+    s = classify(T, window(y))
+    true_max = cycle(np.linspace(0.0, 10.5, 2_000_001)).max()   # sampled max misses ~3e-6
+    assert s.regime == "oscillatory" and s.period_count == 1
+    assert s.period == pytest.approx(10.5, rel=1e-4)
+    assert s.frequency == pytest.approx(1 / 10.5, rel=2e-3)
+    assert len(s.peaks) == 1 and s.peaks[0] == pytest.approx(true_max, abs=1e-7)
+
+
+def test_two_close_maxima_per_period_are_period_2():
+    # alternate peak heights 1.0 and 1.0003: a gap of 1.5e-4 of the amplitude
+    y = np.sin(2 * np.pi * T / 5.0) * (1 + 1.5e-4 * np.cos(np.pi * T / 5.0 + 0.1))
+    s = classify(T, window(y))
+    assert s.regime == "complex" and s.detail == "period-2"
+    assert s.period == pytest.approx(10.0, rel=1e-3)
+
+
+def test_quasi_periodic_is_a_continuum_but_not_chaos():
+    y = np.sin(2 * np.pi * T / 10.0) + 0.2 * np.sin(2 * np.pi * T / (10.0 * math.sqrt(2)))
+    s = classify(T, window(y), lyap=LyapunovEstimate(1e-5, 2e-5, 5e4, 20))
+    assert s.regime == "complex" and s.detail == "quasi-periodic" and s.period_count == -1
+
+
+def test_significant_positive_lambda_on_a_continuum_is_chaos():
+    y = np.sin(2 * np.pi * T / 10.0) + 0.2 * np.sin(2 * np.pi * T / (10.0 * math.sqrt(2)))
+    s = classify(T, window(y), lyap=LyapunovEstimate(0.02, 1e-3, 5e4, 20))
+    assert s.detail == "chaotic"
+
+
+def test_switching_between_quiet_and_oscillating_is_mixed():
+    envelope = ((T // 150) % 2 == 1).astype(float)              # quiet, burst, quiet, ...
+    y = 1e-6 + envelope * np.sin(2 * np.pi * T / 3.0)
+    s = classify(T, window(y))
+    assert s.regime == "mixed"
+
+
+def test_blow_up_is_unstable():
+    s = classify(T[:0], np.zeros((5, 0)), blew_up=True)
+    assert s.regime == "unstable"
+
+
+def test_peak_refinement_is_accurate():
+    t = np.arange(0.0, 50.0, 0.05)
+    pt, py = find_peaks(t, np.cos(2 * np.pi * (t - 0.013) / 7.0))
+    assert np.allclose(py, 1.0, atol=1e-5) and np.allclose(pt % 7.0, 0.013, atol=1e-3)
+
+
+def test_peak_period_of_sequences():
+    assert peak_period(np.tile([1.0, 1.2], 50), 1.0) == 2
+    assert peak_period(np.tile([1.0, 1.1, 1.3], 50), 1.0) == 3
+    assert peak_period(np.full(100, 2.0) + 1e-12 * np.arange(100), 1.0) == 1
+    rng = np.random.default_rng(0)
+    assert peak_period(rng.uniform(0, 1, 200), 1.0) == 0
+
+
+def test_zero_one_test_separates_chaos_from_order():
+    x, seq = 0.3, []
+    for _ in range(2000):                       # logistic map at r = 3.97: chaotic
+        x = 3.97 * x * (1 - x)
+        seq.append(x)
+    assert zero_one_test(np.array(seq)) > 0.8
+    n = np.arange(2000)                         # quasi-periodic sequence
+    assert abs(zero_one_test(np.sin(2 * np.pi * n * (math.sqrt(5) - 1) / 2 * 0.37))) < 0.2
+
+
+def test_dominant_frequency():
+    assert dominant_frequency(T, np.sin(2 * np.pi * 0.37 * T)) == pytest.approx(0.37, rel=1e-3)
