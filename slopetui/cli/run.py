@@ -9,6 +9,7 @@ import sys
 
 from core import PARAM_NAMES, METHODS, ParameterError, Params, SolverSettings, friction_warnings, run_point
 from core.point import PointResult
+from core.solve import make_grid
 
 #: The keys of ``--json``, in order (the issue's contract), plus a few extras after them.
 JSON_KEYS = ("regime", "lambda_max", "lambda_err", "amplitude", "period", "peaks", "drift",
@@ -50,9 +51,7 @@ def parse_inputs(args: argparse.Namespace) -> tuple[Params, SolverSettings]:
     params = Params(**given)  # type: ignore[arg-type]  # strings are checked and coerced
     settings = SolverSettings(method=args.method, dt=args.dt, t_end=args.t_end,
                               window=args.window, lyap=args.lyap)
-    from core.solve import make_grid  # validates the pair (dt against tau)
-
-    make_grid(params, settings)
+    make_grid(params, settings)  # validates the pair: dt against tau
     return params, settings
 
 
