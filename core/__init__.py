@@ -3,6 +3,10 @@ stable slope (eqs. 6a-6e of the seed paper), its solvers, lambda_max, linear sta
 and regime classification. Pure computation: no database, no UI.
 """
 
+from core import jit_cache
+
+jit_cache.configure()  # before the kernels below are decorated
+
 from core.classify import REGIMES, Summary, classify
 from core.lyapunov import LyapunovEstimate
 from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings

@@ -58,3 +58,35 @@ def test_paper_notation():
     assert format_with_error(0.0008, 0.0009) == "0.0008(9)"
     assert format_with_error(-0.15, 0.06) == "-0.15(6)"
     assert format_with_error(-0.12, 0.03) == "-0.12(3)"
+
+
+def quotient_norm(tr_plus, tr_minus, eps: float, method: str) -> float:
+    """|d X / d delta| at the end of the run, in the kernels' norm (translation removed).
+
+    The window holds every step of the last tau: the current state and the N before it.
+    """
+    d = (tr_plus.window - tr_minus.window) / (2 * eps)
+    dt = tr_plus.grid.dt
+    now = d[:, -1]
+    hist_x = d[0, :-1] - now[0]
+    acc = np.sum(hist_x**2) + (np.sum(d[1, :-1] ** 2) if method == "rk4" else 0.0)
+    return float(np.sqrt(now[1] ** 2 + now[2] ** 2 + now[3] ** 2 + now[4] ** 2 + dt * acc))
+
+
+@pytest.mark.parametrize("method", ["euler", "rk4"])
+def test_tangent_is_the_exact_derivative_of_the_discrete_map(method):
+    """A delta-perturbation is the kernel's initial tangent (0, 1, 1, 1, 1; history 0) plus
+    the neutral translation (1, 0, 0, 0, 0; history 1), so in the quotient norm a central
+    difference in delta must give exp(sum of log-growths)."""
+    from core import simulate
+
+    eps, tau, dt = 1e-7, 1.0, 0.01
+    s = SolverSettings(method=method, dt=dt, t_end=20.0, window=tau)   # window = every step
+    base = Params(k=10.0, tau=tau, delta=0.1)
+    tr = simulate(base, s)
+    plus = simulate(base.with_(delta=0.1 + eps), s)
+    minus = simulate(base.with_(delta=0.1 - eps), s)
+    assert plus.window.shape[1] == round(tau / dt) + 1
+    assert len(tr.lyap_logs) == 20
+    fd = quotient_norm(plus, minus, eps, method)
+    assert np.log(fd) == pytest.approx(tr.lyap_logs.sum(), abs=1e-6)

@@ -86,3 +86,18 @@ def test_blow_up_stops_the_run_and_reports_its_time():
     assert tr.blew_up and 0.0 < tr.t_blowup < 1.0
     assert tr.window.shape[1] == 0                       # never reached the window
     assert np.all(np.abs(tr.trace[1]) < BLOWUP_BOUND)    # samples stop before the bound
+
+
+def test_kernel_cache_is_keyed_by_the_engine_source():
+    """An edit to any core/*.py (e.g. model.py, inlined into the kernels) must not reuse
+    kernels compiled from the old source."""
+    import os
+
+    import numba
+
+    from core import jit_cache
+
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        assert numba.config.CACHE_DIR == os.environ["NUMBA_CACHE_DIR"]
+    else:
+        assert numba.config.CACHE_DIR.endswith(jit_cache.source_digest())
