@@ -200,9 +200,9 @@ def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
     frequency = dominant_frequency(t, m_y)
 
     amps, centres = subwindow_amplitudes(t, m_y)
-    quiet = amps < QUIET_FRACTION * amps.max()
-    if _switches(quiet) >= 2:
-        return Summary("mixed", f"{_switches(quiet)} switches", amplitude, math.nan, -1, [],
+    switches = _switches(amps < QUIET_FRACTION * amps.max())
+    if switches >= 2:
+        return Summary("mixed", f"{switches} switches", amplitude, math.nan, -1, [],
                        frequency, drift)
     rate = float(np.polyfit(centres, np.log(amps), 1)[0]) if np.all(amps > 0) else math.nan
     if rate * (t[-1] - t[0]) < -DECAY_MIN and np.all(np.diff(amps) < 0):
