@@ -19,9 +19,9 @@ from core.model import JIT
 
 #: A run is "unstable" once |m_y| or |s_y| exceeds this bound, or a value is not finite.
 #: Bounded attractors stay far below it: peak-to-peak m_y reached ~10 at most in our
-#: scans (b up to 24, tau up to 20, k = 6 and 12). At low a
-#: (Fig. 7, a = 0.035) the exact solution jumps to a fast-sliding branch at m_y ~ 205
-#: (checked with a stiff Radau solver), where the s_y equation decays at a rate ~3000:
+#: scans (b up to 24, tau up to 20, k = 6 and 12). At low a (Fig. 7, a = 0.035) the
+#: exact solution jumps to a fast-sliding branch at m_y ~ 205 (checked with a stiff
+#: Radau solver), where the s_y equation decays at a rate ~3000:
 #: beyond the stability limit of explicit Euler (2/dt = 2000) and of RK4 at dt = 0.01,
 #: so s_y then diverges within a few steps and crosses the bound. The bound only ends a
 #: run the integrator has already lost; the paper calls this "numerical infinity".

@@ -117,7 +117,9 @@ def leading_exponent(p: Params) -> float:
     (e.g. -3.456 at the defaults with tau = 0.2, k = 12, where h's leading root is -10.35)
     takes over.
     """
-    return max(leading_root(p).real, float(np.max(variance_roots(p).real)))
+    var = variance_roots(p)
+    var = var[np.abs(var) > 1e-12]      # k = 0 gives the variance block a zero root too
+    return max([leading_root(p).real, *var.real.tolist()])
 
 
 def hopf_k(tau: float, f1: float) -> float:

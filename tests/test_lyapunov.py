@@ -27,6 +27,7 @@ def test_small_tau_sliding_is_led_by_the_variance_block():
     p = Params(k=12.0, tau=0.2)
     assert leading_root(p).real < -10
     assert leading_exponent(p) == pytest.approx(-p.F1, rel=1e-12)
+    assert leading_exponent(p.with_(k=0.0)) == pytest.approx(-p.F1, rel=1e-12)  # no zero root
 
 
 @pytest.mark.parametrize("method", ["euler", "rk4"])

@@ -77,7 +77,7 @@ def render_text(r: PointResult) -> str:
         f"regime     {s.regime} ({s.detail})",
         f"lambda_max {lam}",
         f"amplitude  {s.amplitude:.6g}  (peak-to-peak of m_y)",
-        f"period     {s.period:.6g}  ({s.period_count} peak clusters)"
+        f"period     {s.period:.6g}  ({s.period_count} peak cluster{'s' if s.period_count > 1 else ''})"
         if s.period_count > 0 else f"period     {s.period:.6g}",
         f"peaks      {peaks}",
         f"frequency  {s.frequency:.6g}",
