@@ -18,12 +18,8 @@ import time
 import numpy as np
 
 from core import Params, SolverSettings
-from core.euler import euler
 from core.model import coefficients
-from core.rk4 import rk4
-from core.solve import make_grid
-
-KERNELS = {"euler": euler, "rk4": rk4}
+from core.solve import KERNELS, make_grid
 
 
 def time_variant(method: str, lyap: bool, n_steps: int, repeat: int) -> tuple[float, float]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings, run_point
+from core import Params, SolverSettings, run_point, simulate
 from core.lyapunov import estimate, format_with_error, running
 from core.stability import leading_exponent, leading_root
 
@@ -79,8 +79,6 @@ def test_tangent_is_the_exact_derivative_of_the_discrete_map(method):
     """A delta-perturbation is the kernel's initial tangent (0, 1, 1, 1, 1; history 0) plus
     the neutral translation (1, 0, 0, 0, 0; history 1), so in the quotient norm a central
     difference in delta must give exp(sum of log-growths)."""
-    from core import simulate
-
     eps, tau, dt = 1e-7, 1.0, 0.01
     s = SolverSettings(method=method, dt=dt, t_end=20.0, window=tau)   # window = every step
     base = Params(k=10.0, tau=tau, delta=0.1)

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import os
+
+import numba
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings, simulate
+from core import Params, SolverSettings, jit_cache, simulate
 from core.recording import BLOWUP_BOUND
 
 
@@ -91,12 +94,6 @@ def test_blow_up_stops_the_run_and_reports_its_time():
 def test_kernel_cache_is_keyed_by_the_engine_source():
     """An edit to any core/*.py (e.g. model.py, inlined into the kernels) must not reuse
     kernels compiled from the old source."""
-    import os
-
-    import numba
-
-    from core import jit_cache
-
     if os.environ.get("NUMBA_CACHE_DIR"):
         assert numba.config.CACHE_DIR == os.environ["NUMBA_CACHE_DIR"]
     else:
