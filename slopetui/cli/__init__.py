@@ -6,8 +6,18 @@ import argparse
 import sys
 from collections.abc import Sequence
 
+from sqlalchemy.exc import SQLAlchemyError
+
+from core import ParameterError
 from slopetui import __version__
-from slopetui.cli import run
+from slopetui.cli import control, db, run, runs, show, sql, status, submit, worker
+from slopetui.cli.options import UsageError
+from slopetui.store.database import StoreError
+from slopetui.sweeps.control import UnknownSweep
+from slopetui.sweeps.spec import SpecError
+
+#: Errors that are the user's input or environment, not a bug: one line, no traceback.
+USER_ERRORS = (ParameterError, SpecError, StoreError, UnknownSweep, UsageError)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -17,7 +27,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"slopetui {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    run.register(sub)
+    for module in (run, submit, status, show, runs, control, sql, worker, db):
+        module.register(sub)
     return parser
 
 
@@ -29,6 +40,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     try:
         return int(args.handler(args))
+    except USER_ERRORS as exc:
+        print(f"slopetui {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except SQLAlchemyError as exc:
+        reason = getattr(exc, "orig", None) or exc
+        print(f"slopetui {args.command}: database error: {reason}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130

@@ -1,0 +1,87 @@
+"""``slopetui runs``: filter and list runs; ``slopetui export SWEEP --csv``."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from sqlalchemy import select
+
+from core import REGIMES
+from slopetui.cli.options import UsageError, add_db_option, open_db, sweep_id
+from slopetui.store.models import RUN_STATUSES, Run, Sweep
+from slopetui.sweeps.control import UnknownSweep
+from slopetui.sweeps.export import write_csv
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("runs", help="list runs, filtered",
+                       description="List runs, newest first. For anything richer: slopetui sql.")
+    p.add_argument("--sweep", type=sweep_id, metavar="SWEEP", help="only this sweep")
+    p.add_argument("--regime", choices=REGIMES, help="only this regime")
+    p.add_argument("--status", choices=RUN_STATUSES, help="only this status")
+    p.add_argument("--limit", type=int, default=50, metavar="N",
+                   help="at most N runs (default 50; 0 for all)")
+    p.add_argument("--csv", action="store_true", help="CSV with every column")
+    add_db_option(p)
+    p.set_defaults(handler=handle_runs)
+
+    e = sub.add_parser("export", help="write a sweep's runs as CSV",
+                       description="Every column of every run of the sweep, in grid order. "
+                                   "NaN and infinity are written as nan, inf, -inf.")
+    e.add_argument("sweep", type=sweep_id, metavar="SWEEP", help="sweep id")
+    e.add_argument("--csv", action="store_true", required=True, help="CSV (the only format)")
+    e.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+    add_db_option(e)
+    e.set_defaults(handler=handle_export)
+
+
+def _num(x: float | None, fmt: str = ".4g") -> str:
+    return "-" if x is None else format(x, fmt)
+
+
+def handle_runs(args: argparse.Namespace) -> int:
+    if args.limit < 0:
+        raise UsageError(f"--limit must be >= 0, got {args.limit}")
+    db = open_db(args)
+    q = select(Run).order_by(Run.id.desc())
+    for column, value in (("sweep_id", args.sweep), ("regime", args.regime),
+                          ("status", args.status)):
+        if value is not None:
+            q = q.where(getattr(Run, column) == value)
+    if args.limit:
+        q = q.limit(args.limit)
+    with db.sessions() as s:
+        runs = list(s.scalars(q))
+    if args.csv:
+        write_csv(runs, sys.stdout)
+        return 0
+    if not runs:
+        print("no runs match")
+        return 0
+    print(f"{'id':>6} {'sweep':>5} {'status':9} {'regime':12} {'k':>7} {'tau':>7} {'a':>6} "
+          f"{'b':>6} {'c':>6} {'delta':>7} {'lambda_max':>10} {'amplitude':>9} {'period':>8}")
+    for r in runs:
+        done = r.status == "done"
+        print(f"{r.id:>6} {r.sweep_id:>5} {r.status:9} {r.regime or '-':12} {r.k:>7.4g} "
+              f"{r.tau:>7.4g} {r.a:>6.4g} {r.b:>6.4g} {r.c:>6.4g} {r.delta:>7.2g} "
+              f"{_num(r.lambda_max if done else None, '.3g'):>10} "
+              f"{_num(r.amplitude if done else None):>9} {_num(r.period if done else None):>8}")
+    return 0
+
+
+def handle_export(args: argparse.Namespace) -> int:
+    db = open_db(args)
+    with db.sessions() as s:
+        if s.get(Sweep, args.sweep) is None:
+            raise UnknownSweep(args.sweep)
+        runs = s.scalars(select(Run).where(Run.sweep_id == args.sweep)
+                         .order_by(Run.iy, Run.ix))
+        if args.output:
+            with Path(args.output).open("w", encoding="utf-8", newline="") as out:
+                n = write_csv(runs, out)
+            print(f"{n} runs of sweep {args.sweep} written to {args.output}", file=sys.stderr)
+        else:
+            write_csv(runs, sys.stdout)
+    return 0

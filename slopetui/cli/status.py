@@ -1,0 +1,62 @@
+"""``slopetui status``: progress per sweep and the live workers."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from slopetui.cli.options import add_db_option, open_db
+from slopetui.sweeps.progress import live_workers, sweep_progress
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("status", help="progress of the sweeps and the live workers",
+                       description="Progress per sweep (done/total, runs per minute over the "
+                                   "last 10 minutes, ETA, failures) and the live workers.")
+    p.add_argument("sweeps", nargs="*", type=int, metavar="SWEEP", help="only these sweeps")
+    p.add_argument("--all", action="store_true", help="also finished and cancelled sweeps")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    add_db_option(p)
+    p.set_defaults(handler=handle)
+
+
+def _eta(seconds: float | None) -> str:
+    if seconds is None:
+        return "-"
+    m, s = divmod(int(round(seconds)), 60)
+    h, m = divmod(m, 60)
+    return f"{h}h{m:02d}m" if h else f"{m}m{s:02d}s"
+
+
+def handle(args: argparse.Namespace) -> int:
+    db = open_db(args)
+    sweeps = sweep_progress(db, args.sweeps or None)
+    if not (args.all or args.sweeps):
+        sweeps = [p for p in sweeps if p.status in ("active", "paused")] or sweeps[:5]
+    workers = live_workers(db)
+    if args.json:
+        print(json.dumps({
+            "sweeps": [{"id": p.id, "name": p.name, "axes": p.axes, "status": p.status,
+                        "total": p.total, "counts": p.counts, "cached": p.cached,
+                        "runs_per_min": p.runs_per_min, "eta_s": p.eta_s} for p in sweeps],
+            "workers": [{"id": w.id, "run_id": w.run_id, "jobs_done": w.jobs_done,
+                         "heartbeat_age_s": w.heartbeat_age_s} for w in workers]}))
+        return 0
+    if not sweeps:
+        print("no sweeps yet: slopetui submit --help")
+    else:
+        print(f"{'id':>4}  {'status':9} {'axes':9} {'done/total':>13} {'%':>4} {'run':>3} "
+              f"{'fail':>4} {'runs/min':>8} {'eta':>7}  name")
+        for p in sweeps:
+            pct = 100 * (p.done + p.failed) // max(p.total, 1)
+            print(f"{p.id:>4}  {p.status:9} {p.axes:9} {p.done:>6}/{p.total:<6} {pct:>4} "
+                  f"{p.counts.get('running', 0):>3} {p.failed:>4} {p.runs_per_min:>8.1f} "
+                  f"{_eta(p.eta_s):>7}  {p.name}")
+    print()
+    if not workers:
+        print("no live workers: start a pool with `slopetui worker --detach`")
+    for w in workers:
+        doing = f"run {w.run_id}" if w.run_id else "idle"
+        print(f"worker {w.id:28} {doing:12} {w.jobs_done:>6} done  "
+              f"heartbeat {w.heartbeat_age_s:.0f} s ago")
+    return 0

@@ -1,0 +1,93 @@
+"""``slopetui submit``: queue a sweep from a TOML spec file and/or flags."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from core import METHODS, PARAM_NAMES
+from slopetui.cli.options import add_db_option, open_db
+from slopetui.cli.run import PARAM_HELP
+from slopetui.sweeps.spec import CONFIRM_ABOVE_RUNS, SpecError, parse_axis_flag, parse_spec
+from slopetui.sweeps.submit import submit
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "submit", help="queue a 1-D or 2-D sweep",
+        description="Queue a sweep: a TOML spec file (see README), flags, or a file with "
+                    "flags that override it. Axes take PARAM=START:STOP:NUM[:log].",
+        epilog="example: slopetui submit --x k=3:24:43 --tau 10 --delta 0.1 --t-end 1e4")
+    p.add_argument("spec", nargs="?", metavar="SPEC.toml", help="a TOML sweep spec")
+    p.add_argument("--x", metavar="AXIS", help="x axis, e.g. k=3:24:43 or tau=0.1:60:40:log")
+    p.add_argument("--y", metavar="AXIS", help="y axis (makes a phase diagram)")
+    for name in PARAM_NAMES:
+        p.add_argument(f"--{name}", dest=f"fixed_{name}", metavar="X",
+                       help=f"fixed {PARAM_HELP[name]}")
+    p.add_argument("--name", help="a name for the sweep")
+    p.add_argument("--method", choices=METHODS, help="euler (default) or rk4")
+    p.add_argument("--dt", metavar="X", help="time step (default 1e-3 euler, 1e-2 rk4)")
+    p.add_argument("--t-end", dest="t_end", metavar="X", help="end time (default 1e5)")
+    p.add_argument("--window", metavar="X", help="analysis window (default 1000)")
+    p.add_argument("--no-lyap", dest="lyap", action="store_false", default=None,
+                   help="skip lambda_max (about 1.5x faster with Euler)")
+    p.add_argument("--yes", action="store_true",
+                   help=f"queue sweeps of more than {CONFIRM_ABOVE_RUNS} runs")
+    p.add_argument("--json", action="store_true", help="print {sweep_id, n_runs, n_cached}")
+    add_db_option(p)
+    p.set_defaults(handler=handle)
+
+
+def _read_file(path: str) -> dict[str, Any]:
+    try:
+        return tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise SpecError(path, f"cannot read the spec file: {exc.strerror}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise SpecError(path, f"not valid TOML: {exc}") from None
+
+
+def spec_data(args: argparse.Namespace) -> dict[str, Any]:
+    """The spec as a mapping: the file's tables, then the flags on top."""
+    data = _read_file(args.spec) if args.spec else {}
+    if args.x:
+        data["x"] = parse_axis_flag("--x", args.x)
+    if args.y:
+        data["y"] = parse_axis_flag("--y", args.y)
+    if args.name:
+        data["name"] = args.name
+    fixed = dict(data.get("fixed") or {})
+    fixed.update({n: getattr(args, f"fixed_{n}") for n in PARAM_NAMES
+                  if getattr(args, f"fixed_{n}") is not None})
+    if fixed:
+        data["fixed"] = fixed
+    solver = dict(data.get("solver") or {})
+    solver.update({k: getattr(args, k) for k in ("method", "dt", "t_end", "window", "lyap")
+                   if getattr(args, k) is not None})
+    if solver:
+        data["solver"] = solver
+    if "x" not in data:
+        raise SpecError("x", "missing: give a SPEC.toml file or --x PARAM=START:STOP:NUM")
+    return data
+
+
+def handle(args: argparse.Namespace) -> int:
+    spec = parse_spec(spec_data(args))  # every check happens before the database opens
+    if spec.n_runs > CONFIRM_ABOVE_RUNS and not args.yes:
+        print(f"slopetui submit: this sweep would queue {spec.n_runs} runs (more than "
+              f"{CONFIRM_ABOVE_RUNS}); add --yes to queue it", file=sys.stderr)
+        return 2
+    db = open_db(args)
+    out = submit(db, spec)
+    if args.json:
+        print(json.dumps({"sweep_id": out.sweep_id, "n_runs": out.n_runs,
+                          "n_cached": out.n_cached}))
+    else:
+        cached = f" ({out.n_cached} already computed, taken from the cache)" if out.n_cached else ""
+        print(f"sweep {out.sweep_id}: {out.n_runs} runs queued{cached}")
+        print(f"watch it: slopetui status; draw it: slopetui show {out.sweep_id}")
+    return 0

@@ -1,0 +1,166 @@
+"""The life of a job (a run) in the queue: claim, heartbeat, complete, fail, release.
+
+A worker claims a run with one ``UPDATE ... WHERE id = (SELECT ... LIMIT 1) RETURNING``:
+inside SQLite's BEGIN IMMEDIATE, or with ``FOR UPDATE SKIP LOCKED`` on PostgreSQL, two
+workers can never claim the same run. Its lease lasts while its heartbeat (database time)
+is younger than the lease length; ``requeue_expired`` hands the runs of silent workers to
+others, and fails a run after ``max_attempts``. Every write of a result is guarded by
+``status = 'running' AND worker_id = me``, so a worker that lost its lease cannot write a
+second result for a run that another worker has taken over.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from datetime import timedelta
+from typing import Any
+
+from sqlalchemy import func, select, update
+from sqlalchemy.orm import Session
+
+from core import PARAM_NAMES, Params, SolverSettings
+from slopetui.queue.cache import RESULT_FIELDS, finished_results, result_of
+from slopetui.store.database import Database
+from slopetui.store.models import Run, Sweep, Worker
+
+#: A run whose worker has not sent a heartbeat for this long goes back to the queue (s).
+LEASE_S = 60.0
+#: Heartbeats come this often (s): a lease survives several lost ones.
+HEARTBEAT_S = 10.0
+#: Attempts (claims) of a run before it is marked failed.
+MAX_ATTEMPTS = 3
+
+
+@dataclass(frozen=True)
+class Job:
+    """A claimed run: what to compute."""
+
+    run_id: int
+    sweep_id: int
+    attempts: int
+    cache_key: str
+    params: Params
+    settings: SolverSettings
+
+
+_CLAIM_COLUMNS = (Run.id, Run.sweep_id, Run.attempts, Run.cache_key, *(
+    getattr(Run, n) for n in (*PARAM_NAMES, "method", "dt", "t_end", "window", "lyap")))
+
+
+def _job(row: Any) -> Job:
+    m = row._mapping
+    params = Params(**{n: m[n] for n in PARAM_NAMES})
+    settings = SolverSettings(method=m["method"], dt=m["dt"], t_end=m["t_end"],
+                              window=m["window"], lyap=m["lyap"])
+    return Job(m["id"], m["sweep_id"], m["attempts"], m["cache_key"], params, settings)
+
+
+def claim(db: Database, worker_id: str) -> Job | None:
+    """Claim the oldest queued run of an active sweep, or None if there is none."""
+    oldest = (select(Run.id).join(Sweep, Sweep.id == Run.sweep_id)
+              .where(Run.status == "queued", Sweep.status == "active")
+              .order_by(Run.id).limit(1)
+              .with_for_update(skip_locked=True, of=Run)  # PostgreSQL; SQLite ignores it
+              .scalar_subquery())
+    now = func.now()
+    stmt = (update(Run).where(Run.id == oldest, Run.status == "queued")
+            .values(status="running", worker_id=worker_id, attempts=Run.attempts + 1,
+                    started_at=now, heartbeat_at=now, error=None)
+            .returning(*_CLAIM_COLUMNS))
+    with db.transaction() as s:
+        row = s.execute(stmt).first()
+        if row is not None:
+            s.execute(update(Worker).where(Worker.id == worker_id)
+                      .values(run_id=row.id, heartbeat_at=now))
+    return None if row is None else _job(row)
+
+
+def _holding(job_id: int, worker_id: str) -> Any:
+    return (Run.id == job_id) & (Run.status == "running") & (Run.worker_id == worker_id)
+
+
+def complete(db: Database, job: Job, worker_id: str, record: dict[str, Any],
+             cached_from: int | None = None) -> bool:
+    """Write the result; False if the lease was lost meanwhile (nothing is written)."""
+    values = {name: record[name] for name in RESULT_FIELDS}
+    with db.transaction() as s:
+        done = s.execute(update(Run).where(_holding(job.run_id, worker_id))
+                         .values(status="done", finished_at=func.now(), error=None,
+                                 cached_from=cached_from, **values)).rowcount == 1
+        s.execute(update(Worker).where(Worker.id == worker_id)
+                  .values(run_id=None, heartbeat_at=func.now(),
+                          jobs_done=Worker.jobs_done + int(done)))
+    return done
+
+
+def cached_result(db: Database, job: Job) -> tuple[int, dict[str, Any]] | None:
+    """A finished run with the job's cache key (one finished after the job was queued)."""
+    with db.sessions() as s:
+        run = finished_results(s, [job.cache_key]).get(job.cache_key)
+        return None if run is None else (run.id, result_of(run))
+
+
+def fail(db: Database, job: Job, worker_id: str, error: str,
+         max_attempts: int = MAX_ATTEMPTS) -> str | None:
+    """Record an error: back to the queue, or failed after max_attempts. Returns the new
+    status, or None if the lease was lost meanwhile."""
+    status = "failed" if job.attempts >= max_attempts else "queued"
+    with db.transaction() as s:
+        n = s.execute(update(Run).where(_holding(job.run_id, worker_id))
+                      .values(status=status, error=error[-4000:],
+                              worker_id=worker_id if status == "failed" else None,
+                              finished_at=func.now() if status == "failed" else None)).rowcount
+        s.execute(update(Worker).where(Worker.id == worker_id).values(run_id=None))
+    return status if n == 1 else None
+
+
+def release(db: Database, job: Job, worker_id: str) -> bool:
+    """Give a run back unfinished (a shutdown, not its fault): the attempt is not counted."""
+    with db.transaction() as s:
+        n = s.execute(update(Run).where(_holding(job.run_id, worker_id))
+                      .values(status="queued", worker_id=None,
+                              attempts=Run.attempts - 1)).rowcount
+        s.execute(update(Worker).where(Worker.id == worker_id).values(run_id=None))
+    return n == 1
+
+
+def heartbeat(db: Database, worker_id: str, run_id: int | None) -> None:
+    """Extend the lease of the worker's run and mark the worker alive."""
+    with db.transaction() as s:
+        s.execute(update(Worker).where(Worker.id == worker_id)
+                  .values(heartbeat_at=func.now()))
+        if run_id is not None:
+            s.execute(update(Run).where(_holding(run_id, worker_id))
+                      .values(heartbeat_at=func.now()))
+
+
+def _requeue(s: Session, where: Any, reason: str, max_attempts: int) -> tuple[int, int]:
+    failed = s.execute(update(Run).where(where, Run.attempts >= max_attempts)
+                       .values(status="failed", finished_at=func.now(),
+                               error=f"{reason}; gave up after {max_attempts} attempts"))
+    requeued = s.execute(update(Run).where(where)
+                         .values(status="queued", worker_id=None, error=reason))
+    return requeued.rowcount, failed.rowcount
+
+
+def requeue_expired(db: Database, lease_s: float = LEASE_S,
+                    max_attempts: int = MAX_ATTEMPTS) -> tuple[int, int]:
+    """Runs whose lease expired go back to the queue (or fail after max_attempts).
+    Returns (requeued, failed)."""
+    with db.transaction() as s:
+        cutoff = db.now(s) - timedelta(seconds=lease_s)
+        expired = (Run.status == "running") & (Run.heartbeat_at < cutoff)
+        return _requeue(s, expired, f"lease expired: no heartbeat for {lease_s:g} s",
+                        max_attempts)
+
+
+def requeue_worker(db: Database, worker_id: str, reason: str,
+                   max_attempts: int = MAX_ATTEMPTS) -> tuple[int, int]:
+    """The runs of a worker known to be dead go back at once, without waiting for the
+    lease. Returns (requeued, failed)."""
+    with db.transaction() as s:
+        held = (Run.status == "running") & (Run.worker_id == worker_id)
+        out = _requeue(s, held, reason, max_attempts)
+        s.execute(update(Worker).where(Worker.id == worker_id)
+                  .values(run_id=None, stopped_at=func.now()))
+        return out

@@ -1,0 +1,181 @@
+"""The one module that owns engines, sessions and transactions.
+
+``Database(url)`` opens (and creates, and migrates) a store. Every write goes through
+``Database.transaction()``; on SQLite that is a ``BEGIN IMMEDIATE`` transaction, so two
+processes never both hold a read lock they then try to upgrade (that upgrade ignores
+busy_timeout and fails at once with "database is locked").
+"""
+
+from __future__ import annotations
+
+import os
+import sqlite3
+from collections.abc import Iterator
+from contextlib import contextmanager
+from datetime import datetime
+from pathlib import Path
+from typing import Any
+from urllib.parse import quote
+
+from platformdirs import user_data_path
+from sqlalchemy import Engine, create_engine, event, func, select
+from sqlalchemy.engine import URL, make_url
+from sqlalchemy.exc import ArgumentError
+from sqlalchemy.orm import Session, sessionmaker
+
+#: Environment variable that selects the database (any SQLAlchemy URL).
+DB_ENV = "SLOPETUI_DB"
+#: How long a SQLite connection waits for another writer before "database is locked" (ms).
+#: A write transaction here lasts well under 10 ms; a minute covers a checkpoint on a
+#: loaded disk with a wide margin.
+BUSY_TIMEOUT_MS = 60_000
+
+
+class StoreError(Exception):
+    """The database cannot be opened or used; the message says why and what to do."""
+
+
+def default_url() -> str:
+    """$SLOPETUI_DB, or SQLite in the user data folder (~/.local/share/slopetui on Linux)."""
+    env = os.environ.get(DB_ENV)
+    if env:
+        return env
+    return f"sqlite:///{user_data_path('slopetui') / 'slopetui.db'}"
+
+
+def parse_url(url: str) -> URL:
+    try:
+        return make_url(url)
+    except ArgumentError as exc:
+        raise StoreError(f"--db: {url!r} is not a SQLAlchemy database URL "
+                         "(e.g. sqlite:///runs.db or postgresql+psycopg://host/db)") from exc
+
+
+def sqlite_path(url: URL) -> Path | None:
+    """The file of a SQLite URL; None for in-memory SQLite and other databases."""
+    if url.get_backend_name() != "sqlite" or url.database in (None, "", ":memory:"):
+        return None
+    return Path(url.database).expanduser().resolve()
+
+
+def _create_private_file(path: Path) -> None:
+    """Create the database file readable by its owner only (SQLite gives its -wal and
+    -shm files the permissions of the database file)."""
+    path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
+    try:
+        fd = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o600)
+    except FileExistsError:
+        return
+    os.close(fd)
+
+
+def _sqlite_on_connect(dbapi_connection: Any, _record: Any) -> None:
+    # Let SQLAlchemy's BEGIN below be the only transaction control (pysqlite's own
+    # implicit BEGIN would be deferred, see the module docstring).
+    dbapi_connection.isolation_level = None
+    cur = dbapi_connection.cursor()
+    cur.execute(f"PRAGMA busy_timeout = {BUSY_TIMEOUT_MS}")
+    cur.execute("PRAGMA foreign_keys = ON")
+    if cur.execute("PRAGMA journal_mode").fetchone()[0] != "wal":
+        cur.execute("PRAGMA journal_mode = WAL")
+    # With WAL, NORMAL loses no committed transaction on a process crash, only possibly
+    # the last ones on a power cut; FULL would fsync every claim and result.
+    cur.execute("PRAGMA synchronous = NORMAL")
+    cur.close()
+
+
+def _sqlite_begin_immediate(conn: Any) -> None:
+    conn.exec_driver_sql("BEGIN IMMEDIATE")
+
+
+def _read_only_authorizer(action: int, arg1: str | None, arg2: str | None, *_: Any) -> int:
+    """mode=ro still lets ATTACH create a new file and PRAGMA turn query_only off."""
+    if action in (sqlite3.SQLITE_ATTACH, sqlite3.SQLITE_DETACH):
+        return sqlite3.SQLITE_DENY
+    if action == sqlite3.SQLITE_PRAGMA and arg2 is not None:  # setting, not reading
+        return sqlite3.SQLITE_DENY
+    return sqlite3.SQLITE_OK
+
+
+def _sqlite_read_only_connect(dbapi_connection: Any, _record: Any) -> None:
+    dbapi_connection.isolation_level = None
+    cur = dbapi_connection.cursor()
+    cur.execute(f"PRAGMA busy_timeout = {BUSY_TIMEOUT_MS}")
+    cur.execute("PRAGMA query_only = ON")  # second guard behind mode=ro
+    cur.close()
+    dbapi_connection.set_authorizer(_read_only_authorizer)
+
+
+def _postgres_read_only_begin(conn: Any) -> None:
+    conn.exec_driver_sql("SET TRANSACTION READ ONLY")
+
+
+class Database:
+    """A store at ``url`` (default: ``default_url()``), migrated to the current schema.
+
+    upgrade : apply pending migrations on open (under a file lock). ``slopetui db upgrade``
+              opens with the default; ``False`` is for tools that inspect an old schema.
+    """
+
+    def __init__(self, url: str | None = None, *, upgrade: bool = True) -> None:
+        self.url = parse_url(url or default_url())
+        self.path = sqlite_path(self.url)
+        if self.path is not None:
+            _create_private_file(self.path)
+            self.url = self.url.set(database=str(self.path))
+        self.engine = self._make_engine()
+        self.sessions = sessionmaker(self.engine, expire_on_commit=False)
+        if upgrade:
+            from slopetui.store.migrate import upgrade_on_open
+            upgrade_on_open(self)
+
+    @property
+    def is_sqlite(self) -> bool:
+        return self.url.get_backend_name() == "sqlite"
+
+    def _make_engine(self) -> Engine:
+        try:
+            engine = create_engine(self.url)
+        except Exception as exc:  # a missing driver, a bad option: say which URL
+            raise StoreError(f"cannot open database {self.display_url}: {exc}") from exc
+        if self.is_sqlite:
+            event.listen(engine, "connect", _sqlite_on_connect)
+            event.listen(engine, "begin", _sqlite_begin_immediate)
+        return engine
+
+    @property
+    def display_url(self) -> str:
+        return self.url.render_as_string(hide_password=True)
+
+    @contextmanager
+    def transaction(self) -> Iterator[Session]:
+        """A session in one write transaction: committed on exit, rolled back on error."""
+        with self.sessions.begin() as session:
+            yield session
+
+    def now(self, session: Session) -> datetime:
+        """Database time. Leases and heartbeats use it, so that workers on hosts whose
+        clocks disagree still agree on when a lease expired."""
+        return session.scalar(select(func.now()))
+
+    def read_only_engine(self) -> Engine:
+        """An engine on which the database itself refuses writes: SQLite opened with
+        mode=ro (plus query_only), PostgreSQL in READ ONLY transactions."""
+        backend = self.url.get_backend_name()
+        if backend == "sqlite":
+            if self.path is None:
+                raise StoreError("read-only queries need a SQLite file, not :memory:")
+            uri = f"file:{quote(str(self.path))}?mode=ro"
+            engine = create_engine("sqlite://", creator=lambda: sqlite3.connect(
+                uri, uri=True, check_same_thread=False))
+            event.listen(engine, "connect", _sqlite_read_only_connect)
+            return engine
+        if backend == "postgresql":
+            engine = create_engine(self.url)
+            event.listen(engine, "begin", _postgres_read_only_begin)
+            return engine
+        raise StoreError(f"read-only queries are supported on SQLite and PostgreSQL, "
+                         f"not {backend}")
+
+    def dispose(self) -> None:
+        self.engine.dispose()

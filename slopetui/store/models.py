@@ -1,0 +1,156 @@
+"""Typed SQLAlchemy 2.0 models of the store: sweeps, their runs (which are also the jobs of
+the queue) and the workers that run them. The README documents this schema for SQL users;
+every change to it goes through a migration in ``migrations/versions``."""
+
+from __future__ import annotations
+
+from datetime import datetime
+from typing import Any
+
+from sqlalchemy import (JSON, Boolean, CheckConstraint, DateTime, Double, ForeignKey, Index,
+                        Integer, MetaData, String, Text, func)
+from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column, relationship
+
+from slopetui.store.column_types import Measure
+
+#: Constraint names that batch migrations on SQLite can find again (unnamed CHECK
+#: constraints are silently dropped when Alembic rebuilds a table).
+NAMING_CONVENTION = {
+    "ix": "ix_%(table_name)s_%(column_0_N_name)s",
+    "uq": "uq_%(table_name)s_%(column_0_N_name)s",
+    "ck": "ck_%(table_name)s_%(constraint_name)s",
+    "fk": "fk_%(table_name)s_%(column_0_name)s_%(referred_table_name)s",
+    "pk": "pk_%(table_name)s",
+}
+
+#: active: its runs are handed to workers; paused: kept queued but not handed out;
+#: cancelled: its queued runs were cancelled (runs already running finish).
+SWEEP_STATUSES = ("active", "paused", "cancelled")
+#: The life of a run: queued -> running -> done | failed, or queued -> cancelled. A running
+#: run whose worker dies goes back to queued when its lease expires.
+RUN_STATUSES = ("queued", "running", "done", "failed", "cancelled")
+
+
+def _one_of(column: str, values: tuple[str, ...]) -> str:
+    return f"{column} IN ({', '.join(repr(v) for v in values)})"
+
+
+class Base(DeclarativeBase):
+    metadata = MetaData(naming_convention=NAMING_CONVENTION)
+    type_annotation_map = {dict[str, Any]: JSON, list[float]: JSON}
+
+
+class Sweep(Base):
+    """A 1-D (bifurcation diagram) or 2-D (phase diagram) sweep over model parameters."""
+
+    __tablename__ = "sweeps"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    name: Mapped[str] = mapped_column(String(200))
+    #: The whole spec as submitted: axes, fixed parameters, solver settings (JSON).
+    spec: Mapped[dict[str, Any]]
+    x_param: Mapped[str] = mapped_column(String(8))
+    y_param: Mapped[str | None] = mapped_column(String(8))
+    n_runs: Mapped[int]
+    status: Mapped[str] = mapped_column(String(16), default="active")
+    created_at: Mapped[datetime] = mapped_column(DateTime, server_default=func.now())
+
+    runs: Mapped[list[Run]] = relationship(back_populates="sweep", passive_deletes=True)
+
+    __table_args__ = (CheckConstraint(_one_of("status", SWEEP_STATUSES), name="status"),)
+
+
+class Run(Base):
+    """One parameter point of a sweep: its inputs, its place in the queue and its result.
+
+    Measurements are NaN where undefined (see ``Measure``); t_blowup is NULL when the run
+    did not blow up.
+    """
+
+    __tablename__ = "runs"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    sweep_id: Mapped[int] = mapped_column(ForeignKey("sweeps.id", ondelete="CASCADE"))
+    #: Position on the sweep's grid: ix along x_param, iy along y_param (0 for 1-D).
+    ix: Mapped[int]
+    iy: Mapped[int] = mapped_column(default=0)
+
+    # Model parameters (eqs. 6a-6e, 8) and the initial offset delta (eq. 19).
+    a: Mapped[float] = mapped_column(Double)
+    b: Mapped[float] = mapped_column(Double)
+    c: Mapped[float] = mapped_column(Double)
+    d: Mapped[float] = mapped_column(Double)
+    k: Mapped[float] = mapped_column(Double)
+    v: Mapped[float] = mapped_column(Double)
+    tau: Mapped[float] = mapped_column(Double)
+    delta: Mapped[float] = mapped_column(Double)
+    # Solver settings.
+    method: Mapped[str] = mapped_column(String(8))
+    dt: Mapped[float] = mapped_column(Double)
+    t_end: Mapped[float] = mapped_column(Double)
+    window: Mapped[float] = mapped_column(Double)
+    lyap: Mapped[bool] = mapped_column(Boolean, default=True)
+    #: Digest of the engine's sources (core/*.py) the run is computed with.
+    engine: Mapped[str] = mapped_column(String(16))
+    #: Hash of the parameters, solver settings and engine: equal keys, equal results.
+    cache_key: Mapped[str] = mapped_column(String(64))
+
+    # The queue.
+    status: Mapped[str] = mapped_column(String(16), default="queued")
+    worker_id: Mapped[str | None] = mapped_column(String(128))
+    attempts: Mapped[int] = mapped_column(default=0)
+    created_at: Mapped[datetime] = mapped_column(DateTime, server_default=func.now())
+    started_at: Mapped[datetime | None] = mapped_column(DateTime)
+    #: Database time of the last heartbeat of the worker holding the run; the lease
+    #: expires when it is older than the lease length.
+    heartbeat_at: Mapped[datetime | None] = mapped_column(DateTime)
+    finished_at: Mapped[datetime | None] = mapped_column(DateTime)
+    error: Mapped[str | None] = mapped_column(Text)
+    #: The finished run whose result this one copied (the cache), if any.
+    cached_from: Mapped[int | None] = mapped_column(ForeignKey("runs.id", ondelete="SET NULL"))
+
+    # The result (core.point.PointResult.as_record).
+    regime: Mapped[str | None] = mapped_column(String(16))
+    detail: Mapped[str | None] = mapped_column(String(64))
+    lambda_max: Mapped[float | None] = mapped_column(Measure)
+    lambda_err: Mapped[float | None] = mapped_column(Measure)
+    amplitude: Mapped[float | None] = mapped_column(Measure)
+    period: Mapped[float | None] = mapped_column(Measure)
+    period_count: Mapped[int | None] = mapped_column(Integer)
+    #: Peak clusters of m_y in the analysis window (JSON list of floats).
+    peaks: Mapped[list[float] | None]
+    frequency: Mapped[float | None] = mapped_column(Measure)
+    drift: Mapped[float | None] = mapped_column(Measure)
+    zero_one_k: Mapped[float | None] = mapped_column(Measure)
+    t_blowup: Mapped[float | None] = mapped_column(Double)
+    runtime_s: Mapped[float | None] = mapped_column(Double)
+
+    sweep: Mapped[Sweep] = relationship(back_populates="runs")
+
+    __table_args__ = (
+        CheckConstraint(_one_of("status", RUN_STATUSES), name="status"),
+        CheckConstraint("attempts >= 0", name="attempts"),
+        # The claim: the oldest queued run (of an active sweep).
+        Index(None, "status", "id"),
+        # Progress per sweep, and "the runs of sweep N with regime R".
+        Index(None, "sweep_id", "status"),
+        Index(None, "sweep_id", "regime"),
+        Index(None, "cache_key", "status"),
+        # "The sliding/oscillatory boundary per tau" across sweeps.
+        Index(None, "regime", "tau"),
+    )
+
+
+class Worker(Base):
+    """A worker process of a pool: who is alive, and what each one runs."""
+
+    __tablename__ = "workers"
+
+    id: Mapped[str] = mapped_column(String(128), primary_key=True)
+    host: Mapped[str] = mapped_column(String(255))
+    pid: Mapped[int]
+    started_at: Mapped[datetime] = mapped_column(DateTime, server_default=func.now())
+    heartbeat_at: Mapped[datetime] = mapped_column(DateTime, server_default=func.now())
+    stopped_at: Mapped[datetime | None] = mapped_column(DateTime)
+    run_id: Mapped[int | None] = mapped_column(ForeignKey("runs.id", ondelete="SET NULL"))
+    jobs_done: Mapped[int] = mapped_column(default=0)

@@ -1,0 +1,43 @@
+"""Pause, resume and cancel sweeps."""
+
+from __future__ import annotations
+
+from sqlalchemy import update
+
+from slopetui.store.database import Database
+from slopetui.store.models import Run, Sweep
+
+
+class UnknownSweep(LookupError):
+    def __init__(self, sweep_id: int) -> None:
+        super().__init__(f"SWEEP: no sweep with id {sweep_id}")
+
+
+def _set_status(db: Database, sweep_id: int, status: str, allowed_from: tuple[str, ...]) -> str:
+    with db.transaction() as s:
+        sweep = s.get(Sweep, sweep_id)
+        if sweep is None:
+            raise UnknownSweep(sweep_id)
+        if sweep.status in allowed_from:
+            sweep.status = status
+        return sweep.status
+
+
+def pause(db: Database, sweep_id: int) -> str:
+    """Its queued runs stay queued but are not handed out; running runs finish."""
+    return _set_status(db, sweep_id, "paused", ("active",))
+
+
+def resume(db: Database, sweep_id: int) -> str:
+    return _set_status(db, sweep_id, "active", ("paused",))
+
+
+def cancel(db: Database, sweep_id: int) -> int:
+    """Cancel the sweep's queued runs (running ones finish); returns how many."""
+    with db.transaction() as s:
+        sweep = s.get(Sweep, sweep_id)
+        if sweep is None:
+            raise UnknownSweep(sweep_id)
+        sweep.status = "cancelled"
+        return s.execute(update(Run).where(Run.sweep_id == sweep_id, Run.status == "queued")
+                         .values(status="cancelled")).rowcount

@@ -1,0 +1,41 @@
+"""Runs as flat rows: the columns of `runs --csv` and `export --csv`."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from collections.abc import Iterable
+from typing import IO, Any
+
+from core import PARAM_NAMES
+from slopetui.queue.cache import RESULT_FIELDS
+from slopetui.store.models import Run
+
+COLUMNS = ("id", "sweep_id", "ix", "iy", *PARAM_NAMES, "method", "dt", "t_end", "window",
+           "lyap", "status", *RESULT_FIELDS, "attempts", "worker_id", "cached_from",
+           "started_at", "finished_at", "error")
+
+
+def cell(value: Any) -> Any:
+    """CSV cells: NaN and infinities spelled out (nan, inf, -inf), peaks as a JSON list,
+    and an empty cell only for a value that does not exist (e.g. no blow-up)."""
+    if value is None:
+        return ""
+    if isinstance(value, float) and not math.isfinite(value):
+        return repr(value)  # 'nan', 'inf', '-inf': float() reads them back
+    if isinstance(value, list):
+        return json.dumps(value)
+    return value
+
+
+def write_csv(runs: Iterable[Run], out: IO[str]) -> int:
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(COLUMNS)
+    n = 0
+    for run in runs:
+        finished = run.status == "done"  # other runs have no result yet: empty, not nan
+        writer.writerow(["" if c in RESULT_FIELDS and not finished else cell(getattr(run, c))
+                         for c in COLUMNS])
+        n += 1
+    return n

@@ -1,0 +1,103 @@
+"""Progress of sweeps and the live workers, as plain data (for `status` and the TUI)."""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from dataclasses import dataclass
+from datetime import datetime, timedelta
+
+from sqlalchemy import func, select
+
+from slopetui.queue.jobs import LEASE_S
+from slopetui.store.database import Database
+from slopetui.store.models import Run, Sweep, Worker
+
+#: Runs per minute are measured over the runs finished in this trailing window (minutes).
+RATE_WINDOW_MIN = 10.0
+
+
+@dataclass(frozen=True)
+class SweepProgress:
+    id: int
+    name: str
+    axes: str              # "k" or "k x tau"
+    status: str            # active, paused, cancelled, or done when nothing is left
+    created_at: datetime
+    total: int
+    counts: dict[str, int]  # runs per status
+    cached: int             # done runs that took an earlier result
+    runs_per_min: float     # computed runs finished per minute, recent window; 0 if none
+    eta_s: float | None     # None when idle or nothing left
+
+    @property
+    def done(self) -> int:
+        return self.counts.get("done", 0)
+
+    @property
+    def failed(self) -> int:
+        return self.counts.get("failed", 0)
+
+    @property
+    def left(self) -> int:
+        return self.counts.get("queued", 0) + self.counts.get("running", 0)
+
+
+@dataclass(frozen=True)
+class WorkerInfo:
+    id: str
+    host: str
+    pid: int
+    started_at: datetime
+    heartbeat_age_s: float
+    run_id: int | None
+    jobs_done: int
+
+
+def sweep_progress(db: Database, sweep_ids: list[int] | None = None) -> list[SweepProgress]:
+    """Progress of the given sweeps (default: all), newest first."""
+    with db.sessions() as s:
+        now = db.now(s)
+        q = select(Sweep).order_by(Sweep.id.desc())
+        if sweep_ids:
+            q = q.where(Sweep.id.in_(sweep_ids))
+        sweeps = list(s.scalars(q))
+        ids = [sw.id for sw in sweeps]
+        counts: dict[int, dict[str, int]] = defaultdict(dict)
+        for sid, status, n in s.execute(select(Run.sweep_id, Run.status, func.count())
+                                        .where(Run.sweep_id.in_(ids))
+                                        .group_by(Run.sweep_id, Run.status)):
+            counts[sid][status] = n
+        cached = dict(s.execute(select(Run.sweep_id, func.count())
+                                .where(Run.sweep_id.in_(ids), Run.cached_from.is_not(None))
+                                .group_by(Run.sweep_id)).all())
+        since = now - timedelta(minutes=RATE_WINDOW_MIN)
+        recent = {sid: (n, first) for sid, n, first in s.execute(
+            select(Run.sweep_id, func.count(), func.min(Run.started_at))
+            .where(Run.sweep_id.in_(ids), Run.status == "done", Run.cached_from.is_(None),
+                   Run.finished_at >= since)
+            .group_by(Run.sweep_id))}
+    out = []
+    for sw in sweeps:
+        c = counts[sw.id]
+        n, first = recent.get(sw.id, (0, None))
+        minutes = max((now - max(first, since)).total_seconds() / 60.0, 1 / 60) if first else 0
+        rate = n / minutes if minutes else 0.0
+        left = c.get("queued", 0) + c.get("running", 0)
+        status = "done" if left == 0 and sw.status != "cancelled" else sw.status
+        eta = left / rate * 60.0 if rate > 0 and left and status == "active" else None
+        axes = sw.x_param + (f" x {sw.y_param}" if sw.y_param else "")
+        out.append(SweepProgress(sw.id, sw.name, axes, status, sw.created_at, sw.n_runs,
+                                 dict(c), cached.get(sw.id, 0), rate, eta))
+    return out
+
+
+def live_workers(db: Database) -> list[WorkerInfo]:
+    """Workers that have not stopped and sent a heartbeat within the lease."""
+    with db.sessions() as s:
+        now = db.now(s)
+        rows = s.scalars(select(Worker).where(Worker.stopped_at.is_(None),
+                                              Worker.heartbeat_at >= now - timedelta(seconds=LEASE_S))
+                         .order_by(Worker.started_at))
+        return [WorkerInfo(w.id, w.host, w.pid, w.started_at,
+                           (now - w.heartbeat_at).total_seconds(), w.run_id, w.jobs_done)
+                for w in rows]
