@@ -1,0 +1,85 @@
+"""``slopetui show SWEEP``: the sweep's diagram on stdout.
+
+A 2-D sweep draws its phase diagram (one colour and marker per regime, the exact Hopf
+curve of ``core.stability`` over it where the plane has one); a 1-D sweep draws its
+bifurcation diagram (the peak clusters of m_y against the parameter, as in Fig. 4A).
+Runs that are not finished yet are drawn as pending; sliding runs of a bifurcation
+diagram at their fixed point m_y = v.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import sys
+
+from sqlalchemy import select
+
+from slopetui.cli.options import UsageError, add_db_option, open_db, sweep_id
+from slopetui.plots import hopf_boundary, render_bifurcation, render_phase_diagram
+from slopetui.store.models import Run, Sweep
+from slopetui.sweeps.control import UnknownSweep
+from slopetui.sweeps.spec import parse_spec
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("show", help="draw a sweep's phase or bifurcation diagram",
+                       description="Draw the sweep's phase diagram (2-D) or bifurcation "
+                                   "diagram (1-D) in the terminal.")
+    p.add_argument("sweep", type=sweep_id, metavar="SWEEP", help="sweep id")
+    p.add_argument("--width", type=int, help="columns (default: the terminal's)")
+    p.add_argument("--height", type=int, help="lines (default: the terminal's, at most 40)")
+    p.add_argument("--color", choices=("auto", "always", "never"), default="auto",
+                   help="auto: colour on a terminal unless NO_COLOR is set")
+    p.add_argument("--no-hopf", dest="hopf", action="store_false",
+                   help="do not draw the exact Hopf curve")
+    add_db_option(p)
+    p.set_defaults(handler=handle)
+
+
+def use_color(choice: str) -> bool:
+    if choice != "auto":
+        return choice == "always"
+    return sys.stdout.isatty() and not os.environ.get("NO_COLOR")
+
+
+def handle(args: argparse.Namespace) -> int:
+    size = shutil.get_terminal_size((100, 30))
+    width = args.width or size.columns
+    height = args.height or min(size.lines - 1, 40)
+    if width < 30 or height < 12:
+        raise UsageError(f"the diagram needs --width >= 30 and --height >= 12, "
+                         f"got {width} x {height}")
+    db = open_db(args)
+    with db.sessions() as s:
+        sweep = s.get(Sweep, args.sweep)
+        if sweep is None:
+            raise UnknownSweep(args.sweep)
+        runs = list(s.scalars(select(Run).where(Run.sweep_id == sweep.id)
+                              .order_by(Run.iy, Run.ix)))
+    spec = parse_spec(sweep.spec)
+    regimes = [r.regime if r.status == "done" else None for r in runs]
+    n_done = sum(r.status == "done" for r in runs)
+    title = f"sweep {sweep.id}: {sweep.name} ({n_done}/{len(runs)} done)"
+    color = use_color(args.color)
+    x = spec.x
+    xs = [getattr(r, x.param) for r in runs]
+    if spec.y is None:
+        # A sliding run has settled on the fixed point m_y = v (eq. 14): drawn there, as
+        # the lower branch of Fig. 4A; its window has no peaks to draw.
+        peaks = [([r.v] if r.regime == "sliding" else r.peaks or []) if r.status == "done"
+                 else [] for r in runs]
+        print(render_bifurcation(x.param, xs, peaks, regimes, log=x.spacing == "log",
+                                 title=title, width=width, height=height, color=color))
+        return 0
+    y = spec.y
+    ys = [getattr(r, y.param) for r in runs]
+    hopf = None
+    if args.hopf:
+        hopf = hopf_boundary(spec.base, x.param, y.param, (min(x.start, x.stop), max(x.start, x.stop)),
+                             (min(y.start, y.stop), max(y.start, y.stop)))
+    print(render_phase_diagram(x.param, y.param, xs, ys, regimes, x_log=x.spacing == "log",
+                               y_log=y.spacing == "log", hopf=hopf, title=title, width=width,
+                               height=height, color=color))
+    return 0

@@ -1,0 +1,44 @@
+"""Fixtures shared by the store, queue and pool tests."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from slopetui.store import Database
+from slopetui.sweeps.spec import parse_spec
+from slopetui.sweeps.submit import Submitted, submit
+
+#: A cheap point: RK4, tau = 2, t_end = 200, a few ms per run.
+QUICK_SOLVER = {"method": "rk4", "dt": 0.01, "t_end": 200.0, "window": 100.0}
+
+
+@pytest.fixture
+def db_url(tmp_path: Path) -> str:
+    return f"sqlite:///{tmp_path / 'store.db'}"
+
+
+@pytest.fixture
+def db(db_url: str) -> Database:
+    database = Database(db_url)
+    yield database
+    database.dispose()
+
+
+def submit_quick(db: Database, n: int = 5, *, tau: float = 2.0, **solver: object) -> Submitted:
+    """A 1-D sweep over k with n cheap runs."""
+    spec = parse_spec({"x": {"param": "k", "start": 4, "stop": 12, "num": n},
+                       "fixed": {"tau": tau}, "solver": {**QUICK_SOLVER, **solver}})
+    return submit(db, spec)
+
+
+def slopetui_cli(*args: str, env: dict[str, str] | None = None, cwd: str | None = None,
+                 timeout: float = 300) -> subprocess.CompletedProcess[str]:
+    """`python -m slopetui ARGS` in a fresh process, as a user would type it."""
+    return subprocess.run([sys.executable, "-m", "slopetui", *args], capture_output=True,
+                          text=True, timeout=timeout, env={**os.environ, **(env or {})},
+                          cwd=cwd)
