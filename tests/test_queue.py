@@ -1,0 +1,134 @@
+"""The queue, in one process: claims, leases, attempts, pause/cancel and the cache."""
+
+from __future__ import annotations
+
+import math
+
+from sqlalchemy import func, select, update
+
+from core import run_point
+from slopetui.queue import jobs
+from slopetui.store.models import Run
+from slopetui.sweeps import control
+from tests.conftest import submit_quick
+
+
+def statuses(db, sweep_id):
+    with db.sessions() as s:
+        return dict(s.execute(select(Run.status, func.count()).where(Run.sweep_id == sweep_id)
+                              .group_by(Run.status)).all())
+
+
+def test_claims_are_unique_and_oldest_first(db):
+    sub = submit_quick(db, 4)
+    got = [jobs.claim(db, f"w{i}") for i in range(5)]
+    assert [j.run_id for j in got[:4]] == sorted(j.run_id for j in got[:4])
+    assert len({j.run_id for j in got[:4]}) == 4 and got[4] is None
+    assert statuses(db, sub.sweep_id) == {"running": 4}
+    assert got[0].params.tau == 2.0 and got[0].settings.method == "rk4"
+
+
+def test_a_result_is_written_once_by_the_lease_holder(db):
+    submit_quick(db, 1)
+    job = jobs.claim(db, "w1")
+    record = run_point(job.params, job.settings).as_record()
+    assert jobs.complete(db, job, "w2", record) is False          # not the holder
+    assert jobs.complete(db, job, "w1", record) is True
+    assert jobs.complete(db, job, "w1", record) is False          # already done
+    with db.sessions() as s:
+        run = s.get(Run, job.run_id)
+        assert run.status == "done" and run.regime == record["regime"]
+        assert run.attempts == 1 and run.worker_id == "w1"
+        assert run.lambda_max == record["lambda_max"]
+
+
+def _expire(db, run_id):
+    with db.transaction() as s:
+        s.execute(update(Run).where(Run.id == run_id)
+                  .values(heartbeat_at=db.now(s).replace(year=2000)))
+
+
+def test_expired_leases_go_back_to_the_queue_and_the_old_holder_is_fenced(db):
+    submit_quick(db, 1)
+    job = jobs.claim(db, "dead")
+    _expire(db, job.run_id)
+    assert jobs.requeue_expired(db, lease_s=60) == (1, 0)
+    again = jobs.claim(db, "alive")
+    assert again.run_id == job.run_id and again.attempts == 2
+    record = run_point(job.params, job.settings).as_record()
+    assert jobs.complete(db, job, "dead", record) is False  # woke up too late: fenced off
+    assert jobs.complete(db, again, "alive", record) is True
+
+
+def test_a_fresh_heartbeat_keeps_the_lease(db):
+    submit_quick(db, 1)
+    job = jobs.claim(db, "w")
+    jobs.heartbeat(db, "w", job.run_id)
+    assert jobs.requeue_expired(db, lease_s=60) == (0, 0)
+
+
+def test_a_run_fails_after_max_attempts_with_its_error(db):
+    submit_quick(db, 1)
+    for attempt in (1, 2, 3):
+        job = jobs.claim(db, "w")
+        assert job.attempts == attempt
+        status = jobs.fail(db, job, "w", f"boom {attempt}", max_attempts=3)
+        assert status == ("failed" if attempt == 3 else "queued")
+    assert jobs.claim(db, "w") is None
+    with db.sessions() as s:
+        run = s.scalars(select(Run)).one()
+        assert run.status == "failed" and run.error == "boom 3" and run.finished_at
+
+
+def test_expired_leases_fail_after_max_attempts(db):
+    submit_quick(db, 1)
+    for _ in range(2):
+        job = jobs.claim(db, "w")
+        _expire(db, job.run_id)
+        jobs.requeue_expired(db, lease_s=60, max_attempts=2)
+    with db.sessions() as s:
+        run = s.scalars(select(Run)).one()
+    assert run.status == "failed" and "lease expired" in run.error and run.attempts == 2
+
+
+def test_release_does_not_count_an_attempt(db):
+    submit_quick(db, 1)
+    job = jobs.claim(db, "w")
+    assert jobs.release(db, job, "w")
+    assert jobs.claim(db, "w").attempts == 1
+
+
+def test_paused_sweeps_are_not_handed_out_and_cancel_cancels_queued_runs(db):
+    first = submit_quick(db, 2)
+    second = submit_quick(db, 2, tau=3.0)
+    assert control.pause(db, first.sweep_id) == "paused"
+    assert jobs.claim(db, "w").sweep_id == second.sweep_id
+    assert control.resume(db, first.sweep_id) == "active"
+    assert jobs.claim(db, "w").sweep_id == first.sweep_id
+    assert control.cancel(db, first.sweep_id) == 1
+    assert statuses(db, first.sweep_id) == {"running": 1, "cancelled": 1}
+
+
+def test_identical_runs_take_the_cached_result(db):
+    first = submit_quick(db, 3)
+    while (job := jobs.claim(db, "w")) is not None:
+        jobs.complete(db, job, "w", run_point(job.params, job.settings).as_record())
+    again = submit_quick(db, 3)
+    assert again.n_cached == 3 and statuses(db, again.sweep_id) == {"done": 3}
+    other = submit_quick(db, 3, t_end=300.0)  # another t_end: another result
+    assert other.n_cached == 0
+    with db.sessions() as s:
+        a, b = (list(s.scalars(select(Run).where(Run.sweep_id == i).order_by(Run.ix)))
+                for i in (first.sweep_id, again.sweep_id))
+    for x, y in zip(a, b):
+        assert y.cached_from == x.id and y.regime == x.regime
+        assert y.lambda_max == x.lambda_max or math.isnan(x.lambda_max)
+
+
+def test_a_claimed_run_finished_meanwhile_elsewhere_is_served_from_the_cache(db):
+    submit_quick(db, 1)
+    submit_quick(db, 1)  # the same point, queued before the first finished
+    j1, j2 = jobs.claim(db, "a"), jobs.claim(db, "b")
+    jobs.complete(db, j1, "a", run_point(j1.params, j1.settings).as_record())
+    hit = jobs.cached_result(db, j2)
+    assert hit is not None and hit[0] == j1.run_id
