@@ -10,9 +10,9 @@ import sqlite3
 
 import pytest
 
+from core import run_point
 from slopetui.cli import main
 from slopetui.queue import jobs
-from core import run_point
 
 GOOD_TOML = """
 name = "fig 4A, short"

@@ -6,7 +6,12 @@ import argparse
 
 from slopetui.cli.options import add_db_option
 from slopetui.store.database import Database
-from slopetui.store.migrate import alembic_config, current_revision, head_revision, upgrade
+from slopetui.store.migrate import (
+    alembic_config,
+    current_revision,
+    head_revision,
+    upgrade,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -44,7 +44,7 @@ def _text(value: object) -> str:
 def _table(columns: list[str], rows: list[tuple[object, ...]]) -> str:
     cells = [[_text(v) for v in row] for row in rows]
     widths = [max([len(c), *(len(r[i]) for r in cells)]) for i, c in enumerate(columns)]
-    line = lambda values: "  ".join(v.ljust(w) for v, w in zip(values, widths)).rstrip()  # noqa: E731
+    line = lambda values: "  ".join(v.ljust(w) for v, w in zip(values, widths)).rstrip()
     return "\n".join([line(columns), line(["-" * w for w in widths]), *map(line, cells)])
 
 
@@ -68,7 +68,7 @@ def handle(args: argparse.Namespace) -> int:
             more = args.limit and result.fetchone() is not None
     except DBAPIError as exc:
         message = str(exc.orig).strip()
-        if "readonly" in message or "read-only" in message or "not authorized" in message:
+        if any(word in message for word in ("readonly", "read-only", "authoriz")):
             print(f"slopetui sql: refused: the store is opened read-only ({message})",
                   file=sys.stderr)
         else:

@@ -12,7 +12,12 @@ from typing import Any
 from core import METHODS, PARAM_NAMES
 from slopetui.cli.options import add_db_option, open_db
 from slopetui.cli.run import PARAM_HELP
-from slopetui.sweeps.spec import CONFIRM_ABOVE_RUNS, SpecError, parse_axis_flag, parse_spec
+from slopetui.sweeps.spec import (
+    CONFIRM_ABOVE_RUNS,
+    SpecError,
+    parse_axis_flag,
+    parse_spec,
+)
 from slopetui.sweeps.submit import submit
 
 

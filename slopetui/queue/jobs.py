@@ -15,12 +15,13 @@ from dataclasses import dataclass
 from datetime import timedelta
 from typing import Any
 
-from sqlalchemy import func, select, update
+from sqlalchemy import select, update
 from sqlalchemy.orm import Session
 
 from core import PARAM_NAMES, Params, SolverSettings
 from slopetui.queue.cache import RESULT_FIELDS, finished_results, result_of
 from slopetui.store.database import Database
+from slopetui.store.db_time import db_now
 from slopetui.store.models import Run, Sweep, Worker
 
 #: A run whose worker has not sent a heartbeat for this long goes back to the queue (s).
@@ -62,7 +63,7 @@ def claim(db: Database, worker_id: str) -> Job | None:
               .order_by(Run.id).limit(1)
               .with_for_update(skip_locked=True, of=Run)  # PostgreSQL; SQLite ignores it
               .scalar_subquery())
-    now = func.now()
+    now = db_now()
     stmt = (update(Run).where(Run.id == oldest, Run.status == "queued")
             .values(status="running", worker_id=worker_id, attempts=Run.attempts + 1,
                     started_at=now, heartbeat_at=now, error=None)
@@ -85,10 +86,10 @@ def complete(db: Database, job: Job, worker_id: str, record: dict[str, Any],
     values = {name: record[name] for name in RESULT_FIELDS}
     with db.transaction() as s:
         done = s.execute(update(Run).where(_holding(job.run_id, worker_id))
-                         .values(status="done", finished_at=func.now(), error=None,
+                         .values(status="done", finished_at=db_now(), error=None,
                                  cached_from=cached_from, **values)).rowcount == 1
         s.execute(update(Worker).where(Worker.id == worker_id)
-                  .values(run_id=None, heartbeat_at=func.now(),
+                  .values(run_id=None, heartbeat_at=db_now(),
                           jobs_done=Worker.jobs_done + int(done)))
     return done
 
@@ -109,7 +110,7 @@ def fail(db: Database, job: Job, worker_id: str, error: str,
         n = s.execute(update(Run).where(_holding(job.run_id, worker_id))
                       .values(status=status, error=error[-4000:],
                               worker_id=worker_id if status == "failed" else None,
-                              finished_at=func.now() if status == "failed" else None)).rowcount
+                              finished_at=db_now() if status == "failed" else None)).rowcount
         s.execute(update(Worker).where(Worker.id == worker_id).values(run_id=None))
     return status if n == 1 else None
 
@@ -128,15 +129,15 @@ def heartbeat(db: Database, worker_id: str, run_id: int | None) -> None:
     """Extend the lease of the worker's run and mark the worker alive."""
     with db.transaction() as s:
         s.execute(update(Worker).where(Worker.id == worker_id)
-                  .values(heartbeat_at=func.now()))
+                  .values(heartbeat_at=db_now()))
         if run_id is not None:
             s.execute(update(Run).where(_holding(run_id, worker_id))
-                      .values(heartbeat_at=func.now()))
+                      .values(heartbeat_at=db_now()))
 
 
 def _requeue(s: Session, where: Any, reason: str, max_attempts: int) -> tuple[int, int]:
     failed = s.execute(update(Run).where(where, Run.attempts >= max_attempts)
-                       .values(status="failed", finished_at=func.now(),
+                       .values(status="failed", finished_at=db_now(),
                                error=f"{reason}; gave up after {max_attempts} attempts"))
     requeued = s.execute(update(Run).where(where)
                          .values(status="queued", worker_id=None, error=reason))
@@ -162,5 +163,5 @@ def requeue_worker(db: Database, worker_id: str, reason: str,
         held = (Run.status == "running") & (Run.worker_id == worker_id)
         out = _requeue(s, held, reason, max_attempts)
         s.execute(update(Worker).where(Worker.id == worker_id)
-                  .values(run_id=None, stopped_at=func.now()))
+                  .values(run_id=None, stopped_at=db_now()))
         return out

@@ -18,8 +18,13 @@ from multiprocessing.process import BaseProcess
 from typing import Any
 
 from slopetui.queue import jobs
-from slopetui.queue.worker_process import (WorkerOptions, configure_logging, warm_up,
-                                           worker_id_for, worker_main)
+from slopetui.queue.worker_process import (
+    WorkerOptions,
+    configure_logging,
+    warm_up,
+    worker_id_for,
+    worker_main,
+)
 from slopetui.store.database import Database
 
 log = logging.getLogger("slopetui.pool")

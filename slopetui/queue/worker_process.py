@@ -23,6 +23,7 @@ from sqlalchemy import func, select
 
 from slopetui.queue import jobs
 from slopetui.store.database import Database
+from slopetui.store.db_time import db_now
 from slopetui.store.models import Run, Sweep, Worker
 
 log = logging.getLogger("slopetui.worker")
@@ -70,14 +71,14 @@ def _register(db: Database, worker_id: str) -> None:
             s.add(Worker(id=worker_id, host=socket.gethostname(), pid=os.getpid()))
         else:  # a pid reused on the same host
             worker.stopped_at, worker.run_id, worker.jobs_done = None, None, 0
-            worker.started_at = worker.heartbeat_at = func.now()
+            worker.started_at = worker.heartbeat_at = db_now()
 
 
 def _unregister(db: Database, worker_id: str) -> None:
     with db.transaction() as s:
         worker = s.get(Worker, worker_id)
         if worker is not None:
-            worker.stopped_at, worker.run_id = func.now(), None
+            worker.stopped_at, worker.run_id = db_now(), None
 
 
 def queue_drained(db: Database) -> bool:

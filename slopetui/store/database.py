@@ -18,10 +18,12 @@ from typing import Any
 from urllib.parse import quote
 
 from platformdirs import user_data_path
-from sqlalchemy import Engine, create_engine, event, func, select
+from sqlalchemy import Engine, create_engine, event, select
 from sqlalchemy.engine import URL, make_url
 from sqlalchemy.exc import ArgumentError
 from sqlalchemy.orm import Session, sessionmaker
+
+from slopetui.store.db_time import db_now
 
 #: Environment variable that selects the database (any SQLAlchemy URL).
 DB_ENV = "SLOPETUI_DB"
@@ -156,7 +158,7 @@ class Database:
     def now(self, session: Session) -> datetime:
         """Database time. Leases and heartbeats use it, so that workers on hosts whose
         clocks disagree still agree on when a lease expired."""
-        return session.scalar(select(func.now()))
+        return session.scalar(select(db_now()))
 
     def read_only_engine(self) -> Engine:
         """An engine on which the database itself refuses writes: SQLite opened with
