@@ -125,3 +125,12 @@ def test_works_from_a_non_editable_install(tmp_path):
     assert "3 runs queued" in out.stdout
     cur = slopetui_cli("db", "current", "--db", url, env=env, cwd=str(tmp_path))
     assert f"revision {head_revision()} (current)" in cur.stdout
+
+
+def test_reads_do_not_take_the_write_lock(db):
+    """A status screen reading the store must not stall the workers' writes."""
+    other = sqlite3.connect(db.path, timeout=0, isolation_level=None)
+    with db.sessions() as s:
+        s.execute(text("SELECT count(*) FROM runs")).scalar()
+        other.execute("BEGIN IMMEDIATE")  # a writer gets in while the read is open
+        other.execute("ROLLBACK")

@@ -18,7 +18,7 @@ from typing import Any
 from urllib.parse import quote
 
 from platformdirs import user_data_path
-from sqlalchemy import Engine, create_engine, event, select
+from sqlalchemy import Connection, Engine, create_engine, event, select
 from sqlalchemy.engine import URL, make_url
 from sqlalchemy.exc import ArgumentError
 from sqlalchemy.orm import Session, sessionmaker
@@ -31,6 +31,8 @@ DB_ENV = "SLOPETUI_DB"
 #: A write transaction here lasts well under 10 ms; a minute covers a checkpoint on a
 #: loaded disk with a wide margin.
 BUSY_TIMEOUT_MS = 60_000
+#: Execution option that marks a connection as a reader (a deferred BEGIN on SQLite).
+READ_OPTION = "slopetui_read"
 
 
 class StoreError(Exception):
@@ -86,8 +88,11 @@ def _sqlite_on_connect(dbapi_connection: Any, _record: Any) -> None:
     cur.close()
 
 
-def _sqlite_begin_immediate(conn: Any) -> None:
-    conn.exec_driver_sql("BEGIN IMMEDIATE")
+def _sqlite_begin(conn: Any) -> None:
+    # Reads (Database.sessions, Database.reader) take no lock up front: in WAL mode they
+    # run beside a writer. Everything else takes the write lock at BEGIN.
+    read = conn.get_execution_options().get(READ_OPTION, False)
+    conn.exec_driver_sql("BEGIN" if read else "BEGIN IMMEDIATE")
 
 
 def _read_only_authorizer(action: int, arg1: str | None, arg2: str | None, *_: Any) -> int:
@@ -126,7 +131,11 @@ class Database:
             _create_private_file(self.path)
             self.url = self.url.set(database=str(self.path))
         self.engine = self._make_engine()
-        self.sessions = sessionmaker(self.engine, expire_on_commit=False)
+        #: The same pool, for reads: ``with db.reader.connect() as conn``.
+        self.reader = self.engine.execution_options(**{READ_OPTION: True})
+        #: Sessions for reading (``with db.sessions() as s``); writes use transaction().
+        self.sessions = sessionmaker(self.reader, expire_on_commit=False)
+        self._write_sessions = sessionmaker(self.engine, expire_on_commit=False)
         if upgrade:
             from slopetui.store.migrate import upgrade_on_open
             upgrade_on_open(self)
@@ -142,7 +151,7 @@ class Database:
             raise StoreError(f"cannot open database {self.display_url}: {exc}") from exc
         if self.is_sqlite:
             event.listen(engine, "connect", _sqlite_on_connect)
-            event.listen(engine, "begin", _sqlite_begin_immediate)
+            event.listen(engine, "begin", _sqlite_begin)
         return engine
 
     @property
@@ -152,8 +161,14 @@ class Database:
     @contextmanager
     def transaction(self) -> Iterator[Session]:
         """A session in one write transaction: committed on exit, rolled back on error."""
-        with self.sessions.begin() as session:
+        with self._write_sessions.begin() as session:
             yield session
+
+    @contextmanager
+    def connection(self) -> Iterator[Connection]:
+        """A Core connection in one write transaction, for prebuilt hot-path statements."""
+        with self.engine.begin() as conn:
+            yield conn
 
     def now(self, session: Session) -> datetime:
         """Database time. Leases and heartbeats use it, so that workers on hosts whose

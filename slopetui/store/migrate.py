@@ -39,7 +39,7 @@ def head_revision() -> str:
 
 
 def current_revision(db: Database) -> str | None:
-    with db.engine.connect() as conn:
+    with db.reader.connect() as conn:
         return MigrationContext.configure(conn).get_current_revision()
 
 
