@@ -74,7 +74,9 @@ def test_kill_9_of_a_worker_mid_run_loses_and_duplicates_nothing(tmp_path, db, d
 
 def test_two_pools_and_a_reader_on_one_file(tmp_path, db, db_url):
     n = 60
-    submit_quick(db, n, t_end=3000.0)  # short runs: many claims and writes per second
+    # ~0.1 s runs: long enough that both pools are up before the queue drains, short
+    # enough for many claims and writes per second
+    submit_quick(db, n, t_end=3e4)
     logs = [tmp_path / "a.log", tmp_path / "b.log"]
     reads, errors = [0], []
     stop = threading.Event()

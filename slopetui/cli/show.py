@@ -27,7 +27,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("show", help="draw a sweep's phase or bifurcation diagram",
                        description="Draw the sweep's phase diagram (2-D) or bifurcation "
                                    "diagram (1-D) in the terminal.")
-    p.add_argument("sweep", type=sweep_id, metavar="SWEEP", help="sweep id")
+    p.add_argument("sweep", type=sweep_id, metavar="SWEEP", nargs="?",
+                   help="sweep id (default: the newest sweep)")
     p.add_argument("--width", type=int, help="columns (default: the terminal's)")
     p.add_argument("--height", type=int, help="lines (default: the terminal's, at most 40)")
     p.add_argument("--color", choices=("auto", "always", "never"), default="auto",
@@ -53,9 +54,14 @@ def handle(args: argparse.Namespace) -> int:
                          f"got {width} x {height}")
     db = open_db(args)
     with db.sessions() as s:
-        sweep = s.get(Sweep, args.sweep)
-        if sweep is None:
-            raise UnknownSweep(args.sweep)
+        if args.sweep is None:
+            sweep = s.scalars(select(Sweep).order_by(Sweep.id.desc()).limit(1)).first()
+            if sweep is None:
+                raise UsageError("there are no sweeps yet: slopetui submit --help")
+        else:
+            sweep = s.get(Sweep, args.sweep)
+            if sweep is None:
+                raise UnknownSweep(args.sweep)
         runs = list(s.scalars(select(Run).where(Run.sweep_id == sweep.id)
                               .order_by(Run.iy, Run.ix)))
     spec = parse_spec(sweep.spec)

@@ -13,6 +13,7 @@ import logging
 import multiprocessing as mp
 import os
 import signal
+import sys
 from multiprocessing.connection import wait
 from multiprocessing.process import BaseProcess
 from typing import Any
@@ -102,5 +103,6 @@ class Pool:
 
 
 def run_pool(opts: WorkerOptions, n_workers: int) -> int:
-    configure_logging(opts.log_path)
+    """Run a pool in this process; the pool's own messages also go to a terminal."""
+    configure_logging(opts.log_path, echo=sys.stderr.isatty())
     return Pool(opts, n_workers).run()

@@ -46,13 +46,18 @@ def worker_id_for(pid: int) -> str:
     return f"{socket.gethostname()}:{pid}"
 
 
-def configure_logging(log_path: str | None) -> None:
-    handler: logging.Handler = (logging.FileHandler(log_path, encoding="utf-8") if log_path
-                                else logging.StreamHandler())
-    handler.setFormatter(logging.Formatter(
-        "%(asctime)s %(process)d %(levelname)s %(message)s"))
+def configure_logging(log_path: str | None, echo: bool = False) -> None:
+    """Log to the file (every process of the pool appends to it); ``echo`` also to stderr."""
+    handlers: list[logging.Handler] = []
+    if log_path:
+        handlers.append(logging.FileHandler(log_path, encoding="utf-8"))
+    if echo or not log_path:
+        handlers.append(logging.StreamHandler())
     root = logging.getLogger("slopetui")
-    root.handlers[:] = [handler]
+    root.handlers[:] = handlers
+    for handler in handlers:
+        handler.setFormatter(logging.Formatter(
+            "%(asctime)s %(process)d %(levelname)s %(message)s"))
     root.setLevel(logging.INFO)
 
 
