@@ -132,3 +132,13 @@ def test_a_claimed_run_finished_meanwhile_elsewhere_is_served_from_the_cache(db)
     jobs.complete(db, j1, "a", run_point(j1.params, j1.settings).as_record())
     hit = jobs.cached_result(db, j2)
     assert hit is not None and hit[0] == j1.run_id
+
+
+def test_the_claim_skips_locked_rows_on_postgresql():
+    """No PostgreSQL server here: check the SQL the claim sends to one."""
+    from sqlalchemy.dialects import postgresql
+
+    sql = str(jobs._CLAIM.compile(dialect=postgresql.dialect()))
+    assert "FOR UPDATE OF runs SKIP LOCKED" in sql
+    assert sql.startswith("UPDATE runs SET") and "RETURNING runs.id" in sql
+    assert "statement_timestamp() AT TIME ZONE 'UTC'" in sql

@@ -5,9 +5,9 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from core import run_point
 from slopetui.cli import main
 from slopetui.queue import jobs
-from core import run_point
 from tests.conftest import submit_quick
 
 README = Path(__file__).resolve().parents[1] / "README.md"

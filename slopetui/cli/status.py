@@ -23,7 +23,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def _eta(seconds: float | None) -> str:
     if seconds is None:
         return "-"
-    m, s = divmod(int(round(seconds)), 60)
+    m, s = divmod(round(seconds), 60)
     h, m = divmod(m, 60)
     return f"{h}h{m:02d}m" if h else f"{m}m{s:02d}s"
 
