@@ -187,9 +187,13 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any) -> None:
     hb = _Heartbeat(db, wid, opts)
     hb.start()
     log.info("worker %s started", wid)
+    parent = os.getppid()
     with ThreadPoolExecutor(max_workers=1, thread_name_prefix="compute") as pool:
         try:
             while not stop.is_set():
+                if os.getppid() != parent:  # the pool was killed: do not linger as orphans
+                    log.warning("the pool process is gone; worker %s exits", wid)
+                    break
                 job = jobs.claim(db, wid)
                 if job is None:
                     if opts.exit_when_idle and queue_drained(db):
