@@ -51,7 +51,7 @@ def handle(args: argparse.Namespace) -> int:
             pct = 100 * (p.done + p.failed) // max(p.total, 1)
             print(f"{p.id:>4}  {p.status:9} {p.axes:9} {p.done:>6}/{p.total:<6} {pct:>4} "
                   f"{p.counts.get('running', 0):>3} {p.failed:>4} {p.runs_per_min:>8.1f} "
-                  f"{_eta(p.eta_s):>7}  {p.name}")
+                  f"{_eta(p.eta_s if workers else None):>7}  {p.name}")
     print()
     if not workers:
         print("no live workers: start a pool with `slopetui worker --detach`")
