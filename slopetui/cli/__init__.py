@@ -23,9 +23,14 @@ USER_ERRORS = (ParameterError, SpecError, StoreError, UnknownSweep, UsageError)
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="slopetui",
-        description="Simulate, sweep and classify the mean-field spring-block landslide model.",
+        description="Simulate, sweep and classify the mean-field spring-block landslide model. "
+                    "Without a COMMAND: open the terminal application.",
     )
     parser.add_argument("--version", action="version", version=f"slopetui {__version__}")
+    parser.add_argument("--db", dest="tui_db", metavar="URL",
+                        help="with no COMMAND: open the application on this database")
+    parser.add_argument("--no-workers", action="store_true",
+                        help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for module in (run, submit, status, show, runs, control, sql, worker, db):
         module.register(sub)
@@ -35,9 +40,9 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    if args.command is None:
-        parser.print_help(sys.stderr)
-        return 2
+    if args.command is None:  # the application
+        from slopetui.tui.app import run_app
+        return run_app(args.tui_db, start_workers=not args.no_workers)
     try:
         return int(args.handler(args))
     except USER_ERRORS as exc:

@@ -14,13 +14,15 @@ import os
 import shutil
 import sys
 
-from sqlalchemy import select
+import numpy as np
+from sqlalchemy import func, select
 
 from slopetui.cli.options import UsageError, add_db_option, open_db, sweep_id
 from slopetui.plots import hopf_boundary, render_bifurcation, render_phase_diagram
-from slopetui.store.models import Run, Sweep
-from slopetui.sweeps.control import UnknownSweep
-from slopetui.sweeps.spec import parse_spec
+from slopetui.store.database import Database
+from slopetui.store.models import Sweep
+from slopetui.sweeps.diagram import load_diagram
+from slopetui.sweeps.spec import SweepSpec
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -53,39 +55,39 @@ def handle(args: argparse.Namespace) -> int:
         raise UsageError(f"the diagram needs --width >= 30 and --height >= 12, "
                          f"got {width} x {height}")
     db = open_db(args)
-    with db.sessions() as s:
-        if args.sweep is None:
-            sweep = s.scalars(select(Sweep).order_by(Sweep.id.desc()).limit(1)).first()
-            if sweep is None:
-                raise UsageError("there are no sweeps yet: slopetui submit --help")
-        else:
-            sweep = s.get(Sweep, args.sweep)
-            if sweep is None:
-                raise UnknownSweep(args.sweep)
-        runs = list(s.scalars(select(Run).where(Run.sweep_id == sweep.id)
-                              .order_by(Run.iy, Run.ix)))
-    spec = parse_spec(sweep.spec)
-    regimes = [r.regime if r.status == "done" else None for r in runs]
-    n_done = sum(r.status == "done" for r in runs)
-    title = f"sweep {sweep.id}: {sweep.name} ({n_done}/{len(runs)} done)"
+    if args.sweep is None:
+        args.sweep = newest_sweep(db)
+    diagram = load_diagram(db, args.sweep)
+    spec, runs = diagram.spec, diagram.runs
+    title = f"sweep {diagram.id}: {diagram.name} ({diagram.n_done}/{len(runs)} done)"
     color = use_color(args.color)
     x = spec.x
-    xs = [getattr(r, x.param) for r in runs]
+    xs = [r.x for r in runs]
+    regimes = [r.regime for r in runs]
     if spec.y is None:
-        # A sliding run has settled on the fixed point m_y = v (eq. 14): drawn there, as
-        # the lower branch of Fig. 4A; its window has no peaks to draw.
-        peaks = [([r.v] if r.regime == "sliding" else r.peaks or []) if r.status == "done"
-                 else [] for r in runs]
-        print(render_bifurcation(x.param, xs, peaks, regimes, log=x.spacing == "log",
-                                 title=title, width=width, height=height, color=color))
+        print(render_bifurcation(x.param, xs, [r.peaks for r in runs], regimes,
+                                 log=x.spacing == "log", title=title, width=width,
+                                 height=height, color=color))
         return 0
     y = spec.y
-    ys = [getattr(r, y.param) for r in runs]
-    hopf = None
-    if args.hopf:
-        hopf = hopf_boundary(spec.base, x.param, y.param, (min(x.start, x.stop), max(x.start, x.stop)),
-                             (min(y.start, y.stop), max(y.start, y.stop)))
-    print(render_phase_diagram(x.param, y.param, xs, ys, regimes, x_log=x.spacing == "log",
-                               y_log=y.spacing == "log", hopf=hopf, title=title, width=width,
-                               height=height, color=color))
+    hopf = plane_hopf(spec) if args.hopf else None
+    print(render_phase_diagram(x.param, y.param, xs, [r.y for r in runs], regimes,
+                               x_log=x.spacing == "log", y_log=y.spacing == "log", hopf=hopf,
+                               title=title, width=width, height=height, color=color))
     return 0
+
+
+def newest_sweep(db: Database) -> int:
+    with db.sessions() as s:
+        newest = s.scalar(select(func.max(Sweep.id)))
+    if newest is None:
+        raise UsageError("there are no sweeps yet: slopetui submit --help")
+    return newest
+
+
+def plane_hopf(spec: SweepSpec) -> tuple[np.ndarray, np.ndarray] | None:
+    """The exact Hopf curve over the sweep's plane, or None where the plane has none."""
+    assert spec.y is not None
+    x, y = spec.x, spec.y
+    return hopf_boundary(spec.base, x.param, y.param, (min(x.start, x.stop), max(x.start, x.stop)),
+                         (min(y.start, y.stop), max(y.start, y.stop)))

@@ -4,21 +4,15 @@ from __future__ import annotations
 
 import argparse
 import os
-import subprocess
 import sys
 from pathlib import Path
 
-from platformdirs import user_log_path
-
 from slopetui.cli.options import UsageError, add_db_option
 from slopetui.queue import jobs
+from slopetui.queue.local_pool import default_log, start_detached_pool
 from slopetui.queue.pool import default_jobs, run_pool
 from slopetui.queue.worker_process import WorkerOptions
 from slopetui.store.database import Database
-
-
-def default_log() -> Path:
-    return user_log_path("slopetui") / "worker.log"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -59,18 +53,15 @@ def _check(args: argparse.Namespace) -> None:
                          f"got {args.lease}")
 
 
-def _detach(args: argparse.Namespace, db_url: str, log: Path) -> int:
-    cmd = [sys.executable, "-m", "slopetui", "worker", "-j", str(args.jobs), "--db", db_url,
-           "--log", str(log), "--lease", str(args.lease), "--heartbeat", str(args.heartbeat),
-           "--max-attempts", str(args.max_attempts)]
+def _detach(args: argparse.Namespace, db: Database, log: Path) -> int:
+    extra = ["--lease", str(args.lease), "--heartbeat", str(args.heartbeat),
+             "--max-attempts", str(args.max_attempts)]
     if args.exit_when_idle:
-        cmd.append("--exit-when-idle")
-    with open(log, "a", encoding="utf-8") as out:
-        proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=out, stderr=out,
-                                start_new_session=True, close_fds=True)
-    print(f"worker pool started in the background: pid {proc.pid}, {args.jobs} workers")
+        extra.append("--exit-when-idle")
+    pid, log = start_detached_pool(db, jobs=args.jobs, log=log, extra=tuple(extra))
+    print(f"worker pool started in the background: pid {pid}, {args.jobs} workers")
     print(f"log: {log}")
-    print(f"stop it: kill {proc.pid}   (running jobs finish; kill it twice to requeue them)")
+    print(f"stop it: kill {pid}   (running jobs finish; kill it twice to requeue them)")
     return 0
 
 
@@ -82,7 +73,7 @@ def handle(args: argparse.Namespace) -> int:
     log = Path(args.log) if args.log else default_log()
     log.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
     if args.detach:
-        return _detach(args, url, log)
+        return _detach(args, db, log)
     if sys.stderr.isatty():
         print(f"worker pool: {args.jobs} workers on {db.display_url}; log {log}; Ctrl-C stops",
               file=sys.stderr)

@@ -1,0 +1,60 @@
+"""A sweep's runs as diagram data: grid positions, axis values, regimes and peaks."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from sqlalchemy import select
+
+from slopetui.store.database import Database
+from slopetui.store.models import Run, Sweep
+from slopetui.sweeps.control import UnknownSweep
+from slopetui.sweeps.spec import SweepSpec, parse_spec
+
+
+@dataclass(frozen=True)
+class RunPoint:
+    id: int
+    ix: int
+    iy: int
+    x: float
+    y: float | None
+    status: str
+    regime: str | None      # None unless done
+    peaks: list[float]      # peak clusters of m_y; a sliding run gives its fixed point v
+    error: str | None
+
+
+@dataclass(frozen=True)
+class SweepDiagram:
+    id: int
+    name: str
+    spec: SweepSpec
+    runs: list[RunPoint]
+
+    @property
+    def n_done(self) -> int:
+        return sum(r.status == "done" for r in self.runs)
+
+
+def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
+    """Everything a phase or bifurcation diagram of the sweep needs, in one read."""
+    with db.sessions() as s:
+        sweep = s.get(Sweep, sweep_id)
+        if sweep is None:
+            raise UnknownSweep(sweep_id)
+        spec = parse_spec(sweep.spec)
+        cols = (Run.id, Run.ix, Run.iy, getattr(Run, spec.x.param),
+                getattr(Run, spec.y.param) if spec.y else Run.iy, Run.status, Run.regime,
+                Run.peaks, Run.v, Run.error)
+        rows = s.execute(select(*cols).where(Run.sweep_id == sweep_id)
+                         .order_by(Run.iy, Run.ix)).all()
+    runs = []
+    for rid, ix, iy, x, y, status, regime, peaks, v, error in rows:
+        done = status == "done"
+        # A sliding run has settled on the fixed point m_y = v (eq. 14): drawn there, as
+        # the lower branch of Fig. 4A; its window has no peaks.
+        shown = ([v] if regime == "sliding" else list(peaks or [])) if done else []
+        runs.append(RunPoint(rid, ix, iy, x, y if spec.y else None, status,
+                             regime if done else None, shown, error))
+    return SweepDiagram(sweep.id, sweep.name, spec, runs)

@@ -1,0 +1,1 @@
+"""The Textual application: ``slopetui`` with no arguments."""

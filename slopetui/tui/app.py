@@ -1,0 +1,111 @@
+"""The slopetui application: sweeps, new sweep, run detail, queue and SQL console.
+
+``slopetui`` with no arguments opens it on the default database and starts a detached
+local worker pool, or attaches to the one already running on this host. The pool lives
+on after the application quits: queued work is never lost by quitting.
+"""
+
+from __future__ import annotations
+
+from textual import work
+from textual.app import App
+from textual.binding import Binding
+
+from slopetui.store.database import Database
+from slopetui.tui.screens.error import ErrorScreen
+from slopetui.tui.screens.queue import QueueScreen
+from slopetui.tui.screens.sql import SqlScreen
+from slopetui.tui.screens.sweeps import SweepsScreen
+
+#: Seconds between refreshes of the live views (progress, diagrams, workers).
+REFRESH_S = 2.0
+
+
+class SlopeApp(App[None]):
+    """The researcher's cockpit over one store."""
+
+    CSS_PATH = "slopetui.tcss"
+    TITLE = "slopetui"
+    SUB_TITLE = "mean-field spring-block landslide model"
+    MODES = {"sweeps": SweepsScreen, "queue": QueueScreen, "sql": SqlScreen}
+    DEFAULT_MODE = "sweeps"
+    BINDINGS = [
+        Binding("1", "switch_mode('sweeps')", "Sweeps", id="mode.sweeps"),
+        Binding("2", "switch_mode('queue')", "Queue", id="mode.queue"),
+        Binding("3", "switch_mode('sql')", "SQL", id="mode.sql"),
+        Binding("n", "new_sweep", "New sweep", id="new_sweep"),
+        Binding("q", "quit", "Quit", id="quit"),
+    ]
+
+    def __init__(self, db_url: str | None = None, *, start_workers: bool = True,
+                 refresh_s: float = REFRESH_S) -> None:
+        super().__init__()
+        self.db_url = db_url
+        self.start_workers = start_workers
+        self.refresh_s = refresh_s
+        self.db: Database | None = None
+
+    def on_mount(self) -> None:
+        self.open_store()
+
+    @work(thread=True, exclusive=True, group="store")
+    def open_store(self) -> None:
+        """Open (and migrate) the store off the UI thread; then attach to or start a pool."""
+        try:
+            db = Database(self.db_url)
+        except Exception as exc:  # any failure to open is shown, never a traceback
+            self.call_from_thread(self.push_screen, ErrorScreen(
+                "The database cannot be opened", f"{type(exc).__name__}: {exc}"))
+            return
+        self.db = db
+        self.call_from_thread(self.refresh_active_screen)
+        if self.start_workers:
+            self.attach_pool(db)
+
+    def attach_pool(self, db: Database) -> None:
+        from slopetui.queue.local_pool import local_workers, start_detached_pool
+        try:
+            found = local_workers(db)
+            if found:
+                message = f"attached to the {len(found)} workers running on this host"
+            else:
+                pid, log = start_detached_pool(db)
+                message = f"worker pool started (pid {pid}, log {log}); it keeps running after you quit"
+        except Exception as exc:
+            self.call_from_thread(self.notify, f"could not start workers: {exc}",
+                                  severity="error", timeout=10)
+            return
+        self.call_from_thread(self.notify, message, timeout=6)
+
+    def refresh_active_screen(self) -> None:
+        refresh = getattr(self.screen, "refresh_data", None)
+        if refresh is not None:
+            refresh()
+
+    @work(thread=True, group="sweep-control")
+    def control_sweep(self, action: str, sweep_id: int) -> None:
+        """Pause, resume or cancel a sweep (from any screen), then refresh the view."""
+        from slopetui.sweeps import control
+        try:
+            result = getattr(control, action)(self.db, sweep_id)
+        except Exception as exc:
+            self.call_from_thread(self.notify, f"{action} sweep {sweep_id}: {exc}",
+                                  severity="error", timeout=8)
+            return
+        text = (f"sweep {sweep_id}: {result} queued runs cancelled" if action == "cancel"
+                else f"sweep {sweep_id} is {result}")
+        self.call_from_thread(self.notify, text)
+        self.call_from_thread(self.refresh_active_screen)
+
+    def action_new_sweep(self) -> None:
+        from slopetui.tui.screens.new_sweep import NewSweepScreen
+        self.push_screen(NewSweepScreen())
+
+    def open_run(self, run_id: int) -> None:
+        from slopetui.tui.screens.run_detail import RunDetailScreen
+        self.push_screen(RunDetailScreen(run_id))
+
+
+def run_app(db_url: str | None = None, *, start_workers: bool = True) -> int:
+    SlopeApp(db_url, start_workers=start_workers).run()
+    return 0

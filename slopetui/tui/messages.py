@@ -1,0 +1,15 @@
+"""Small messages that carry data from thread workers to the screens."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from textual.message import Message
+
+
+@dataclass
+class StoreFailed(Message):
+    """A database call in a worker failed: shown to the user, never as a traceback."""
+
+    action: str
+    error: str

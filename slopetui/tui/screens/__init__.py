@@ -1,0 +1,1 @@
+"""The application's screens: sweeps, new sweep, run detail, queue, SQL console."""

@@ -1,0 +1,247 @@
+"""New sweep: a form with inline validation, friction warnings, presets and an estimate.
+
+The form is a view of a spec mapping (``slopetui.sweeps.spec``): every change re-parses
+it, so the form and ``slopetui submit`` accept and refuse exactly the same sweeps.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from textual import on, work
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.containers import Horizontal, VerticalScroll
+from textual.screen import Screen
+from textual.widgets import Button, Checkbox, Footer, Header, Input, Label, Select, Static
+
+from core import METHODS, PARAM_NAMES, Params, friction_warnings
+from slopetui.sweeps.estimate import describe
+from slopetui.sweeps.presets import BY_KEY, PRESETS
+from slopetui.sweeps.spec import CONFIRM_ABOVE_RUNS, SpecError, SweepSpec, parse_spec
+from slopetui.sweeps.submit import submit
+
+DEFAULTS = Params()
+AXIS_CHOICES = [(p, p) for p in PARAM_NAMES]
+SPACING_CHOICES = [("linear", "linear"), ("log", "log")]
+NO_AXIS = "none"
+
+
+def _axis_row(axis: str, param: str, start: str, stop: str, num: str) -> Horizontal:
+    none = [("(none)", NO_AXIS)] if axis == "y" else []
+    return Horizontal(
+        Label(f"{axis}:", classes="row-label"),
+        Select(none + AXIS_CHOICES, value=param, allow_blank=False, id=f"{axis}-param",
+               classes="axis-param"),
+        Input(start, placeholder="start", id=f"{axis}-start", classes="num"),
+        Input(stop, placeholder="stop", id=f"{axis}-stop", classes="num"),
+        Input(num, placeholder="points", id=f"{axis}-num", classes="num"),
+        Select(SPACING_CHOICES, value="linear", allow_blank=False, id=f"{axis}-spacing",
+               classes="spacing"),
+        classes="form-row")
+
+
+def _fixed_row(names: tuple[str, ...]) -> Horizontal:
+    cells: list[Any] = [Label("fixed:" if names[0] == "a" else "", classes="row-label")]
+    for name in names:
+        cells += [Label(name, classes="param-label"),
+                  Input(f"{getattr(DEFAULTS, name):g}", id=f"fixed-{name}", classes="num")]
+    return Horizontal(*cells, classes="form-row")
+
+
+class NewSweepScreen(Screen[int | None]):
+    """Dismissed with the new sweep's id, or None when cancelled."""
+
+    BINDINGS = [
+        Binding("ctrl+s", "submit", "Submit", id="new_sweep.submit", priority=True),
+        Binding("escape", "cancel", "Cancel", id="new_sweep.cancel"),
+    ]
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.spec: SweepSpec | None = None
+        self.confirmed_runs = 0
+        self.n_workers = 2
+
+    def compose(self) -> ComposeResult:
+        yield Header()
+        with VerticalScroll(id="form"):
+            yield Horizontal(Label("preset:", classes="row-label"),
+                             Select([(p.title, p.key) for p in PRESETS], prompt="(none)",
+                                    id="preset"), classes="form-row")
+            yield Horizontal(Label("name:", classes="row-label"),
+                             Input(placeholder="(from the axes)", id="name"), classes="form-row")
+            yield _axis_row("x", "k", "2", "20", "19")
+            yield _axis_row("y", "tau", "0.5", "10", "12")
+            yield _fixed_row(("a", "b", "c", "d"))
+            yield _fixed_row(("k", "v", "tau", "delta"))
+            yield Horizontal(
+                Label("solver:", classes="row-label"),
+                Select([(m, m) for m in METHODS], value="euler", allow_blank=False,
+                       id="solver-method", classes="spacing"),
+                Label("dt", classes="param-label"), Input("0.001", id="solver-dt", classes="num"),
+                Label("t_end", classes="param-label"),
+                Input("1e5", id="solver-t_end", classes="num"),
+                Label("window", classes="param-label"),
+                Input("1000", id="solver-window", classes="num"),
+                Checkbox("λmax", value=True, id="solver-lyap"),
+                classes="form-row")
+            yield Static("", id="preset-note")
+            yield Static("", id="estimate")
+            yield Static("", id="form-error")
+            yield Static("", id="form-warnings")
+            with Horizontal(id="form-buttons"):
+                yield Button("Submit (ctrl+s)", variant="primary", id="submit")
+                yield Button("Cancel (esc)", id="cancel")
+        yield Footer()
+
+    def on_mount(self) -> None:
+        self.count_workers()
+        self.validate_form()
+
+    @work(thread=True, exclusive=True, group="new-sweep-workers")
+    def count_workers(self) -> None:
+        db = getattr(self.app, "db", None)
+        if db is None:
+            return
+        from slopetui.queue.pool import default_jobs
+        from slopetui.sweeps.progress import live_workers
+        try:
+            n = len(live_workers(db)) or default_jobs()
+        except Exception:  # only the estimate depends on it
+            return
+        self.app.call_from_thread(self._set_workers, n)
+
+    def _set_workers(self, n: int) -> None:
+        self.n_workers = n
+        self.validate_form()
+
+    # --- the form as a spec mapping ----------------------------------------------------
+    def _value(self, widget_id: str) -> Any:
+        return self.query_one(f"#{widget_id}").value  # type: ignore[attr-defined]
+
+    def form_data(self) -> dict[str, Any]:
+        data: dict[str, Any] = {}
+        if self._value("name").strip():
+            data["name"] = self._value("name").strip()
+        swept = set()
+        for axis in ("x", "y"):
+            param = self._value(f"{axis}-param")
+            if param == NO_AXIS:
+                continue
+            swept.add(param)
+            data[axis] = {"param": param, "start": self._value(f"{axis}-start"),
+                          "stop": self._value(f"{axis}-stop"), "num": self._value(f"{axis}-num"),
+                          "spacing": self._value(f"{axis}-spacing")}
+        data["fixed"] = {n: self._value(f"fixed-{n}") for n in PARAM_NAMES if n not in swept}
+        data["solver"] = {"method": self._value("solver-method"), "dt": self._value("solver-dt"),
+                          "t_end": self._value("solver-t_end"),
+                          "window": self._value("solver-window"),
+                          "lyap": bool(self._value("solver-lyap"))}
+        return data
+
+    def validate_form(self) -> SweepSpec | None:
+        for widget in self.query(".-invalid"):
+            widget.remove_class("-invalid")
+        for name in PARAM_NAMES:  # a swept parameter's fixed value is not used
+            self.query_one(f"#fixed-{name}").disabled = name in (
+                self._value("x-param"), self._value("y-param"))
+        error = self.query_one("#form-error", Static)
+        try:
+            spec = parse_spec(self.form_data())
+        except SpecError as exc:
+            self.spec = None
+            error.update(f"✗ {exc}")
+            self._mark_invalid(exc.field)
+            self.query_one("#estimate", Static).update("")
+            self.query_one("#form-warnings", Static).update("")
+            return None
+        self.spec = spec
+        error.update("")
+        self.query_one("#estimate", Static).update("≈ " + describe(spec, self.n_workers))
+        warnings = friction_warnings(spec.base)
+        self.query_one("#form-warnings", Static).update(
+            "\n".join(f"⚠ {w}" for w in warnings))
+        return spec
+
+    def _mark_invalid(self, field: str) -> None:
+        section, _, name = field.partition(".")
+        ids = {f"{section}-{name}"}
+        if section in ("x", "y") and name in PARAM_NAMES:  # a bad value on the axis
+            ids = {f"{section}-start", f"{section}-stop"}
+        for widget_id in ids:
+            for widget in self.query(f"#{widget_id}"):
+                widget.add_class("-invalid")
+
+    @on(Input.Changed)
+    @on(Select.Changed)
+    @on(Checkbox.Changed)
+    def _changed(self, event: Input.Changed | Select.Changed | Checkbox.Changed) -> None:
+        if getattr(event, "select", None) is not None and event.select.id == "preset":
+            return
+        self.confirmed_runs = 0
+        self.validate_form()
+
+    @on(Select.Changed, "#preset")
+    def _preset(self, event: Select.Changed) -> None:
+        if event.value is Select.BLANK or event.value not in BY_KEY:
+            return
+        preset = BY_KEY[event.value]
+        spec = preset.spec
+        self.query_one("#name", Input).value = spec.get("name", "")
+        for axis in ("x", "y"):
+            a = spec.get(axis)
+            self.query_one(f"#{axis}-param", Select).value = a["param"] if a else NO_AXIS
+            if a:
+                for key in ("start", "stop", "num"):
+                    self.query_one(f"#{axis}-{key}", Input).value = f"{a[key]:g}"
+                self.query_one(f"#{axis}-spacing", Select).value = a.get("spacing", "linear")
+        for name in PARAM_NAMES:
+            value = spec.get("fixed", {}).get(name, getattr(DEFAULTS, name))
+            self.query_one(f"#fixed-{name}", Input).value = f"{value:g}"
+        solver = spec.get("solver", {})
+        self.query_one("#solver-method", Select).value = solver.get("method", "euler")
+        for key in ("dt", "t_end", "window"):
+            if key in solver:
+                self.query_one(f"#solver-{key}", Input).value = f"{solver[key]:g}"
+        self.query_one("#solver-lyap", Checkbox).value = solver.get("lyap", True)
+        self.query_one("#preset-note", Static).update(f"ⓘ {preset.note}")
+
+    # --- submit ---------------------------------------------------------------------------
+    @on(Button.Pressed, "#submit")
+    def action_submit(self) -> None:
+        spec = self.validate_form()
+        if spec is None:
+            self.notify("fix the field marked in red first", severity="error")
+            return
+        if spec.n_runs > CONFIRM_ABOVE_RUNS and self.confirmed_runs != spec.n_runs:
+            self.confirmed_runs = spec.n_runs
+            self.query_one("#form-error", Static).update(
+                f"This sweep queues {spec.n_runs} runs (more than {CONFIRM_ABOVE_RUNS}): "
+                "submit again to confirm.")
+            return
+        if getattr(self.app, "db", None) is None:
+            self.notify("the database is not open yet", severity="error")
+            return
+        self.query_one("#submit", Button).disabled = True
+        self.submit_spec(spec)
+
+    @work(thread=True, exclusive=True, group="new-sweep-submit")
+    def submit_spec(self, spec: SweepSpec) -> None:
+        try:
+            out = submit(self.app.db, spec)  # type: ignore[attr-defined]
+        except Exception as exc:  # shown in the form; nothing was written (one transaction)
+            self.app.call_from_thread(self._submit_failed, f"{type(exc).__name__}: {exc}")
+            return
+        cached = f", {out.n_cached} from the cache" if out.n_cached else ""
+        self.app.call_from_thread(self.app.notify,
+                                  f"sweep {out.sweep_id}: {out.n_runs} runs queued{cached}")
+        self.app.call_from_thread(self.dismiss, out.sweep_id)
+
+    def _submit_failed(self, error: str) -> None:
+        self.query_one("#form-error", Static).update(f"✗ could not submit: {error}")
+        self.query_one("#submit", Button).disabled = False
+
+    @on(Button.Pressed, "#cancel")
+    def action_cancel(self) -> None:
+        self.dismiss(None)

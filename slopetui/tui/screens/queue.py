@@ -1,0 +1,95 @@
+"""Queue and workers: the live workers and what each runs; pause, resume, cancel."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from textual import on, work
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.message import Message
+from textual.screen import Screen
+from textual.widgets import DataTable, Footer, Header, Static
+
+from slopetui.sweeps.progress import (
+    SweepProgress,
+    WorkerInfo,
+    live_workers,
+    sweep_progress,
+)
+from slopetui.tui.messages import StoreFailed
+
+
+class QueueScreen(Screen[None]):
+    BINDINGS = [
+        Binding("p", "control('pause')", "Pause", id="queue.pause"),
+        Binding("r", "control('resume')", "Resume", id="queue.resume"),
+        Binding("c", "control('cancel')", "Cancel sweep", id="queue.cancel"),
+    ]
+
+    @dataclass
+    class Loaded(Message):
+        sweeps: list[SweepProgress]
+        workers: list[WorkerInfo]
+
+    def compose(self) -> ComposeResult:
+        yield Header()
+        yield Static("Workers", classes="section-title")
+        workers = DataTable(id="worker-table", cursor_type="row")
+        workers.add_columns("worker", "running", "jobs done", "heartbeat", "since")
+        yield workers
+        yield Static("Sweeps (p pause, r resume, c cancel the highlighted one)",
+                     classes="section-title")
+        sweeps = DataTable(id="queue-table", cursor_type="row", zebra_stripes=True)
+        sweeps.add_columns("id", "status", "queued", "running", "done", "failed", "cancelled",
+                           "name")
+        yield sweeps
+        yield Footer()
+
+    def on_mount(self) -> None:
+        self.set_interval(getattr(self.app, "refresh_s", 2.0), self.refresh_data)
+        self.refresh_data()
+        self.query_one("#queue-table").focus()
+
+    def refresh_data(self) -> None:
+        if getattr(self.app, "db", None) is not None:
+            self.load()
+
+    @work(thread=True, exclusive=True, group="queue-load")
+    def load(self) -> None:
+        db = self.app.db  # type: ignore[attr-defined]
+        try:
+            self.post_message(self.Loaded(sweep_progress(db), live_workers(db)))
+        except Exception as exc:
+            self.post_message(StoreFailed("reading the queue", f"{type(exc).__name__}: {exc}"))
+
+    def on_queue_screen_loaded(self, message: Loaded) -> None:
+        workers = self.query_one("#worker-table", DataTable)
+        workers.clear()
+        for w in message.workers:
+            workers.add_row(w.id, f"run {w.run_id}" if w.run_id else "idle", str(w.jobs_done),
+                            f"{w.heartbeat_age_s:.0f} s ago", f"{w.started_at:%H:%M:%S}")
+        if not message.workers:
+            workers.add_row("no live workers", "start them: slopetui worker --detach", "", "", "")
+        table = self.query_one("#queue-table", DataTable)
+        row = table.cursor_row
+        table.clear()
+        for p in message.sweeps:
+            c = p.counts
+            table.add_row(str(p.id), p.status, str(c.get("queued", 0)), str(c.get("running", 0)),
+                          str(p.done), str(p.failed), str(c.get("cancelled", 0)), p.name,
+                          key=str(p.id))
+        if message.sweeps:
+            table.move_cursor(row=min(row, len(message.sweeps) - 1), animate=False)
+
+    @on(StoreFailed)
+    def _failed(self, message: StoreFailed) -> None:
+        self.notify(f"{message.action}: {message.error}", severity="error", timeout=8)
+
+    def action_control(self, action: str) -> None:
+        table = self.query_one("#queue-table", DataTable)
+        if table.row_count == 0 or getattr(self.app, "db", None) is None:
+            return
+        key = table.coordinate_to_cell_key(table.cursor_coordinate).row_key.value
+        if key is not None:
+            self.app.control_sweep(action, int(key))  # type: ignore[attr-defined]

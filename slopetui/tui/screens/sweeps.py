@@ -1,0 +1,198 @@
+"""Sweeps: the list with progress, and the selected sweep's diagram filling live."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from rich.text import Text
+from textual import on, work
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.containers import Vertical
+from textual.message import Message
+from textual.screen import Screen
+from textual.widgets import ContentSwitcher, DataTable, Footer, Header, Static
+
+from slopetui.plots import hopf_boundary
+from slopetui.plots.hopf import Curve
+from slopetui.sweeps.diagram import SweepDiagram, load_diagram
+from slopetui.sweeps.progress import SweepProgress, sweep_progress
+from slopetui.tui.messages import StoreFailed
+from slopetui.tui.widgets.bifurcation_view import BifurcationView
+from slopetui.tui.widgets.phase_grid import GridData, PhaseGrid
+
+BAR_WIDTH = 10
+#: Names are cut to this many characters, so the table fits 80 columns.
+NAME_WIDTH = 20
+
+
+def progress_bar(done: int, total: int) -> Text:
+    filled = round(BAR_WIDTH * done / total) if total else 0
+    return Text.assemble(("█" * filled, "green"), ("░" * (BAR_WIDTH - filled), "bright_black"),
+                         f" {100 * done // max(total, 1):>3}%")
+
+
+def eta_text(seconds: float | None) -> str:
+    if seconds is None:
+        return "-"
+    m, s = divmod(round(seconds), 60)
+    h, m = divmod(m, 60)
+    return f"{h}h{m:02d}m" if h else f"{m}m{s:02d}s"
+
+
+def plane_hopf(d: SweepDiagram) -> Curve | None:
+    """The exact Hopf curve over the sweep's plane (None where the plane has none)."""
+    spec = d.spec
+    assert spec.y is not None
+    x, y = spec.x, spec.y
+    return hopf_boundary(spec.base, x.param, y.param,
+                         (min(x.start, x.stop), max(x.start, x.stop)),
+                         (min(y.start, y.stop), max(y.start, y.stop)))
+
+
+def grid_data(d: SweepDiagram, hopf: Curve | None) -> GridData:
+    spec = d.spec
+    assert spec.y is not None
+    x, y = spec.x, spec.y
+    return GridData(x.param, y.param, x.values(), y.values(), x.spacing == "log",
+                    y.spacing == "log", {(r.ix, r.iy): (r.id, r.regime) for r in d.runs}, hopf)
+
+
+class SweepsScreen(Screen[None]):
+    """Enter on a sweep moves to its diagram; arrows move the cursor there, enter opens
+    the run under it."""
+
+    BINDINGS = [
+        Binding("p", "pause", "Pause", id="sweeps.pause"),
+        Binding("r", "resume", "Resume", id="sweeps.resume"),
+        Binding("c", "cancel", "Cancel sweep", id="sweeps.cancel"),
+        Binding("d", "focus_diagram", "Diagram", id="sweeps.diagram"),
+        Binding("escape", "focus_list", "Sweep list", show=False),
+    ]
+
+    @dataclass
+    class Loaded(Message):
+        sweeps: list[SweepProgress]
+        diagram: SweepDiagram | None
+        grid: GridData | None  # for a 2-D sweep
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.selected: int | None = None
+        #: Hopf curves by sweep id: a spec never changes, and the curve costs ~0.1 s.
+        self._hopf: dict[int, Curve | None] = {}
+
+    def compose(self) -> ComposeResult:
+        yield Header()
+        table = DataTable(id="sweep-table", cursor_type="row", zebra_stripes=True)
+        table.add_columns("id", "name", "progress", "done", "r/min", "ETA", "status")
+        yield table
+        with Vertical(id="diagram-pane"):
+            with ContentSwitcher(initial="diagram-empty", id="diagram-switcher"):
+                yield Static("Opening the store…", id="diagram-empty")
+                yield PhaseGrid(id="phase-grid")
+                yield BifurcationView(id="bifurcation")
+        yield Footer()
+
+    def on_mount(self) -> None:
+        self.set_interval(getattr(self.app, "refresh_s", 2.0), self.refresh_data)
+        self.refresh_data()
+
+    def refresh_data(self) -> None:
+        if getattr(self.app, "db", None) is not None:
+            self.load(self.selected)
+
+    @work(thread=True, exclusive=True, group="sweeps-load")
+    def load(self, sweep_id: int | None) -> None:
+        db = self.app.db  # type: ignore[attr-defined]
+        try:
+            sweeps = sweep_progress(db)
+            if sweep_id is None and sweeps:
+                sweep_id = sweeps[0].id
+            diagram = load_diagram(db, sweep_id) if sweep_id is not None else None
+        except Exception as exc:  # a locked or vanished database: say so, keep running
+            self.post_message(StoreFailed("reading the sweeps", f"{type(exc).__name__}: {exc}"))
+            return
+        grid = None
+        if diagram is not None and diagram.spec.y is not None:
+            if diagram.id not in self._hopf:
+                self._hopf[diagram.id] = plane_hopf(diagram)
+            grid = grid_data(diagram, self._hopf[diagram.id])
+        self.post_message(self.Loaded(sweeps, diagram, grid))
+
+    def on_sweeps_screen_loaded(self, message: Loaded) -> None:
+        self._fill_table(message.sweeps)
+        self._show_diagram(message.diagram, message.grid)
+
+    def on_store_failed(self, message: StoreFailed) -> None:
+        self.notify(f"{message.action}: {message.error}", severity="error", timeout=8)
+
+    def _fill_table(self, sweeps: list[SweepProgress]) -> None:
+        table = self.query_one("#sweep-table", DataTable)
+        keep = table.cursor_row
+        table.clear()
+        for p in sweeps:
+            name = p.name if len(p.name) <= NAME_WIDTH else p.name[:NAME_WIDTH - 1] + "…"
+            status = f"{p.status}, {p.failed} failed" if p.failed else p.status
+            table.add_row(str(p.id), name, progress_bar(p.done + p.failed, p.total),
+                          f"{p.done}/{p.total}", f"{p.runs_per_min:.0f}", eta_text(p.eta_s),
+                          status, key=str(p.id))
+        if sweeps:
+            if self.selected is None:
+                self.selected = sweeps[0].id
+            ids = [p.id for p in sweeps]
+            row = ids.index(self.selected) if self.selected in ids else min(keep, len(ids) - 1)
+            table.move_cursor(row=row, animate=False)
+        else:
+            self.query_one("#diagram-empty", Static).update(
+                "No sweeps yet: press n to design one (or slopetui submit).")
+
+    def _show_diagram(self, diagram: SweepDiagram | None, grid: GridData | None) -> None:
+        switcher = self.query_one("#diagram-switcher", ContentSwitcher)
+        if diagram is None:
+            switcher.current = "diagram-empty"
+        elif diagram.spec.y is None:
+            self.query_one(BifurcationView).set_diagram(diagram)
+            switcher.current = "bifurcation"
+        else:
+            self.query_one(PhaseGrid).set_data(grid)
+            switcher.current = "phase-grid"
+
+    @on(DataTable.RowHighlighted, "#sweep-table")
+    def _row_highlighted(self, event: DataTable.RowHighlighted) -> None:
+        if event.row_key.value is not None:
+            chosen = int(event.row_key.value)
+            if chosen != self.selected:
+                self.selected = chosen
+                self.refresh_data()
+
+    @on(DataTable.RowSelected, "#sweep-table")
+    def _row_selected(self) -> None:
+        self.action_focus_diagram()
+
+    def action_focus_diagram(self) -> None:
+        current = self.query_one("#diagram-switcher", ContentSwitcher).current
+        if current in ("phase-grid", "bifurcation"):
+            self.query_one(f"#{current}").focus()
+
+    def action_focus_list(self) -> None:
+        self.query_one("#sweep-table").focus()
+
+    @on(PhaseGrid.RunChosen)
+    @on(BifurcationView.RunChosen)
+    def _open_run(self, message: PhaseGrid.RunChosen | BifurcationView.RunChosen) -> None:
+        self.app.open_run(message.run_id)  # type: ignore[attr-defined]
+
+    def _control(self, action: str) -> None:
+        if self.selected is not None and getattr(self.app, "db", None) is not None:
+            self.app.control_sweep(action, self.selected)  # type: ignore[attr-defined]
+
+    def action_pause(self) -> None:
+        self._control("pause")
+
+    def action_resume(self) -> None:
+        self._control("resume")
+
+    def action_cancel(self) -> None:
+        self._control("cancel")
+

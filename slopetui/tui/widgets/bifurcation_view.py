@@ -1,0 +1,61 @@
+"""The bifurcation diagram of a 1-D sweep, with a cursor that steps along the parameter."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from textual.binding import Binding
+from textual.message import Message
+from textual.reactive import reactive
+
+from slopetui.plots import render_bifurcation
+from slopetui.sweeps.diagram import SweepDiagram
+from slopetui.tui.widgets.plot_view import PlotView
+
+
+class BifurcationView(PlotView, can_focus=True):
+    """Left/right choose a run (its value is marked in the title); enter opens it."""
+
+    BINDINGS = [
+        Binding("left", "step(-1)", "←", show=False),
+        Binding("right", "step(1)", "→", show=False),
+        Binding("enter", "choose", "Open run", id="bifurcation.open"),
+    ]
+
+    @dataclass
+    class RunChosen(Message):
+        run_id: int
+
+    index: reactive[int] = reactive(0)
+
+    def __init__(self, *, id: str | None = None) -> None:
+        super().__init__(id=id)
+        self.diagram: SweepDiagram | None = None
+
+    def set_diagram(self, diagram: SweepDiagram | None) -> None:
+        if diagram is None or self.diagram is None or self.diagram.id != diagram.id:
+            self.index = 0
+        self.diagram = diagram
+        self.show(None if diagram is None else self._draw_diagram)
+
+    def _draw_diagram(self, width: int, height: int, color: bool) -> str:
+        d = self.diagram
+        assert d is not None
+        x = d.spec.x
+        run = d.runs[min(self.index, len(d.runs) - 1)]
+        title = (f"{x.param} = {run.x:.5g}: {run.regime or run.status} (run {run.id}) "
+                 f"- {d.n_done}/{len(d.runs)} done")
+        return render_bifurcation(x.param, [r.x for r in d.runs], [r.peaks for r in d.runs],
+                                  [r.regime for r in d.runs], log=x.spacing == "log",
+                                  title=title, width=width, height=height, color=color)
+
+    def action_step(self, delta: int) -> None:
+        if self.diagram is not None and self.diagram.runs:
+            self.index = min(max(self.index + delta, 0), len(self.diagram.runs) - 1)
+
+    def watch_index(self) -> None:
+        self.redraw()
+
+    def action_choose(self) -> None:
+        if self.diagram is not None and self.diagram.runs:
+            self.post_message(self.RunChosen(self.diagram.runs[self.index].id))

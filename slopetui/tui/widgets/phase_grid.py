@@ -1,0 +1,247 @@
+"""The live phase diagram of a 2-D sweep: one terminal cell per run (or per block of
+runs when the sweep is larger than the widget), a cursor that moves across the cells,
+and the exact Hopf curve rasterised over them.
+
+Unlike the plotext rendering of ``slopetui show``, every cell here maps back to runs,
+so the cursor can open the run under it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from dataclasses import dataclass, field
+
+import numpy as np
+from rich.style import Style
+from rich.text import Text
+from textual.binding import Binding
+from textual.message import Message
+from textual.reactive import reactive
+from textual.widget import Widget
+
+from slopetui.plots.regime_colors import LEGEND_ORDER, PENDING, REGIME_STYLES
+
+#: plotext colour names (slopetui.plots) as Rich colours; "orange" is ANSI 3 there too.
+RICH_COLOR = {"cyan": "cyan", "green": "green", "magenta": "magenta", "orange": "yellow",
+              "red": "red", "gray": "bright_black"}
+HOPF_STYLE = Style(bgcolor="grey30")
+LABEL_WIDTH = 8  # y tick labels
+#: Rows under the grid: x tick labels (ending in the axis name), legend, the cursor's run
+#: (which names both parameters).
+FOOTER_ROWS = 3
+
+
+@dataclass
+class GridData:
+    """A sweep's grid: axis values and, per (ix, iy), the run id and its regime
+    (None while not done)."""
+
+    x_param: str
+    y_param: str
+    xs: np.ndarray
+    ys: np.ndarray
+    x_log: bool
+    y_log: bool
+    runs: dict[tuple[int, int], tuple[int, str | None]] = field(default_factory=dict)
+    hopf: tuple[np.ndarray, np.ndarray] | None = None
+
+
+def _style(regime: str | None) -> tuple[str, Style]:
+    key = regime or PENDING
+    s = REGIME_STYLES[key]
+    return s.marker, Style(color=RICH_COLOR.get(s.color, "default"))
+
+
+def _axis_position(values: np.ndarray, log: bool, v: float) -> float:
+    """Fractional grid index of the value v on an axis of the given values."""
+    if len(values) == 1:
+        return 0.0
+    lo, hi = (np.log(values[0]), np.log(values[-1])) if log else (values[0], values[-1])
+    if log:
+        if v <= 0:
+            return math.nan
+        v = math.log(v)
+    return (v - lo) / (hi - lo) * (len(values) - 1)
+
+
+class PhaseGrid(Widget, can_focus=True):
+    """Arrows move the cursor; enter opens the run under it (posts ``RunChosen``)."""
+
+    DEFAULT_CSS = """
+    PhaseGrid { width: 1fr; height: 1fr; min-height: 10; }
+    PhaseGrid:focus { background: $boost; }
+    """
+    BINDINGS = [
+        Binding("left", "move(-1, 0)", "←", show=False),
+        Binding("right", "move(1, 0)", "→", show=False),
+        Binding("up", "move(0, 1)", "↑", show=False),
+        Binding("down", "move(0, -1)", "↓", show=False),
+        Binding("enter", "choose", "Open run", id="grid.open"),
+    ]
+
+    @dataclass
+    class RunChosen(Message):
+        run_id: int
+
+    cursor: reactive[tuple[int, int]] = reactive((0, 0))
+
+    def __init__(self, *, id: str | None = None) -> None:
+        super().__init__(id=id)
+        self.data: GridData | None = None
+
+    # --- data -----------------------------------------------------------------------
+    def set_data(self, data: GridData | None) -> None:
+        same_grid = (self.data is not None and data is not None
+                     and (self.data.x_param, self.data.y_param, len(self.data.xs),
+                          len(self.data.ys)) == (data.x_param, data.y_param, len(data.xs),
+                                                 len(data.ys)))
+        self.data = data
+        if not same_grid:
+            self.cursor = (0, 0)
+        self.refresh()
+
+    # --- geometry: display cells, each covering a block of runs -----------------------
+    def _layout(self) -> tuple[int, int, int, int, int] | None:
+        """(cell width, x stride, y stride, columns, rows) for the current size."""
+        if self.data is None:
+            return None
+        width = max(self.size.width - LABEL_WIDTH - 1, 1)
+        height = max(self.size.height - FOOTER_ROWS, 1)
+        nx, ny = len(self.data.xs), len(self.data.ys)
+        sx, sy = math.ceil(nx / width), math.ceil(ny / height)
+        cols, rows = math.ceil(nx / sx), math.ceil(ny / sy)
+        cell_w = max(1, min(3, width // cols))
+        return cell_w, sx, sy, cols, rows
+
+    def _block(self, col: int, row: int, sx: int, sy: int) -> list[tuple[int, str | None]]:
+        assert self.data is not None
+        return [self.data.runs[(ix, iy)]
+                for ix in range(col * sx, min((col + 1) * sx, len(self.data.xs)))
+                for iy in range(row * sy, min((row + 1) * sy, len(self.data.ys)))
+                if (ix, iy) in self.data.runs]
+
+    def _label(self, block: list[tuple[int, str | None]]) -> str | None:
+        done = Counter(r for _, r in block if r is not None)
+        return done.most_common(1)[0][0] if done else None
+
+    def _center_run(self, col: int, row: int, sx: int, sy: int) -> tuple[int, int]:
+        assert self.data is not None
+        return (min(col * sx + sx // 2, len(self.data.xs) - 1),
+                min(row * sy + sy // 2, len(self.data.ys) - 1))
+
+    def _hopf_cells(self, sx: int, sy: int) -> set[tuple[int, int]]:
+        """Display cells the exact Hopf curve passes through."""
+        assert self.data is not None
+        if self.data.hopf is None or len(self.data.hopf[0]) == 0:
+            return set()
+        d = self.data
+        fx = np.array([_axis_position(d.xs, d.x_log, float(v)) for v in d.hopf[0]])
+        fy = np.array([_axis_position(d.ys, d.y_log, float(v)) for v in d.hopf[1]])
+        cells = set()
+        for i in range(len(fx) - 1):  # interpolate, so that steep stretches stay joined
+            steps = int(max(abs(fx[i + 1] - fx[i]) / sx, abs(fy[i + 1] - fy[i]) / sy, 1) * 2)
+            for s in np.linspace(0.0, 1.0, steps + 1):
+                x = fx[i] + s * (fx[i + 1] - fx[i])
+                y = fy[i] + s * (fy[i + 1] - fy[i])
+                if np.isfinite(x) and np.isfinite(y) and -0.5 <= x <= len(d.xs) - 0.5 \
+                        and -0.5 <= y <= len(d.ys) - 0.5:
+                    cells.add((int(round(x)) // sx, int(round(y)) // sy))
+        return cells
+
+    # --- the cursor --------------------------------------------------------------------
+    def action_move(self, dx: int, dy: int) -> None:
+        layout = self._layout()
+        if layout is None:
+            return
+        _, _, _, cols, rows = layout
+        c, r = self.cursor
+        self.cursor = (min(max(c + dx, 0), cols - 1), min(max(r + dy, 0), rows - 1))
+
+    def cursor_run(self) -> tuple[int, float, float, str | None] | None:
+        """(run id, x, y, regime) of the run at the centre of the cursor's cell."""
+        layout = self._layout()
+        if layout is None or self.data is None:
+            return None
+        _, sx, sy, cols, rows = layout
+        c, r = min(self.cursor[0], cols - 1), min(self.cursor[1], rows - 1)
+        ix, iy = self._center_run(c, r, sx, sy)
+        if (ix, iy) not in self.data.runs:
+            return None
+        run_id, regime = self.data.runs[(ix, iy)]
+        return run_id, float(self.data.xs[ix]), float(self.data.ys[iy]), regime
+
+    def action_choose(self) -> None:
+        found = self.cursor_run()
+        if found is not None:
+            self.post_message(self.RunChosen(found[0]))
+
+    # --- rendering ------------------------------------------------------------------------
+    def render(self) -> Text:
+        width = self.size.width
+        layout = self._layout()
+        if layout is None or self.data is None:
+            return Text("no sweep selected")
+        d = self.data
+        cell_w, sx, sy, cols, rows = layout
+        hopf = self._hopf_cells(sx, sy)
+        cursor = (min(self.cursor[0], cols - 1), min(self.cursor[1], rows - 1))
+        out = Text(no_wrap=True, overflow="crop")
+        label_every = max(1, rows // 6)
+        for row_top in range(rows):
+            row = rows - 1 - row_top  # larger y on top
+            iy = self._center_run(0, row, sx, sy)[1]
+            if row_top == 0:  # the top row names the y axis
+                out.append(f"{d.y_param} ↑"[:LABEL_WIDTH - 1].rjust(LABEL_WIDTH - 1) + "│")
+            elif row % label_every == 0 or row == rows - 1:
+                out.append(f"{d.ys[iy]:.4g}".rjust(LABEL_WIDTH - 1) + "┤")
+            else:
+                out.append(" " * (LABEL_WIDTH - 1) + "│")
+            for col in range(cols):
+                marker, style = _style(self._label(self._block(col, row, sx, sy)))
+                if (col, row) in hopf:
+                    style = style + HOPF_STYLE
+                if (col, row) == cursor:
+                    style = style + (Style(reverse=True, bold=True) if self.has_focus
+                                     else Style(underline=True, bold=True))
+                out.append(marker.center(cell_w), style)
+            out.append("\n")
+        out.append(self._x_ticks(cols, cell_w, sx)[:width] + "\n")
+        counts = Counter(r or PENDING for _, r in d.runs.values())
+        for key in LEGEND_ORDER:
+            if counts.get(key):
+                marker, style = _style(None if key == PENDING else key)
+                out.append(marker, style)
+                out.append(f" {key} ({counts[key]})  ")
+        if d.hopf is not None:
+            out.append("  ", HOPF_STYLE)
+            out.append(" Hopf (exact)")
+        out.append("\n")
+        found = self.cursor_run()
+        if found is not None:
+            run_id, x, y, regime = found
+            out.append(f"{d.x_param} = {x:.5g}, {d.y_param} = {y:.5g}: "
+                       f"{regime or 'pending'} (run {run_id}; enter opens it)", Style(bold=True))
+        return out
+
+    def _x_ticks(self, cols: int, cell_w: int, sx: int) -> str:
+        assert self.data is not None
+        line = [" "] * (LABEL_WIDTH + cols * cell_w + 8)
+        line[LABEL_WIDTH - 1] = "└"
+        every = max(1, 10 // cell_w)
+        for col in range(0, cols, every):
+            ix = self._center_run(col, 0, sx, 1)[0]
+            text = f"{self.data.xs[ix]:.4g}"
+            start = LABEL_WIDTH + col * cell_w
+            if start + len(text) <= len(line):
+                line[start:start + len(text)] = list(text)
+        return "".join(line).rstrip() + f"  → {self.data.x_param}"
+
+    def watch_cursor(self) -> None:
+        self.refresh()
+
+    def on_focus(self) -> None:
+        self.refresh()
+
+    def on_blur(self) -> None:
+        self.refresh()
