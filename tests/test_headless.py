@@ -194,3 +194,10 @@ def test_sql_reads(tmp_path, capsys):
     assert json.loads(out) == {"n": 3}
     code, _, err = cli(capsys, "sql", "SELEC nonsense", "--db", url)
     assert code == 2 and "syntax error" in err
+
+
+def test_sql_reads_the_schema_with_pragmas(tmp_path, capsys):
+    url = f"sqlite:///{tmp_path / 's.db'}"
+    cli(capsys, "submit", "--x", "k=4:8:3", "--t-end", "100", "--window", "50", "--db", url)
+    code, out, err = cli(capsys, "sql", "PRAGMA table_info(runs)", "--db", url)
+    assert code == 0 and "lambda_max" in out, err

@@ -95,12 +95,17 @@ def _sqlite_begin(conn: Any) -> None:
     conn.exec_driver_sql("BEGIN" if read else "BEGIN IMMEDIATE")
 
 
+#: Pragmas that take an argument and only read (SQLAlchemy's inspector uses them).
+READ_PRAGMAS = frozenset({"table_info", "table_xinfo", "index_list", "index_info",
+                          "index_xinfo", "foreign_key_list", "table_list"})
+
+
 def _read_only_authorizer(action: int, arg1: str | None, arg2: str | None, *_: Any) -> int:
     """mode=ro still lets ATTACH create a new file and PRAGMA turn query_only off."""
     if action in (sqlite3.SQLITE_ATTACH, sqlite3.SQLITE_DETACH):
         return sqlite3.SQLITE_DENY
-    if action == sqlite3.SQLITE_PRAGMA and arg2 is not None:  # setting, not reading
-        return sqlite3.SQLITE_DENY
+    if action == sqlite3.SQLITE_PRAGMA and arg2 is not None and arg1 not in READ_PRAGMAS:
+        return sqlite3.SQLITE_DENY  # setting a pragma, not reading one
     return sqlite3.SQLITE_OK
 
 

@@ -1,0 +1,258 @@
+"""The SQL console screen, driven by Textual's Pilot at 80x24 over a small store."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import math
+import sqlite3
+from collections.abc import Awaitable, Callable
+from pathlib import Path
+
+import pytest
+from textual.pilot import Pilot
+from textual.widgets import DataTable, OptionList, Static, TextArea, Tree
+
+from slopetui.store import Database
+from slopetui.tui.app import SlopeApp
+from slopetui.tui.screens import sql as sql_screen
+from slopetui.tui.screens.sql import (
+    QueryDone,
+    QueryFailed,
+    SqlScreen,
+    format_cell,
+    merge_history,
+    read_history,
+    run_query,
+    write_history,
+)
+from tests.conftest import submit_quick
+
+N_RUNS = 5
+Scenario = Callable[[Pilot, SlopeApp], Awaitable[None]]
+
+
+@pytest.fixture(autouse=True)
+def history_path(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """Never the user's own history."""
+    path = tmp_path / "sql_history"
+    monkeypatch.setattr(SqlScreen, "HISTORY_PATH", path)
+    return path
+
+
+@pytest.fixture
+def store(db_url: str) -> str:
+    """A store with one sweep of N_RUNS queued runs."""
+    db = Database(db_url)
+    submit_quick(db, N_RUNS)
+    db.dispose()
+    return db_url
+
+
+def dump(db_url: str) -> list[str]:
+    conn = sqlite3.connect(db_url.removeprefix("sqlite:///"))
+    try:
+        return list(conn.iterdump())
+    finally:
+        conn.close()
+
+
+def in_console(db_url: str, scenario: Scenario) -> None:
+    """Run scenario on the SQL console of an app over db_url, once its store is open."""
+
+    async def main() -> None:
+        app = SlopeApp(db_url, start_workers=False)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await app.workers.wait_for_complete()
+            assert app.db is not None
+            await app.switch_mode("sql")
+            await settle(pilot)
+            assert isinstance(app.screen, SqlScreen)
+            await scenario(pilot, app)
+
+    asyncio.run(main())
+
+
+async def settle(pilot: Pilot) -> None:
+    """Let the workers finish and their messages arrive."""
+    await pilot.app.workers.wait_for_complete()
+    await pilot.pause()
+
+
+async def run_sql(pilot: Pilot, sql: str) -> str:
+    """Type sql into the editor, run it with ctrl+r; the status line after it."""
+    screen = pilot.app.screen
+    screen.query_one("#sql-editor", TextArea).text = sql
+    screen.query_one("#sql-editor", TextArea).focus()
+    await pilot.press("ctrl+r")
+    await settle(pilot)
+    return status(pilot)
+
+
+def status(pilot: Pilot) -> str:
+    return str(pilot.app.screen.query_one("#sql-status", Static).render())
+
+
+def table_rows(pilot: Pilot) -> tuple[list[str], list[list[str]]]:
+    table = pilot.app.screen.query_one("#sql-results", DataTable)
+    labels = [str(c.label) for c in table.columns.values()]
+    rows = [[str(cell) for cell in table.get_row_at(i)] for i in range(table.row_count)]
+    return labels, rows
+
+
+def test_select_fills_the_table(store: str) -> None:
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        message = await run_sql(pilot, "SELECT id, k, status, regime FROM runs ORDER BY id")
+        assert message.startswith(f"{N_RUNS} rows in"), message
+        labels, rows = table_rows(pilot)
+        assert labels == ["id", "k", "status", "regime"]
+        assert rows == [[str(i + 1), f"{k:g}", "queued", "NULL"]
+                        for i, k in enumerate([4, 6, 8, 10, 12])]
+
+        many = ("WITH RECURSIVE c(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM c "
+                "WHERE x < 2500) SELECT x FROM c")
+        message = await run_sql(pilot, many)
+        assert message.startswith(f"2500 rows (first {sql_screen.DISPLAY_LIMIT} shown)")
+        assert app.screen.query_one("#sql-results", DataTable).row_count == \
+            sql_screen.DISPLAY_LIMIT
+
+    in_console(store, scenario)
+
+
+def test_writes_are_refused_and_change_nothing(store: str) -> None:
+    before = dump(store)
+    writes = ["INSERT INTO workers (id, host, pid) VALUES ('x:1', 'x', 1)",
+              "UPDATE runs SET k = 0", "DELETE FROM runs", "DROP TABLE runs",
+              "CREATE TABLE t (x)", "PRAGMA query_only = OFF",
+              "ATTACH DATABASE 'elsewhere.db' AS other"]
+
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        for sql in writes:
+            message = await run_sql(pilot, sql)
+            assert message.startswith("refused: the store is opened read-only ("), (sql, message)
+        # The console still reads after refusals.
+        assert (await run_sql(pilot, "SELECT count(*) FROM runs")).startswith("1 row in")
+        assert table_rows(pilot)[1] == [[str(N_RUNS)]]
+
+    in_console(store, scenario)
+    assert dump(store) == before
+
+
+def test_syntax_error_shows_the_database_message(store: str) -> None:
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        message = await run_sql(pilot, "SELEC id FROM runs")
+        assert message == 'error: near "SELEC": syntax error'
+        assert app.screen.query_one("#sql-results", DataTable).row_count == 0
+
+    in_console(store, scenario)
+
+
+def test_history_records_recalls_and_persists(store: str, history_path: Path) -> None:
+    first, second = "SELECT 1 AS one", "SELECT id FROM sweeps"
+
+    async def record(pilot: Pilot, app: SlopeApp) -> None:
+        for sql in (first, second, first):  # running first again moves it to the top
+            await run_sql(pilot, sql)
+        options = app.screen.query_one("#sql-history", OptionList)
+        assert options.option_count == 2
+        # Recall the older one: focus the list, move down to it, press enter.
+        app.screen.query_one("#sql-editor", TextArea).text = ""
+        options.focus()
+        options.highlighted = 1
+        await pilot.press("enter")
+        assert app.screen.query_one("#sql-editor", TextArea).text == second
+        assert app.screen.focused is app.screen.query_one("#sql-editor")
+
+    in_console(store, record)
+    assert read_history(history_path) == [first, second]
+
+    async def reopened(pilot: Pilot, app: SlopeApp) -> None:
+        assert app.screen.query_one("#sql-history", OptionList).option_count == 2
+        await run_sql(pilot, "SELECT 2")
+
+    in_console(store, reopened)
+    assert read_history(history_path) == ["SELECT 2", first, second]
+
+
+def test_schema_lists_the_tables(store: str) -> None:
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        tree = app.screen.query_one("#sql-schema", Tree)
+        tables = {str(node.label): node for node in tree.root.children}
+        assert {"sweeps", "runs", "workers"} <= tables.keys()
+        columns = [str(leaf.label) for leaf in tables["runs"].children]
+        assert "id integer pk" in columns and "lambda_max double" in columns
+        # The panel toggles; enter on a table types its name into the query.
+        await pilot.press("ctrl+b")
+        assert not app.screen.query_one("#sql-side").display
+        await pilot.press("ctrl+b")
+        tree.focus()
+        tree.move_cursor(tables["workers"])
+        await pilot.press("enter")
+        editor = app.screen.query_one("#sql-editor", TextArea)
+        assert editor.text.endswith("workers") and app.screen.focused is editor
+        await pilot.press("ctrl+l")
+        assert editor.text == ""
+
+    in_console(store, scenario)
+
+
+def test_waits_for_the_database(store: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Before the app has opened its store the console says so; a query run meanwhile
+    runs once the app reports the store open (refresh_data)."""
+    monkeypatch.setattr(SlopeApp, "open_store", lambda app: None)
+
+    async def main() -> None:
+        app = SlopeApp(store, start_workers=False)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await app.switch_mode("sql")
+            await settle(pilot)
+            assert status(pilot) == "opening the database…"
+            assert (await run_sql(pilot, "SELECT count(*) AS n FROM runs")) == \
+                "opening the database…"
+            app.db = Database(store)
+            try:
+                app.refresh_active_screen()
+                await settle(pilot)
+                assert status(pilot).startswith("1 row in")
+                assert table_rows(pilot) == (["n"], [[str(N_RUNS)]])
+                assert app.screen.query_one("#sql-schema", Tree).root.children
+            finally:
+                app.db.dispose()
+
+    asyncio.run(main())
+
+
+# -- the pieces without the UI ---------------------------------------------------------
+
+def test_format_cell() -> None:
+    assert str(format_cell(None)) == "NULL"
+    assert str(format_cell(1 / 3)) == "0.333333"
+    assert str(format_cell(1.5e-12)) == "1.5e-12"
+    assert str(format_cell(math.inf)) == "inf"
+    assert str(format_cell(42)) == "42"
+    assert str(format_cell("[1.0, 2.0]")) == "[1.0, 2.0]"  # not read as markup
+    assert str(format_cell("x" * 500)).endswith("…")
+
+
+def test_run_query_keeps_colons(db: Database) -> None:
+    engine = db.read_only_engine()
+    try:
+        done = run_query(engine, """SELECT json_extract('{"a":1}', '$.a') AS a, '12:30' AS t""")
+        assert isinstance(done, QueryDone)
+        assert [[str(c) for c in row] for row in done.rows] == [["1", "12:30"]]
+        failed = run_query(engine, "SELECT 1; SELECT 2")
+        assert isinstance(failed, QueryFailed) and not failed.refused
+    finally:
+        engine.dispose()
+
+
+def test_history_file(tmp_path: Path) -> None:
+    path = tmp_path / "deep" / "sql_history"
+    queries = merge_history(["SELECT\n  1", " SELECT 2 ", "SELECT\n  1"],
+                            [f"SELECT {i}" for i in range(300)])
+    assert queries[:3] == ["SELECT\n  1", "SELECT 2", "SELECT 0"]
+    assert len(queries) == sql_screen.HISTORY_LIMIT
+    write_history(path, queries)
+    assert read_history(path) == queries
+    path.write_text(path.read_text() + "not json\n" + json.dumps(7) + "\n")
+    assert read_history(path) == queries
