@@ -4,7 +4,7 @@ A 2-D sweep draws its phase diagram (one colour and marker per regime, the exact
 curve of ``core.stability`` over it where the plane has one); a 1-D sweep draws its
 bifurcation diagram (the peak clusters of m_y against the parameter, as in Fig. 4A).
 Runs that are not finished yet are drawn as pending; sliding runs of a bifurcation
-diagram at their fixed point m_y = v.
+diagram at their mean m_y (near the fixed point m_y = 0).
 """
 
 from __future__ import annotations

@@ -21,7 +21,7 @@ class RunPoint:
     y: float | None
     status: str
     regime: str | None      # None unless done
-    peaks: list[float]      # peak clusters of m_y; a sliding run gives its fixed point v
+    peaks: list[float]      # peak clusters of m_y; a sliding run gives its mean m_y
     error: str | None
 
 
@@ -46,15 +46,16 @@ def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
         spec = parse_spec(sweep.spec)
         cols = (Run.id, Run.ix, Run.iy, getattr(Run, spec.x.param),
                 getattr(Run, spec.y.param) if spec.y else Run.iy, Run.status, Run.regime,
-                Run.peaks, Run.v, Run.error)
+                Run.peaks, Run.drift, Run.error)
         rows = s.execute(select(*cols).where(Run.sweep_id == sweep_id)
                          .order_by(Run.iy, Run.ix)).all()
     runs = []
-    for rid, ix, iy, x, y, status, regime, peaks, v, error in rows:
+    for rid, ix, iy, x, y, status, regime, peaks, drift, error in rows:
         done = status == "done"
-        # A sliding run has settled on the fixed point m_y = v (eq. 14): drawn there, as
-        # the lower branch of Fig. 4A; its window has no peaks.
-        shown = ([v] if regime == "sliding" else list(peaks or [])) if done else []
+        # A sliding run has no peaks: it rests near the fixed point m_y = 0 (eqs. 14-17;
+        # with noise d > 0 it drifts at a small constant m_y). It is drawn at its window
+        # mean of m_y (the drift), the flat lower branch of Fig. 4A.
+        shown = ([drift] if regime == "sliding" else list(peaks or [])) if done else []
         runs.append(RunPoint(rid, ix, iy, x, y if spec.y else None, status,
                              regime if done else None, shown, error))
     return SweepDiagram(sweep.id, sweep.name, spec, runs)

@@ -31,12 +31,12 @@ def _axis_row(axis: str, param: str, start: str, stop: str, num: str) -> Horizon
     none = [("(none)", NO_AXIS)] if axis == "y" else []
     return Horizontal(
         Label(f"{axis}:", classes="row-label"),
-        Select(none + AXIS_CHOICES, value=param, allow_blank=False, id=f"{axis}-param",
+        Select(none + AXIS_CHOICES, value=param, allow_blank=False, compact=True, id=f"{axis}-param",
                classes="axis-param"),
-        Input(start, placeholder="start", id=f"{axis}-start", classes="num"),
-        Input(stop, placeholder="stop", id=f"{axis}-stop", classes="num"),
-        Input(num, placeholder="points", id=f"{axis}-num", classes="num"),
-        Select(SPACING_CHOICES, value="linear", allow_blank=False, id=f"{axis}-spacing",
+        Input(start, placeholder="start", compact=True, id=f"{axis}-start", classes="num"),
+        Input(stop, placeholder="stop", compact=True, id=f"{axis}-stop", classes="num"),
+        Input(num, placeholder="points", compact=True, id=f"{axis}-num", classes="num"),
+        Select(SPACING_CHOICES, value="linear", allow_blank=False, compact=True, id=f"{axis}-spacing",
                classes="spacing"),
         classes="form-row")
 
@@ -45,7 +45,8 @@ def _fixed_row(names: tuple[str, ...]) -> Horizontal:
     cells: list[Any] = [Label("fixed:" if names[0] == "a" else "", classes="row-label")]
     for name in names:
         cells += [Label(name, classes="param-label"),
-                  Input(f"{getattr(DEFAULTS, name):g}", id=f"fixed-{name}", classes="num")]
+                  Input(f"{getattr(DEFAULTS, name):g}", compact=True, id=f"fixed-{name}",
+                        classes="num")]
     return Horizontal(*cells, classes="form-row")
 
 
@@ -68,9 +69,9 @@ class NewSweepScreen(Screen[int | None]):
         with VerticalScroll(id="form"):
             yield Horizontal(Label("preset:", classes="row-label"),
                              Select([(p.title, p.key) for p in PRESETS], prompt="(none)",
-                                    id="preset"), classes="form-row")
+                                    compact=True, id="preset"), classes="form-row")
             yield Horizontal(Label("name:", classes="row-label"),
-                             Input(placeholder="(from the axes)", id="name"), classes="form-row")
+                             Input(placeholder="(from the axes)", compact=True, id="name"), classes="form-row")
             yield _axis_row("x", "k", "2", "20", "19")
             yield _axis_row("y", "tau", "0.5", "10", "12")
             yield _fixed_row(("a", "b", "c", "d"))
@@ -78,13 +79,13 @@ class NewSweepScreen(Screen[int | None]):
             yield Horizontal(
                 Label("solver:", classes="row-label"),
                 Select([(m, m) for m in METHODS], value="euler", allow_blank=False,
-                       id="solver-method", classes="spacing"),
-                Label("dt", classes="param-label"), Input("0.001", id="solver-dt", classes="num"),
+                       compact=True, id="solver-method", classes="spacing"),
+                Label("dt", classes="param-label"), Input("0.001", compact=True, id="solver-dt", classes="num"),
                 Label("t_end", classes="param-label"),
-                Input("1e5", id="solver-t_end", classes="num"),
+                Input("1e5", compact=True, id="solver-t_end", classes="num"),
                 Label("window", classes="param-label"),
-                Input("1000", id="solver-window", classes="num"),
-                Checkbox("λmax", value=True, id="solver-lyap"),
+                Input("1000", compact=True, id="solver-window", classes="num"),
+                Checkbox("λmax", value=True, compact=True, id="solver-lyap"),
                 classes="form-row")
             yield Static("", id="preset-note")
             yield Static("", id="estimate")
