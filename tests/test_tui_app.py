@@ -226,3 +226,22 @@ def test_quitting_keeps_queued_work(db):
             await pilot.press("q")
     run(scenario)
     assert count(db, Run.status == "queued") == 6
+
+
+def test_no_color_keeps_the_regimes_apart_by_marker(db, monkeypatch):
+    from tests.conftest import submit_quick
+    submit_quick(db, 5)
+    finish_all(db)
+    monkeypatch.setenv("NO_COLOR", "1")
+
+    async def scenario():
+        app = app_for(db)
+        assert app.no_color
+        async with app.run_test(size=(80, 24)) as pilot:
+            view = app.query_one(BifurcationView)
+            await wait_until(pilot, lambda: view.diagram is not None and "m_y peaks" in str(view.render()))
+            text = view.render()
+            assert not text.spans  # plain text: no colour at all
+            assert ". sliding (" in str(text) and "o oscillatory (" in str(text)
+
+    run(scenario)
