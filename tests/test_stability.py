@@ -8,8 +8,16 @@ import numpy as np
 import pytest
 
 from core import Params
-from core.stability import (characteristic, hopf_curve_friction, hopf_k, hopf_tau, leading_root,
-                            paper_fit_k, roots, small_tau_k)
+from core.stability import (
+    characteristic,
+    hopf_curve_friction,
+    hopf_k,
+    hopf_tau,
+    leading_root,
+    paper_fit_k,
+    roots,
+    small_tau_k,
+)
 
 F1 = Params().F1
 

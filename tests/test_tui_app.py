@@ -6,6 +6,8 @@ from __future__ import annotations
 from sqlalchemy import func, select
 
 from slopetui.store import Database, Run, Sweep, Worker
+from slopetui.sweeps.spec import parse_spec
+from slopetui.sweeps.submit import submit
 from slopetui.tui.app import SlopeApp
 from slopetui.tui.screens.error import ErrorScreen
 from slopetui.tui.screens.new_sweep import NewSweepScreen
@@ -16,8 +18,6 @@ from slopetui.tui.widgets.bifurcation_view import BifurcationView
 from slopetui.tui.widgets.phase_grid import PhaseGrid
 from tests.conftest import QUICK_SOLVER
 from tests.tui_support import finish_all, run, wait_until
-from slopetui.sweeps.spec import parse_spec
-from slopetui.sweeps.submit import submit
 
 
 def plane(db: Database, nx: int = 6, ny: int = 4) -> int:

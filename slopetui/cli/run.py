@@ -7,7 +7,15 @@ import json
 import math
 import sys
 
-from core import PARAM_NAMES, METHODS, ParameterError, Params, SolverSettings, friction_warnings, run_point
+from core import (
+    METHODS,
+    PARAM_NAMES,
+    ParameterError,
+    Params,
+    SolverSettings,
+    friction_warnings,
+    run_point,
+)
 from core.point import PointResult
 from core.solve import make_grid
 
