@@ -10,7 +10,7 @@ from sqlalchemy.exc import SQLAlchemyError
 
 from core import ParameterError
 from slopetui import __version__
-from slopetui.cli import control, db, run, runs, show, sql, status, submit, worker
+from slopetui.cli import control, db, nblock, run, runs, show, sql, status, submit, worker
 from slopetui.cli.options import UsageError
 from slopetui.store.database import StoreError
 from slopetui.sweeps.control import UnknownSweep
@@ -32,7 +32,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-workers", action="store_true",
                         help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for module in (run, submit, status, show, runs, control, sql, worker, db):
+    for module in (run, submit, status, show, runs, control, sql, worker, db, nblock):
         module.register(sub)
     return parser
 

@@ -118,7 +118,8 @@ def legend_lines(entries: Sequence[LegendEntry], width: int, color: bool) -> lis
 
 def render(series: Sequence[Series], legend: Sequence[LegendEntry], *, x_label: str,
            y_label: str, x_log: bool, y_log: bool, title: str, width: int, height: int,
-           color: bool, x_range: tuple[float, float] | None = None) -> str:
+           color: bool, x_range: tuple[float, float] | None = None,
+           y_range: tuple[float, float] | None = None) -> str:
     """The series plotted under the title and over the legend: exactly ``height`` lines,
     each at most ``width`` columns wide, and no ANSI escapes when ``color`` is False.
     ``x_range`` pins the x axis (e.g. to the whole sweep, when only part of it has points)."""
@@ -138,6 +139,8 @@ def render(series: Sequence[Series], legend: Sequence[LegendEntry], *, x_label: 
             plt.xscale("log")
         if x_range is not None and x_range[0] < x_range[1]:
             plt.xlim(*x_range)
+        if y_range is not None and y_range[0] < y_range[1]:
+            plt.ylim(*y_range)
         if y_log:
             plt.yscale("log")
         text = plt.build()
