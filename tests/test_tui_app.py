@@ -163,12 +163,12 @@ def test_friction_constraints_are_warnings_and_presets_fill_the_form(db):
             await pilot.pause()
             assert "⚠" in str(form.query_one("#form-warnings").render())
             assert str(form.query_one("#form-error").render()) == ""  # still submittable
-            fill(app, {"preset": "fig7"})
+            fill(app, {"preset": "fig7b"})
             await pilot.pause()
             assert form.query_one("#x-param").value == "a"
             assert form.query_one("#x-start").value == "0.03"
             assert form.query_one("#fixed-k").value == "12"
-            assert "unstable" in str(form.query_one("#preset-note").render())
+            assert "far from the fixed point" in str(form.query_one("#preset-note").render())
 
     run(scenario)
 

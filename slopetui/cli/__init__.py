@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Sequence
 
@@ -10,7 +11,8 @@ from sqlalchemy.exc import SQLAlchemyError
 
 from core import ParameterError
 from slopetui import __version__
-from slopetui.cli import control, db, nblock, run, runs, show, sql, status, submit, worker
+from slopetui.cli import (control, db, nblock, reproduce, run, runs, show, sql, status,
+                          submit, worker)
 from slopetui.cli.options import UsageError
 from slopetui.store.database import StoreError
 from slopetui.sweeps.control import UnknownSweep
@@ -32,7 +34,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-workers", action="store_true",
                         help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for module in (run, submit, status, show, runs, control, sql, worker, db, nblock):
+    for module in (run, submit, status, show, runs, control, sql, worker, db, nblock, reproduce):
         module.register(sub)
     return parser
 
@@ -55,3 +57,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # `slopetui ... | head`: the reader left, nothing is wrong
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0

@@ -23,6 +23,10 @@ class RunPoint:
     regime: str | None      # None unless done
     peaks: list[float]      # peak clusters of m_y; a sliding run gives its mean m_y
     error: str | None
+    detail: str | None = None
+    period_count: int | None = None
+    lambda_max: float = float("nan")
+    lambda_err: float = float("nan")
 
 
 @dataclass(frozen=True)
@@ -46,16 +50,19 @@ def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
         spec = parse_spec(sweep.spec)
         cols = (Run.id, Run.ix, Run.iy, getattr(Run, spec.x.param),
                 getattr(Run, spec.y.param) if spec.y else Run.iy, Run.status, Run.regime,
-                Run.peaks, Run.drift, Run.error)
+                Run.peaks, Run.drift, Run.error, Run.detail, Run.period_count, Run.lambda_max,
+                Run.lambda_err)
         rows = s.execute(select(*cols).where(Run.sweep_id == sweep_id)
                          .order_by(Run.iy, Run.ix)).all()
     runs = []
-    for rid, ix, iy, x, y, status, regime, peaks, drift, error in rows:
+    for rid, ix, iy, x, y, status, regime, peaks, drift, error, detail, count, lam, lam_err \
+            in rows:
         done = status == "done"
         # A sliding run has no peaks: it rests near the fixed point m_y = 0 (eqs. 14-17;
         # with noise d > 0 it drifts at a small constant m_y). It is drawn at its window
         # mean of m_y (the drift), the flat lower branch of Fig. 4A.
         shown = ([drift] if regime == "sliding" else list(peaks or [])) if done else []
         runs.append(RunPoint(rid, ix, iy, x, y if spec.y else None, status,
-                             regime if done else None, shown, error))
+                             regime if done else None, shown, error, detail if done else None,
+                             count if done else None, lam, lam_err))
     return SweepDiagram(sweep.id, sweep.name, spec, runs)

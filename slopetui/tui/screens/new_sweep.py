@@ -77,7 +77,7 @@ class NewSweepScreen(Screen[int | None]):
         yield Header()
         with VerticalScroll(id="form"):
             yield Horizontal(Label("preset:", classes="row-label"),
-                             Select([(p.title, p.key) for p in PRESETS], prompt="(none)",
+                             Select([(f"{p.figure}: {p.title}", p.key) for p in PRESETS], prompt="(none)",
                                     compact=True, id="preset"), classes="form-row")
             yield Horizontal(Label("name:", classes="row-label"),
                              Input(placeholder="(from the axes)", compact=True, id="name"), classes="form-row")

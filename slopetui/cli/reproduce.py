@@ -1,0 +1,86 @@
+"""``slopetui reproduce``: the paper's figures as sweeps, and the reproduction report."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.sweeps.presets import BY_KEY, PRESETS
+from slopetui.sweeps.spec import parse_spec
+from slopetui.sweeps.submit import submit
+
+#: The report's default: every phase diagram at 20 x 20 at the paper's t_end, about
+#: 5300 runs, ~40 min on 2 cores (see docs/reproduction.md for the measured time).
+REPORT_RESOLUTION = 20
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "reproduce", help="queue the paper's figures; write the reproduction report",
+        description="List the presets of the paper's figures, queue one (or all), or compute "
+                    "them all and write docs/reproduction.md: the paper's claims beside what "
+                    "slopetui measures.")
+    p.add_argument("figure", nargs="?", metavar="FIG",
+                   help="a preset key (see --list), or 'all'")
+    p.add_argument("--list", action="store_true", help="list the presets")
+    p.add_argument("--report", action="store_true",
+                   help="compute every preset (through the queue, with a local pool) and "
+                        "write the report")
+    p.add_argument("--resolution", type=int, metavar="N",
+                   help="points per axis of a phase diagram (default: the preset's full "
+                        f"resolution; {REPORT_RESOLUTION} for --report)")
+    p.add_argument("--t-end", dest="t_end", type=float, metavar="T",
+                   help="end time (default: the paper's 1e5)")
+    p.add_argument("--out", default="docs/reproduction.md", metavar="FILE",
+                   help="where --report writes (default docs/reproduction.md)")
+    p.add_argument("-j", "--jobs", type=int, metavar="N",
+                   help="worker processes for --report (default: the cores available)")
+    p.add_argument("--yes", action="store_true", help="queue more than 2500 runs")
+    add_db_option(p)
+    p.set_defaults(handler=handle)
+
+
+def preset_specs(keys: list[str], resolution: int | None, t_end: float | None) -> list:
+    return [parse_spec(BY_KEY[k].at_resolution(resolution, t_end)) for k in keys]
+
+
+def _check(args: argparse.Namespace) -> list[str]:
+    if args.resolution is not None and not 2 <= args.resolution <= 500:
+        raise UsageError(f"--resolution must be in 2..500, got {args.resolution}")
+    if args.t_end is not None and not args.t_end > 0:
+        raise UsageError(f"--t-end must be > 0, got {args.t_end}")
+    if args.report or args.figure == "all":
+        return [p.key for p in PRESETS]
+    if args.figure is None:
+        raise UsageError("give a FIG (see --list), 'all', --list or --report")
+    if args.figure not in BY_KEY:
+        raise UsageError(f"FIG: unknown figure {args.figure!r}; one of "
+                         + ", ".join(BY_KEY) + " or all")
+    return [args.figure]
+
+
+def handle(args: argparse.Namespace) -> int:
+    if args.list:
+        for p in PRESETS:
+            spec = parse_spec(p.spec)
+            print(f"{p.key:7} {p.figure:9} {p.title}  [{spec.n_runs} runs at full resolution]")
+        return 0
+    keys = _check(args)
+    if args.report:
+        from slopetui.reproduce.report import write_report
+        resolution = args.resolution or REPORT_RESOLUTION
+        path = write_report(open_db(args), resolution, args.t_end, Path(args.out), args.jobs)
+        print(f"report written to {path}")
+        return 0
+    specs = preset_specs(keys, args.resolution, args.t_end)
+    total = sum(s.n_runs for s in specs)
+    if total > 2500 and not args.yes:
+        raise UsageError(f"this would queue {total} runs (more than 2500); add --yes, or "
+                         "lower --resolution")
+    db = open_db(args)
+    for key, spec in zip(keys, specs):
+        out = submit(db, spec)
+        cached = f" ({out.n_cached} from the cache)" if out.n_cached else ""
+        print(f"{key}: sweep {out.sweep_id}, {out.n_runs} runs queued{cached}")
+    return 0

@@ -1,0 +1,1 @@
+"""The paper reproduced: measurements on the preset sweeps, verdicts, and the report."""

@@ -1,0 +1,98 @@
+"""Measurements on a computed sweep that the paper's claims can be held against."""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+
+import numpy as np
+
+from core.stability import leading_exponent
+from slopetui.sweeps.diagram import RunPoint, SweepDiagram
+
+
+def done(d: SweepDiagram) -> list[RunPoint]:
+    return [r for r in d.runs if r.status == "done"]
+
+
+def regime_counts(d: SweepDiagram) -> Counter[str]:
+    return Counter(r.regime for r in done(d))
+
+
+def fraction(d: SweepDiagram, regime: str) -> float:
+    runs = done(d)
+    return sum(r.regime == regime for r in runs) / len(runs) if runs else float("nan")
+
+
+def counts_text(d: SweepDiagram) -> str:
+    c = regime_counts(d)
+    n = sum(c.values())
+    return ", ".join(f"{k} {v} ({100 * v / n:.0f}%)" for k, v in c.most_common()) or "no runs"
+
+
+def first_x(d: SweepDiagram, regime: str) -> float | None:
+    """The smallest x of a run with this regime (1-D sweeps)."""
+    xs = [r.x for r in done(d) if r.regime == regime]
+    return min(xs) if xs else None
+
+
+def last_x(d: SweepDiagram, regime: str) -> float | None:
+    xs = [r.x for r in done(d) if r.regime == regime]
+    return max(xs) if xs else None
+
+
+def rows(d: SweepDiagram) -> dict[float, list[RunPoint]]:
+    """Runs of a 2-D sweep by y value (each row sorted by x)."""
+    out: dict[float, list[RunPoint]] = {}
+    for r in sorted(done(d), key=lambda r: (r.y, r.x)):
+        out.setdefault(r.y, []).append(r)  # type: ignore[arg-type]
+    return out
+
+
+def xs_of(d: SweepDiagram, regime: str) -> np.ndarray:
+    return np.array([r.x for r in done(d) if r.regime == regime])
+
+
+def ys_of(d: SweepDiagram, regime: str) -> np.ndarray:
+    return np.array([r.y for r in done(d) if r.regime == regime])
+
+
+@dataclass(frozen=True)
+class LinearAgreement:
+    """How the sliding / not-sliding labels compare with linear stability of the fixed
+    point (the sign of the leading exponent of the full characteristic function)."""
+
+    cells: int             # runs compared (done, not unstable)
+    agree: int
+    sliding_but_unstable: int   # labelled sliding where linear theory says unstable
+    oscillating_but_stable: int  # oscillating where the fixed point is linearly stable
+
+    @property
+    def share(self) -> float:
+        return self.agree / self.cells if self.cells else float("nan")
+
+
+def linear_agreement(d: SweepDiagram) -> LinearAgreement:
+    base = d.spec.base
+    x, y = d.spec.x.param, d.spec.y.param if d.spec.y else None
+    cells = agree = s_u = o_s = 0
+    for r in done(d):
+        if r.regime in ("unstable", None):
+            continue
+        values = {x: r.x} | ({y: r.y} if y else {})
+        try:
+            stable = leading_exponent(base.with_(**values)) < 0
+        except (ValueError, ArithmeticError):
+            continue
+        sliding = r.regime == "sliding"
+        cells += 1
+        agree += sliding == stable
+        s_u += sliding and not stable
+        o_s += (not sliding) and stable
+    return LinearAgreement(cells, agree, s_u, o_s)
+
+
+def details(d: SweepDiagram, regime: str) -> Counter[str]:
+    """The classifier's detail labels (period-2, chaotic, ...) of one regime's runs."""
+    return Counter(r.detail or "" for r in done(d) if r.regime == regime)
+
