@@ -56,3 +56,17 @@ def test_the_report_runs_end_to_end(tmp_path, capsys):
         assert figure in text
     assert text.count("**Verdict: ") == 11
     assert "**The paper says:**" in text and "```text" in text
+
+
+@pytest.mark.parametrize("changes", [
+    {"k": 4.0, "tau": 10.0}, {"k": 7.0, "tau": 10.0}, {"k": 12.0, "tau": 0.5},
+    {"k": 40.0, "tau": 0.5}, {"a": 1.0, "k": 12.0, "tau": 3.0}, {"b": 24.8, "k": 12.0},
+    {"c": 8.0, "k": 12.0, "tau": 1.0}, {"k": 0.0},
+])
+def test_the_fast_stability_test_matches_the_roots(changes):
+    from core import Params
+    from core.stability import leading_exponent
+    from slopetui.reproduce.measures import linearly_stable
+
+    p = Params(**changes)
+    assert linearly_stable(p) == (leading_exponent(p) < 0)
