@@ -16,8 +16,21 @@ def done(d: SweepDiagram) -> list[RunPoint]:
     return [r for r in d.runs if r.status == "done"]
 
 
+def fast_sliding(r: RunPoint, v: float) -> bool:
+    """A run at rest that is *not* at the fixed point m_y = 0 but at another steady state
+    sliding faster than twice the steady velocity (m_y > v): the runaway branch that low
+    a, high b or low c open (eq. 1 has further roots there). The fixed point itself drifts
+    only by noise, |m_y| < 1e-3 at d <= 1e-2 in every preset sweep."""
+    return r.regime == "sliding" and r.drift > v
+
+
 def regime_counts(d: SweepDiagram) -> Counter[str]:
     return Counter(r.regime for r in done(d))
+
+
+def fast_count(d: SweepDiagram) -> int:
+    v = d.spec.base.v
+    return sum(fast_sliding(r, v) for r in done(d))
 
 
 def fraction(d: SweepDiagram, regime: str) -> float:
@@ -28,7 +41,11 @@ def fraction(d: SweepDiagram, regime: str) -> float:
 def counts_text(d: SweepDiagram) -> str:
     c = regime_counts(d)
     n = sum(c.values())
-    return ", ".join(f"{k} {v} ({100 * v / n:.0f}%)" for k, v in c.most_common()) or "no runs"
+    fast = fast_count(d)
+    parts = [f"{k} {v} ({100 * v / n:.0f}%)" + (f" [{fast} of them on a faster sliding branch, "
+                                                   "m_y > v]" if k == "sliding" and fast else "")
+             for k, v in c.most_common()]
+    return ", ".join(parts) or "no runs"
 
 
 def first_x(d: SweepDiagram, regime: str) -> float | None:
@@ -65,7 +82,7 @@ class LinearAgreement:
 
     cells: int             # runs compared (done, not unstable)
     agree: int
-    sliding_but_unstable: int   # labelled sliding where linear theory says unstable
+    sliding_but_unstable: int   # at rest on the fixed point where linear theory says unstable
     oscillating_but_stable: int  # oscillating where the fixed point is linearly stable
 
     @property
@@ -92,7 +109,8 @@ def linear_agreement(d: SweepDiagram) -> LinearAgreement:
             continue
         values = {x: r.x} | ({y: r.y} if y else {})
         stable = linearly_stable(base.with_(**values))
-        sliding = r.regime == "sliding"
+        # at rest on the fixed point; a run at rest on a faster branch left the fixed point
+        sliding = r.regime == "sliding" and not fast_sliding(r, base.v)
         cells += 1
         agree += sliding == stable
         s_u += sliding and not stable

@@ -91,6 +91,9 @@ def write_report(db: Database, resolution: int, t_end: float | None, out: Path,
     diagrams = {k: load_diagram(db, i) for k, i in ids.items()}
     findings = [f(diagrams) for f in FINDINGS]
     n_runs = sum(len(d.runs) for d in diagrams.values())
+    with db.sessions() as s:  # cached runs carry the runtime of the run that computed them
+        core_s = s.scalar(select(func.sum(Run.runtime_s)).where(Run.sweep_id.in_(ids.values())))
+    core_s = float(core_s or 0.0)
     tally = {v: sum(f.verdict == v for f in findings) for v in ("agree", "partly", "disagree")}
     head = [
         "# The paper reproduced",
@@ -104,8 +107,10 @@ def write_report(db: Database, resolution: int, t_end: float | None, out: Path,
         f"{n_runs} runs, phase diagrams at {resolution} x {resolution}, the paper's solver "
         "(Euler, dt = 1e-3"
         + (f", t_end = {t_end:g}" if t_end else ", t_end = 1e5, window [99000, 100000]")
-        + f"); {_duration(wall)} of computing on this machine (2 cores) for the runs not "
-        "already in the store. Verdicts: "
+        + f"). The runs took {core_s / 60:.0f} core-minutes (the sum of their runtimes), "
+        f"about {core_s / 60 / max(jobs or default_jobs(), 1):.0f} min on this machine's "
+        f"{jobs or default_jobs()} cores; this generation computed for {_duration(wall)} "
+        "(the rest came from the store's cache). Verdicts: "
         + ", ".join(f"{v} {n}" for v, n in tally.items()) + ".",
         "",
         "Diagram legend: `.` sliding, `o` oscillatory, `*` complex, `+` mixed, `x` unstable; "

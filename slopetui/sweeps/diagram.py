@@ -27,6 +27,7 @@ class RunPoint:
     period_count: int | None = None
     lambda_max: float = float("nan")
     lambda_err: float = float("nan")
+    drift: float = float("nan")  # window mean of m_y
 
 
 @dataclass(frozen=True)
@@ -64,5 +65,5 @@ def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
         shown = ([drift] if regime == "sliding" else list(peaks or [])) if done else []
         runs.append(RunPoint(rid, ix, iy, x, y if spec.y else None, status,
                              regime if done else None, shown, error, detail if done else None,
-                             count if done else None, lam, lam_err))
+                             count if done else None, lam, lam_err, drift))
     return SweepDiagram(sweep.id, sweep.name, spec, runs)
