@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from core import run_point
+from slopetui.queue import jobs
 from slopetui.store import Database
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import Submitted, submit
@@ -42,3 +44,12 @@ def slopetui_cli(*args: str, env: dict[str, str] | None = None, cwd: str | None 
     return subprocess.run([sys.executable, "-m", "slopetui", *args], capture_output=True,
                           text=True, timeout=timeout, env={**os.environ, **(env or {})},
                           cwd=cwd)
+
+
+def finish_all(db: Database, worker: str = "test") -> int:
+    """Compute every queued run in this process, as a worker would; returns how many."""
+    n = 0
+    while (job := jobs.claim(db, worker)) is not None:
+        jobs.complete(db, job, worker, run_point(job.params, job.settings).as_record())
+        n += 1
+    return n

@@ -10,9 +10,9 @@ import sqlite3
 
 import pytest
 
-from core import run_point
 from slopetui.cli import main
-from slopetui.queue import jobs
+from slopetui.store import Database
+from tests.conftest import finish_all
 
 GOOD_TOML = """
 name = "fig 4A, short"
@@ -118,13 +118,6 @@ def dump(db_path):
         return list(conn.iterdump())
 
 
-def _finish_all(db_url):
-    from slopetui.store import Database
-    db = Database(db_url)
-    while (job := jobs.claim(db, "test")) is not None:
-        jobs.complete(db, job, "test", run_point(job.params, job.settings).as_record())
-
-
 def test_status_runs_export_show_after_a_sweep(tmp_path, capsys):
     url = f"sqlite:///{tmp_path / 's.db'}"
     spec = tmp_path / "spec.toml"
@@ -132,7 +125,7 @@ def test_status_runs_export_show_after_a_sweep(tmp_path, capsys):
     cli(capsys, "submit", str(spec), "--db", url)
     code, out, _ = cli(capsys, "status", "--db", url)
     assert code == 0 and "0/15" in out and "no live workers" in out
-    _finish_all(url)
+    finish_all(Database(url))
     code, out, _ = cli(capsys, "status", "--all", "--json", "--db", url)
     sweep = json.loads(out)["sweeps"][0]
     assert sweep["status"] == "done" and sweep["counts"] == {"done": 15}

@@ -10,7 +10,7 @@ from core import run_point
 from slopetui.queue import jobs
 from slopetui.store.models import Run
 from slopetui.sweeps import control
-from tests.conftest import submit_quick
+from tests.conftest import finish_all, submit_quick
 
 
 def statuses(db, sweep_id):
@@ -111,8 +111,7 @@ def test_paused_sweeps_are_not_handed_out_and_cancel_cancels_queued_runs(db):
 
 def test_identical_runs_take_the_cached_result(db):
     first = submit_quick(db, 3)
-    while (job := jobs.claim(db, "w")) is not None:
-        jobs.complete(db, job, "w", run_point(job.params, job.settings).as_record())
+    finish_all(db)
     again = submit_quick(db, 3)
     assert again.n_cached == 3 and statuses(db, again.sweep_id) == {"done": 3}
     other = submit_quick(db, 3, t_end=300.0)  # another t_end: another result

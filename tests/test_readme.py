@@ -5,10 +5,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from core import run_point
 from slopetui.cli import main
-from slopetui.queue import jobs
-from tests.conftest import submit_quick
+from tests.conftest import finish_all, submit_quick
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 
@@ -22,8 +20,7 @@ def test_the_readme_sql_examples_run(db, db_url, capsys):
     assert len(examples) >= 4
     for tau in (1.0, 2.0, 3.0):  # sweeps 1-3, so that "sweep 2" and "sweep 3" exist
         submit_quick(db, 4, tau=tau)
-    while (job := jobs.claim(db, "w")) is not None:
-        jobs.complete(db, job, "w", run_point(job.params, job.settings).as_record())
+    finish_all(db)
     for query in examples:
         code = main(["sql", query, "--db", db_url])
         out = capsys.readouterr()

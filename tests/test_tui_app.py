@@ -16,8 +16,8 @@ from slopetui.tui.screens.run_detail import RunDetailScreen
 from slopetui.tui.screens.sweeps import SweepsScreen
 from slopetui.tui.widgets.bifurcation_view import BifurcationView
 from slopetui.tui.widgets.phase_grid import PhaseGrid
-from tests.conftest import QUICK_SOLVER
-from tests.tui_support import finish_all, run, wait_until
+from tests.conftest import QUICK_SOLVER, finish_all
+from tests.tui_support import run, wait_until
 
 
 def plane(db: Database, nx: int = 6, ny: int = 4) -> int:

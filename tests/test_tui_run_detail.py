@@ -39,8 +39,8 @@ from slopetui.tui.screens.run_detail import (
     RunDetailScreen,
 )
 from slopetui.tui.widgets.plot_view import PlotView
-from tests.conftest import submit_quick
-from tests.tui_support import finish_all, wait_until
+from tests.conftest import finish_all, submit_quick
+from tests.tui_support import wait_until
 
 ANSI = re.compile(r"\x1b\[")
 SIZE = (80, 24)

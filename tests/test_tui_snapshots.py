@@ -14,8 +14,8 @@ from slopetui.tui.app import SlopeApp
 from slopetui.tui.screens import sql as sql_screen
 from slopetui.tui.screens.sql import SqlScreen
 from slopetui.tui.widgets.phase_grid import PhaseGrid
-from tests.conftest import QUICK_SOLVER
-from tests.tui_support import finish_all, wait_until
+from tests.conftest import QUICK_SOLVER, finish_all
+from tests.tui_support import wait_until
 
 SIZES = [(80, 24), (140, 44)]
 

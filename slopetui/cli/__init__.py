@@ -11,8 +11,19 @@ from sqlalchemy.exc import SQLAlchemyError
 
 from core import ParameterError
 from slopetui import __version__
-from slopetui.cli import (control, db, nblock, reproduce, run, runs, show, sql, status,
-                          submit, worker)
+from slopetui.cli import (
+    control,
+    db,
+    nblock,
+    reproduce,
+    run,
+    runs,
+    show,
+    sql,
+    status,
+    submit,
+    worker,
+)
 from slopetui.cli.options import UsageError
 from slopetui.store.database import StoreError
 from slopetui.sweeps.control import UnknownSweep

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from slopetui.cli.options import UsageError, add_db_option, open_db
 from slopetui.sweeps.presets import BY_KEY, PRESETS
-from slopetui.sweeps.spec import parse_spec
+from slopetui.sweeps.spec import CONFIRM_ABOVE_RUNS, parse_spec
 from slopetui.sweeps.submit import submit
 
 #: The report's default: every phase diagram at 20 x 20 at the paper's t_end, about
@@ -36,7 +36,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="where --report writes (default docs/reproduction.md)")
     p.add_argument("-j", "--jobs", type=int, metavar="N",
                    help="worker processes for --report (default: the cores available)")
-    p.add_argument("--yes", action="store_true", help="queue more than 2500 runs")
+    p.add_argument("--yes", action="store_true",
+                   help=f"queue more than {CONFIRM_ABOVE_RUNS} runs")
     add_db_option(p)
     p.set_defaults(handler=handle)
 
@@ -75,9 +76,9 @@ def handle(args: argparse.Namespace) -> int:
         return 0
     specs = preset_specs(keys, args.resolution, args.t_end)
     total = sum(s.n_runs for s in specs)
-    if total > 2500 and not args.yes:
-        raise UsageError(f"this would queue {total} runs (more than 2500); add --yes, or "
-                         "lower --resolution")
+    if total > CONFIRM_ABOVE_RUNS and not args.yes:
+        raise UsageError(f"this would queue {total} runs (more than {CONFIRM_ABOVE_RUNS}); add "
+                         "--yes, or lower --resolution")
     db = open_db(args)
     for key, spec in zip(keys, specs):
         out = submit(db, spec)

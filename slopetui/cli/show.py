@@ -14,15 +14,13 @@ import os
 import shutil
 import sys
 
-import numpy as np
 from sqlalchemy import func, select
 
 from slopetui.cli.options import UsageError, add_db_option, open_db, sweep_id
-from slopetui.plots import hopf_boundary, render_bifurcation, render_phase_diagram
+from slopetui.plots import render_bifurcation, render_phase_diagram
 from slopetui.store.database import Database
 from slopetui.store.models import Sweep
-from slopetui.sweeps.diagram import load_diagram
-from slopetui.sweeps.spec import SweepSpec
+from slopetui.sweeps.diagram import load_diagram, plane_hopf
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -83,11 +81,3 @@ def newest_sweep(db: Database) -> int:
     if newest is None:
         raise UsageError("there are no sweeps yet: slopetui submit --help")
     return newest
-
-
-def plane_hopf(spec: SweepSpec) -> tuple[np.ndarray, np.ndarray] | None:
-    """The exact Hopf curve over the sweep's plane, or None where the plane has none."""
-    assert spec.y is not None
-    x, y = spec.x, spec.y
-    return hopf_boundary(spec.base, x.param, y.param, (min(x.start, x.stop), max(x.start, x.stop)),
-                         (min(y.start, y.stop), max(y.start, y.stop)))

@@ -15,6 +15,7 @@ import sys
 from sqlalchemy.exc import DBAPIError
 
 from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.store.database import is_refusal
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -68,7 +69,7 @@ def handle(args: argparse.Namespace) -> int:
             more = args.limit and result.fetchone() is not None
     except DBAPIError as exc:
         message = str(exc.orig).strip()
-        if any(word in message for word in ("readonly", "read-only", "authoriz")):
+        if is_refusal(message):
             print(f"slopetui sql: refused: the store is opened read-only ({message})",
                   file=sys.stderr)
         else:

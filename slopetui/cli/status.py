@@ -6,7 +6,7 @@ import argparse
 import json
 
 from slopetui.cli.options import add_db_option, open_db
-from slopetui.sweeps.progress import live_workers, sweep_progress
+from slopetui.sweeps.progress import format_eta, live_workers, sweep_progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -18,14 +18,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", action="store_true", help="machine-readable output")
     add_db_option(p)
     p.set_defaults(handler=handle)
-
-
-def _eta(seconds: float | None) -> str:
-    if seconds is None:
-        return "-"
-    m, s = divmod(round(seconds), 60)
-    h, m = divmod(m, 60)
-    return f"{h}h{m:02d}m" if h else f"{m}m{s:02d}s"
 
 
 def handle(args: argparse.Namespace) -> int:
@@ -51,7 +43,7 @@ def handle(args: argparse.Namespace) -> int:
             pct = 100 * (p.done + p.failed) // max(p.total, 1)
             print(f"{p.id:>4}  {p.status:9} {p.axes:9} {p.done:>6}/{p.total:<6} {pct:>4} "
                   f"{p.counts.get('running', 0):>3} {p.failed:>4} {p.runs_per_min:>8.1f} "
-                  f"{_eta(p.eta_s if workers else None):>7}  {p.name}")
+                  f"{format_eta(p.eta_s if workers else None):>7}  {p.name}")
     print()
     if not workers:
         print("no live workers: start a pool with `slopetui worker --detach`")

@@ -11,13 +11,12 @@ from pathlib import Path
 from sqlalchemy import func, select
 
 from slopetui.plots import render_bifurcation, render_phase_diagram
-from slopetui.plots.hopf import hopf_boundary
 from slopetui.queue.pool import default_jobs, run_pool
 from slopetui.queue.worker_process import WorkerOptions
 from slopetui.reproduce.findings import FINDINGS, Diagrams, Finding
 from slopetui.store.database import Database
 from slopetui.store.models import Run
-from slopetui.sweeps.diagram import SweepDiagram, load_diagram
+from slopetui.sweeps.diagram import SweepDiagram, load_diagram, plane_hopf
 from slopetui.sweeps.presets import BY_KEY, PRESETS
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
@@ -53,11 +52,9 @@ def diagram_text(d: SweepDiagram) -> str:
                                   log=spec.x.spacing == "log", title=title, width=WIDTH,
                                   height=HEIGHT, color=False)
     x, y = spec.x, spec.y
-    hopf = hopf_boundary(spec.base, x.param, y.param, (min(x.start, x.stop), max(x.start, x.stop)),
-                         (min(y.start, y.stop), max(y.start, y.stop)))
     return render_phase_diagram(x.param, y.param, xs, [r.y for r in d.runs], regimes,
-                                x_log=x.spacing == "log", y_log=y.spacing == "log", hopf=hopf,
-                                title=title, width=WIDTH, height=HEIGHT, color=False)
+                                x_log=x.spacing == "log", y_log=y.spacing == "log",
+                                hopf=plane_hopf(spec), title=title, width=WIDTH, height=HEIGHT, color=False)
 
 
 def section(f: Finding, diagrams: Diagrams) -> str:

@@ -35,6 +35,16 @@ BUSY_TIMEOUT_MS = 60_000
 READ_OPTION = "slopetui_read"
 
 
+#: Words of the databases' own messages when the read-only connection refuses a statement
+#: (SQLite mode=ro and query_only, the authorizer, PostgreSQL READ ONLY).
+REFUSAL_WORDS = ("readonly", "read-only", "authoriz")
+
+
+def is_refusal(message: str) -> bool:
+    """Did the read-only connection refuse the statement (rather than fail on it)?"""
+    return any(word in message for word in REFUSAL_WORDS)
+
+
 class StoreError(Exception):
     """The database cannot be opened or used; the message says why and what to do."""
 

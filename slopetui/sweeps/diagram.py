@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 from sqlalchemy import select
 
+from slopetui.plots.hopf import Curve, hopf_boundary
 from slopetui.store.database import Database
 from slopetui.store.models import Run, Sweep
 from slopetui.sweeps.control import UnknownSweep
@@ -40,6 +41,15 @@ class SweepDiagram:
     @property
     def n_done(self) -> int:
         return sum(r.status == "done" for r in self.runs)
+
+
+def plane_hopf(spec: SweepSpec) -> Curve | None:
+    """The exact Hopf curve over a 2-D sweep's plane, or None where the plane has none."""
+    assert spec.y is not None
+    x, y = spec.x, spec.y
+    return hopf_boundary(spec.base, x.param, y.param,
+                         (min(x.start, x.stop), max(x.start, x.stop)),
+                         (min(y.start, y.stop), max(y.start, y.stop)))
 
 
 def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:

@@ -53,6 +53,15 @@ class WorkerInfo:
     jobs_done: int
 
 
+def format_eta(seconds: float | None) -> str:
+    """"1h05m", "3m07s", or "-" when unknown."""
+    if seconds is None:
+        return "-"
+    m, s = divmod(round(seconds), 60)
+    h, m = divmod(m, 60)
+    return f"{h}h{m:02d}m" if h else f"{m}m{s:02d}s"
+
+
 def sweep_progress(db: Database, sweep_ids: list[int] | None = None) -> list[SweepProgress]:
     """Progress of the given sweeps (default: all), newest first."""
     with db.sessions() as s:

@@ -41,6 +41,7 @@ from textual.widgets.option_list import Option
 from textual.widgets.text_area import LanguageDoesNotExist
 from textual.worker import get_current_worker
 
+from slopetui.store.database import is_refusal
 from slopetui.tui.messages import StoreFailed
 
 #: Rows shown in the table; the rest are counted, not displayed.
@@ -52,9 +53,6 @@ CELL_CHARS = 120
 HISTORY_LIMIT = 200
 #: Rows fetched at a time while counting the rows beyond DISPLAY_LIMIT.
 COUNT_CHUNK = 5000
-#: Words of the database's message that mean it refused a write (SQLite mode=ro and
-#: query_only, the SQLite authorizer, PostgreSQL READ ONLY); as in ``slopetui sql``.
-REFUSAL_WORDS = ("readonly", "read-only", "authoriz")
 
 OPENING = "opening the database…"
 
@@ -136,7 +134,7 @@ def run_query(engine: Engine, sql: str, limit: int = DISPLAY_LIMIT,
                 total += _count_rest(result, cancelled)
     except DBAPIError as exc:
         message = str(exc.orig).strip() or type(exc.orig).__name__
-        return QueryFailed(message, any(word in message for word in REFUSAL_WORDS))
+        return QueryFailed(message, is_refusal(message))
     except Exception as exc:  # anything else is shown with its cause, not a traceback
         return QueryFailed(f"{type(exc).__name__}: {exc}", refused=False)
     return QueryDone(columns, rows, total, time.perf_counter() - start)

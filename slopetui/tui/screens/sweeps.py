@@ -13,10 +13,9 @@ from textual.message import Message
 from textual.screen import Screen
 from textual.widgets import ContentSwitcher, DataTable, Footer, Header, Static
 
-from slopetui.plots import hopf_boundary
 from slopetui.plots.hopf import Curve
-from slopetui.sweeps.diagram import SweepDiagram, load_diagram
-from slopetui.sweeps.progress import SweepProgress, sweep_progress
+from slopetui.sweeps.diagram import SweepDiagram, load_diagram, plane_hopf
+from slopetui.sweeps.progress import SweepProgress, format_eta, sweep_progress
 from slopetui.tui.messages import StoreFailed
 from slopetui.tui.widgets.bifurcation_view import BifurcationView
 from slopetui.tui.widgets.phase_grid import GridData, PhaseGrid
@@ -30,24 +29,6 @@ def progress_bar(done: int, total: int) -> Text:
     filled = round(BAR_WIDTH * done / total) if total else 0
     return Text.assemble(("█" * filled, "green"), ("░" * (BAR_WIDTH - filled), "bright_black"),
                          f" {100 * done // max(total, 1):>3}%")
-
-
-def eta_text(seconds: float | None) -> str:
-    if seconds is None:
-        return "-"
-    m, s = divmod(round(seconds), 60)
-    h, m = divmod(m, 60)
-    return f"{h}h{m:02d}m" if h else f"{m}m{s:02d}s"
-
-
-def plane_hopf(d: SweepDiagram) -> Curve | None:
-    """The exact Hopf curve over the sweep's plane (None where the plane has none)."""
-    spec = d.spec
-    assert spec.y is not None
-    x, y = spec.x, spec.y
-    return hopf_boundary(spec.base, x.param, y.param,
-                         (min(x.start, x.stop), max(x.start, x.stop)),
-                         (min(y.start, y.stop), max(y.start, y.stop)))
 
 
 def grid_data(d: SweepDiagram, hopf: Curve | None) -> GridData:
@@ -116,7 +97,7 @@ class SweepsScreen(Screen[None]):
         grid = None
         if diagram is not None and diagram.spec.y is not None:
             if diagram.id not in self._hopf:
-                self._hopf[diagram.id] = plane_hopf(diagram)
+                self._hopf[diagram.id] = plane_hopf(diagram.spec)
             grid = grid_data(diagram, self._hopf[diagram.id])
         self.post_message(self.Loaded(sweeps, diagram, grid))
 
@@ -135,7 +116,7 @@ class SweepsScreen(Screen[None]):
             name = p.name if len(p.name) <= NAME_WIDTH else p.name[:NAME_WIDTH - 1] + "…"
             status = f"{p.status}, {p.failed} failed" if p.failed else p.status
             table.add_row(str(p.id), name, progress_bar(p.done + p.failed, p.total),
-                          f"{p.done}/{p.total}", f"{p.runs_per_min:.0f}", eta_text(p.eta_s),
+                          f"{p.done}/{p.total}", f"{p.runs_per_min:.0f}", format_eta(p.eta_s),
                           status, key=str(p.id))
         if sweeps:
             if self.selected is None:
