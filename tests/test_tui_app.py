@@ -106,7 +106,8 @@ def test_submitting_the_form_puts_the_runs_in_the_database(db):
         async with app.run_test(size=(80, 24)) as pilot:
             await wait_until(pilot, lambda: app.db is not None)
             await pilot.press("n")
-            await wait_until(pilot, lambda: isinstance(app.screen, NewSweepScreen))
+            await wait_until(pilot, lambda: isinstance(app.screen, NewSweepScreen)
+                             and bool(app.screen.query("#form-buttons")))
             fill(app, {"x-param": "k", "x-start": "3", "x-stop": "9", "x-num": "4",
                        "y-param": "tau", "y-start": "1", "y-stop": "4", "y-num": "3",
                        "fixed-delta": "1e-6", "solver-method": "rk4", "solver-dt": "0.01",
@@ -130,7 +131,8 @@ def test_bad_form_input_shows_the_error_and_writes_nothing(db):
         async with app.run_test(size=(80, 24)) as pilot:
             await wait_until(pilot, lambda: app.db is not None)
             await pilot.press("n")
-            await wait_until(pilot, lambda: isinstance(app.screen, NewSweepScreen))
+            await wait_until(pilot, lambda: isinstance(app.screen, NewSweepScreen)
+                             and bool(app.screen.query("#form-buttons")))
             form = app.screen
             for values, expected, marked in (
                 ({"x-num": "0"}, "x.num", "x-num"),
@@ -157,7 +159,8 @@ def test_friction_constraints_are_warnings_and_presets_fill_the_form(db):
         async with app.run_test(size=(80, 24)) as pilot:
             await wait_until(pilot, lambda: app.db is not None)
             await pilot.press("n")
-            await wait_until(pilot, lambda: isinstance(app.screen, NewSweepScreen))
+            await wait_until(pilot, lambda: isinstance(app.screen, NewSweepScreen)
+                             and bool(app.screen.query("#form-buttons")))
             form = app.screen
             fill(app, {"fixed-a": "0.03"})
             await pilot.pause()
@@ -209,7 +212,8 @@ def test_a_database_that_cannot_be_opened_is_shown_not_raised(tmp_path):
     async def scenario():
         app = SlopeApp(f"sqlite:///{blocker}/store.db", start_workers=False)
         async with app.run_test(size=(80, 24)) as pilot:
-            await wait_until(pilot, lambda: isinstance(app.screen, ErrorScreen))
+            await wait_until(pilot, lambda: isinstance(app.screen, ErrorScreen)
+                             and bool(app.screen.query("#error-cause")))
             assert "cannot be opened" in str(app.screen.query_one("#error-title").render())
             assert "a-file" in str(app.screen.query_one("#error-cause").render())
 
