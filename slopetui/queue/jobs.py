@@ -69,6 +69,7 @@ _CLAIM = (update(Run).where(Run.id == _OLDEST_QUEUED, Run.status == "queued")
           .returning(*_CLAIM_COLUMNS))
 _WORKER_ON = (update(Worker).where(Worker.id == bindparam("wid"))
               .values(run_id=bindparam("rid"), heartbeat_at=db_now()))
+#: The lease holder's guard on every write to a claimed run (rid, wid).
 _HOLDING = ((Run.id == bindparam("rid")) & (Run.status == "running")
             & (Run.worker_id == bindparam("wid")))
 _COMPLETE = (update(Run).where(_HOLDING)
@@ -87,10 +88,6 @@ def claim(db: Database, worker_id: str) -> Job | None:
         if row is not None:
             conn.execute(_WORKER_ON, {"wid": worker_id, "rid": row.id})
     return None if row is None else _job(row)
-
-
-def _holding(job_id: int, worker_id: str) -> Any:
-    return (Run.id == job_id) & (Run.status == "running") & (Run.worker_id == worker_id)
 
 
 def complete(db: Database, job: Job, worker_id: str, record: dict[str, Any],
@@ -125,10 +122,11 @@ def fail(db: Database, job: Job, worker_id: str, error: str,
     status, or None if the lease was lost meanwhile."""
     status = "failed" if job.attempts >= max_attempts else "queued"
     with db.transaction() as s:
-        n = s.execute(update(Run).where(_holding(job.run_id, worker_id))
+        n = s.execute(update(Run).where(_HOLDING)
                       .values(status=status, error=error[-4000:],
                               worker_id=worker_id if status == "failed" else None,
-                              finished_at=db_now() if status == "failed" else None)).rowcount
+                              finished_at=db_now() if status == "failed" else None),
+                      {"rid": job.run_id, "wid": worker_id}).rowcount
         s.execute(update(Worker).where(Worker.id == worker_id).values(run_id=None))
     return status if n == 1 else None
 
@@ -136,9 +134,9 @@ def fail(db: Database, job: Job, worker_id: str, error: str,
 def release(db: Database, job: Job, worker_id: str) -> bool:
     """Give a run back unfinished (a shutdown, not its fault): the attempt is not counted."""
     with db.transaction() as s:
-        n = s.execute(update(Run).where(_holding(job.run_id, worker_id))
-                      .values(status="queued", worker_id=None,
-                              attempts=Run.attempts - 1)).rowcount
+        n = s.execute(update(Run).where(_HOLDING)
+                      .values(status="queued", worker_id=None, attempts=Run.attempts - 1),
+                      {"rid": job.run_id, "wid": worker_id}).rowcount
         s.execute(update(Worker).where(Worker.id == worker_id).values(run_id=None))
     return n == 1
 
@@ -149,8 +147,8 @@ def heartbeat(db: Database, worker_id: str, run_id: int | None) -> None:
         s.execute(update(Worker).where(Worker.id == worker_id)
                   .values(heartbeat_at=db_now()))
         if run_id is not None:
-            s.execute(update(Run).where(_holding(run_id, worker_id))
-                      .values(heartbeat_at=db_now()))
+            s.execute(update(Run).where(_HOLDING).values(heartbeat_at=db_now()),
+                      {"rid": run_id, "wid": worker_id})
 
 
 def _requeue(s: Session, where: Any, reason: str, max_attempts: int) -> tuple[int, int]:

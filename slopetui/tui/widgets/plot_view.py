@@ -42,7 +42,7 @@ class PlotView(Static):
         if self.renderer is None or width < 30 or height < 12:
             self.update("" if self.renderer is None else "(too small to draw: enlarge the window)")
             return
-        color = self.app.current_theme is not None and not self.app.no_color
+        color = not self.app.no_color
         try:
             text = self.renderer(width, height, color)
         except ValueError as exc:  # e.g. nothing plottable yet
