@@ -77,6 +77,8 @@ def test_submit_from_toml_and_from_flags(tmp_path, capsys):
     (["--x", "k=0:2:3:log"], "x.start: log spacing needs start > 0"),
     (["--x", "k=1:2:3", "--t-end", "10", "--window", "20"], "solver.window"),
     (["--x", "k=1:2"], "--x: expected PARAM=START:STOP:NUM"),
+    (["--x", "tau=1:0.05:3", "--dt", "0.1"], "solver.dt: dt = 0.1 is out of range"),
+    (["--x", "d=1e-3:-1:4", "--y", "tau=1:2:2"], "x.d"),
     ([], "x: missing"),
 ])
 def test_bad_specs_give_a_clear_error_and_write_nothing(tmp_path, capsys, args, field):

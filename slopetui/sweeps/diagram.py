@@ -58,7 +58,7 @@ def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
         sweep = s.get(Sweep, sweep_id)
         if sweep is None:
             raise UnknownSweep(sweep_id)
-        spec = parse_spec(sweep.spec, check_points=False)  # checked when submitted
+        spec = parse_spec(sweep.spec)
         cols = (Run.id, Run.ix, Run.iy, getattr(Run, spec.x.param),
                 getattr(Run, spec.y.param) if spec.y else Run.iy, Run.status, Run.regime,
                 Run.peaks, Run.drift, Run.error, Run.detail, Run.period_count, Run.lambda_max,

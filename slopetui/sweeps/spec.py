@@ -206,33 +206,44 @@ def _parse_solver(data: object) -> SolverSettings:
     return settings
 
 
+def _corners(spec: SweepSpec) -> list[dict[str, float]]:
+    """The extreme values of the axes: every grid value lies between an axis' start and
+    stop (linear or log spacing alike)."""
+    corners: list[dict[str, float]] = [{}]
+    for axis in (spec.x, spec.y):
+        if axis is not None:
+            corners = [{**c, axis.param: v} for c in corners for v in (axis.start, axis.stop)]
+    return corners
+
+
 def _check_points(spec: SweepSpec) -> None:
-    """Every grid point must be a valid Params, and dt must fit every tau."""
+    """Every grid point must be a valid Params, and dt must fit every tau.
+
+    Checking the corners of the grid is enough, and costs O(1) instead of O(points) (a
+    100 x 100 sweep took 76 ms point by point, too slow for a form that re-validates on
+    every keystroke): Params's constraints are bounds on single parameters (tau, d,
+    k >= 0, finite), and dt only has to fit the smallest tau. A new constraint that is not
+    monotone along an axis would need the full loop back.
+    """
     try:
         base = spec.base
     except ParameterError as exc:
         raise SpecError(f"fixed.{exc.field}", str(exc)) from None
-    taus = set()
+    corners = []
     try:
-        for _ix, _iy, p in spec.points():
-            taus.add(p.tau)
+        corners = [base.with_(**c) for c in _corners(spec)]
     except ParameterError as exc:
         axis = next((name for name, a in (("x", spec.x), ("y", spec.y))
                      if a is not None and a.param == exc.field), "fixed")
         raise SpecError(f"{axis}.{exc.field}", str(exc)) from None
-    for tau in taus:
-        try:
-            make_grid(base.with_(tau=tau), spec.solver)
-        except ParameterError as exc:
-            raise SpecError(f"solver.{exc.field}", str(exc)) from None
+    try:
+        make_grid(min(corners, key=lambda p: p.tau), spec.solver)
+    except ParameterError as exc:
+        raise SpecError(f"solver.{exc.field}", str(exc)) from None
 
 
-def parse_spec(data: Mapping[str, Any], *, check_points: bool = True) -> SweepSpec:
-    """Validate a spec given as a mapping (a parsed TOML file, or sweeps.spec).
-
-    check_points=False skips building every grid point (76 ms for 100 x 100): for specs
-    read back from the store, which were checked whole when they were submitted.
-    """
+def parse_spec(data: Mapping[str, Any]) -> SweepSpec:
+    """Validate a spec given as a mapping (a parsed TOML file, or sweeps.spec)."""
     _unknown_keys("", data, TOP_KEYS)
     if "x" not in data:
         raise SpecError("x", "missing: a sweep needs at least the [x] axis")
@@ -248,8 +259,7 @@ def parse_spec(data: Mapping[str, Any], *, check_points: bool = True) -> SweepSp
                      solver=_parse_solver(data.get("solver", {})))
     if spec.n_runs > MAX_RUNS:
         raise SpecError("x.num", f"{spec.n_runs} runs; at most {MAX_RUNS} per sweep")
-    if check_points:
-        _check_points(spec)
+    _check_points(spec)
     return spec
 
 
