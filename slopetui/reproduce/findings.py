@@ -168,6 +168,15 @@ def fig4c(d: Diagrams) -> Finding:
                    if p2 else "No period-2 runs at this resolution.")
 
 
+def _branch_line(diag: SweepDiagram) -> list[str]:
+    n, worst = m.branch_mismatch(diag)
+    if not n:
+        return []
+    return [f"  the {n} runs on a faster branch rest at the larger root of a y^2 + (3av - b) y "
+            f"+ F'(v) + k tau = 0 (core.params.sliding_branches) to within {worst:.1e} "
+            "(relative)"]
+
+
 def _pair_lines(d: Diagrams, a: str, b: str) -> list[str]:
     out = []
     for key in (a, b):
@@ -175,6 +184,7 @@ def _pair_lines(d: Diagrams, a: str, b: str) -> list[str]:
         agreement = m.linear_agreement(diag)
         out.append(f"{BY_KEY[key].figure} (delta = {diag.spec.base.delta:g}): "
                    f"{m.counts_text(diag)}")
+        out += _branch_line(diag)
         out.append(f"  at rest on the fixed point exactly where linear theory says it is stable: "
                    f"{100 * agreement.share:.0f}% of {agreement.cells} runs agree; "
                    f"{agreement.oscillating_but_stable} oscillate although the fixed point is "
@@ -244,7 +254,9 @@ def _columns(diag: SweepDiagram) -> dict[float, list]:
 
 def fig7(d: Diagrams) -> Finding:
     near, far = d["fig7a"], d["fig7b"]
-    lines = [f"{BY_KEY[k].figure}: {m.counts_text(d[k])}" for k in ("fig7a", "fig7b")]
+    lines = []
+    for k in ("fig7a", "fig7b"):
+        lines += [f"{BY_KEY[k].figure}: {m.counts_text(d[k])}", *_branch_line(d[k])]
     small = float(np.quantile(near.spec.y.values(), 0.25))
     v = near.spec.base.v
     slide_near = [r for r in m.done(near) if r.regime == "sliding" and r.y <= small
@@ -297,8 +309,9 @@ def fig8(d: Diagrams) -> Finding:
                    + ("A mixed regime appears at high b." if mixed > 0 else
                       "We find no mixed sliding/oscillatory regime at high b. What we find "
                       "there instead, at small tau, is a second steady state: the slope comes "
-                      "to rest on a faster sliding branch (m_y above the steady velocity v, "
-                      "values above). A run that switches between that branch and oscillation "
+                      "to rest on a faster sliding branch, the steady solution m_y = y of eq. "
+                      "6b with m_x(t - tau) - m_x(t) = -tau y (core.params.sliding_branches; "
+                      "the measured m_y match its larger root, see above). A run that switches between that branch and oscillation "
                       "would look like the paper's mixed regime; ours settle on one of them "
                       "within t = 1e5. F'(v) turns negative at b = 24.5 (v = 0.1), beyond our "
                       "range, where every run blows up at once."))

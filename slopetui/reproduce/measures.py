@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import math
 from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
 
 from core import Params
+from core.params import sliding_branches
 from core.stability import hopf_k
 from slopetui.sweeps.diagram import RunPoint, SweepDiagram
 
@@ -26,6 +28,21 @@ def fast_sliding(r: RunPoint, v: float) -> bool:
 
 def regime_counts(d: SweepDiagram) -> Counter[str]:
     return Counter(r.regime for r in done(d))
+
+
+def branch_mismatch(d: SweepDiagram) -> tuple[int, float]:
+    """Runs on a faster branch, and the largest relative distance of their m_y from the
+    larger root of core.params.sliding_branches (nan if a run has no predicted branch)."""
+    v, worst, n = d.spec.base.v, 0.0, 0
+    x, y = d.spec.x.param, d.spec.y.param if d.spec.y else None
+    for r in done(d):
+        if not fast_sliding(r, v):
+            continue
+        n += 1
+        values = {x: r.x} | ({y: r.y} if y else {})
+        roots = sliding_branches(d.spec.base.with_(**values))
+        worst = max(worst, abs(r.drift - roots[-1]) / roots[-1] if roots else math.nan)
+    return n, worst
 
 
 def fast_count(d: SweepDiagram) -> int:
