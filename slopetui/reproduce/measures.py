@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections import Counter
 from dataclasses import dataclass
 
@@ -18,36 +17,47 @@ def done(d: SweepDiagram) -> list[RunPoint]:
     return [r for r in d.runs if r.status == "done"]
 
 
-def fast_sliding(r: RunPoint, v: float) -> bool:
-    """A run at rest that is *not* at the fixed point m_y = 0 but at another steady state
-    sliding faster than twice the steady velocity (m_y > v): the runaway branch that low
-    a, high b or low c open (eq. 1 has further roots there). The fixed point itself drifts
-    only by noise, |m_y| < 1e-3 at d <= 1e-2 in every preset sweep."""
+def run_params(d: SweepDiagram, r: RunPoint) -> Params:
+    values = {d.spec.x.param: r.x} | ({d.spec.y.param: r.y} if d.spec.y else {})
+    return d.spec.base.with_(**values)
+
+
+def resting_faster(r: RunPoint, v: float) -> bool:
+    """At rest, but sliding at more than twice the steady velocity (m_y > v). The fixed
+    point itself drifts only by noise, |m_y| < 1e-3 at d <= 1e-2 in every preset sweep."""
     return r.regime == "sliding" and r.drift > v
+
+
+def fast_sliding(d: SweepDiagram, r: RunPoint) -> bool:
+    """At rest *not* at the fixed point m_y = 0 but on a faster steady sliding branch, one
+    that core.params.sliding_branches predicts (low a, high b or low c open it). A run at
+    rest with m_y > v where no branch exists is the noisy fixed point (large d)."""
+    return resting_faster(r, d.spec.base.v) and bool(sliding_branches(run_params(d, r)))
 
 
 def regime_counts(d: SweepDiagram) -> Counter[str]:
     return Counter(r.regime for r in done(d))
 
 
-def branch_mismatch(d: SweepDiagram) -> tuple[int, float]:
-    """Runs on a faster branch, and the largest relative distance of their m_y from the
-    larger root of core.params.sliding_branches (nan if a run has no predicted branch)."""
-    v, worst, n = d.spec.base.v, 0.0, 0
-    x, y = d.spec.x.param, d.spec.y.param if d.spec.y else None
+def branch_mismatch(d: SweepDiagram) -> tuple[int, float, int]:
+    """Runs on a predicted faster branch, the largest relative distance of their m_y from
+    its larger root, and the runs at rest with m_y > v where no branch exists (a drift
+    the noise drives, at large d)."""
+    worst, n, unpredicted = 0.0, 0, 0
     for r in done(d):
-        if not fast_sliding(r, v):
+        if not resting_faster(r, d.spec.base.v):
+            continue
+        roots = sliding_branches(run_params(d, r))
+        if not roots:
+            unpredicted += 1
             continue
         n += 1
-        values = {x: r.x} | ({y: r.y} if y else {})
-        roots = sliding_branches(d.spec.base.with_(**values))
-        worst = max(worst, abs(r.drift - roots[-1]) / roots[-1] if roots else math.nan)
-    return n, worst
+        worst = max(worst, abs(r.drift - roots[-1]) / abs(roots[-1]))
+    return n, worst, unpredicted
 
 
 def fast_count(d: SweepDiagram) -> int:
-    v = d.spec.base.v
-    return sum(fast_sliding(r, v) for r in done(d))
+    return sum(fast_sliding(d, r) for r in done(d))
 
 
 def fraction(d: SweepDiagram, regime: str) -> float:
@@ -118,16 +128,13 @@ def linearly_stable(p: Params) -> bool:
 
 
 def linear_agreement(d: SweepDiagram) -> LinearAgreement:
-    base = d.spec.base
-    x, y = d.spec.x.param, d.spec.y.param if d.spec.y else None
     cells = agree = s_u = o_s = 0
     for r in done(d):
         if r.regime in ("unstable", None):
             continue
-        values = {x: r.x} | ({y: r.y} if y else {})
-        stable = linearly_stable(base.with_(**values))
+        stable = linearly_stable(run_params(d, r))
         # at rest on the fixed point; a run at rest on a faster branch left the fixed point
-        sliding = r.regime == "sliding" and not fast_sliding(r, base.v)
+        sliding = r.regime == "sliding" and not fast_sliding(d, r)
         cells += 1
         agree += sliding == stable
         s_u += sliding and not stable
