@@ -62,6 +62,17 @@ def _preset(key: str, figure: str, title: str, claim: str, note: str, x: dict,
     return Preset(key, figure, title, claim, note, spec)
 
 
+def _pair(n: int, title: str, claim: str, note: str, x: dict, **fixed: float) -> tuple[Preset, Preset]:
+    """Panels A (delta = 1e-6, near the fixed point) and B (delta = 0.1, far from it) of
+    a (parameter, tau) phase diagram; the paper compares the two in each figure."""
+    near = _preset(f"fig{n}a", f"Fig. {n}A", f"{title}, delta = 1e-6", claim, note, x,
+                   dict(TAU_AXIS), delta=1e-6, **fixed)
+    far = _preset(f"fig{n}b", f"Fig. {n}B", f"{title}, delta = 0.1", f"(see Fig. {n}A)",
+                  f"As Fig. {n}A, far from the fixed point.", dict(x), dict(TAU_AXIS),
+                  delta=0.1, **fixed)
+    return near, far
+
+
 FIG2_CLAIM = ("Examples of solutions in these regimes are shown in Figure 2. [...] Period-doubling "
               "is the simplest example of this regime (Figure 2C).")
 FIG2_NOTE = ("The caption of Fig. 2 is not in our copy of the text: the points are ours, one "
@@ -104,29 +115,23 @@ PRESETS: tuple[Preset, ...] = (
             "Ours: k 10-30 and tau 5-20, where Fig. 4A puts the complex regime (k >= 17 at "
             "tau = 10).",
             _axis("k", 10, 30, 40), _axis("tau", 5, 20, 30), delta=1e-6),
-    _preset("fig5a", "Fig. 5A", "(k, tau) plane, delta = 1e-6",
+    *_pair(5, "(k, tau) plane",
             "From the point of view of spring stiffness, i.e., the deformability of the slope, "
             "and the time delay, distant initial conditions \"stabilize\" the landslide "
             "dynamics (Figure 5). In particular, when the initial conditions are away from the "
             "fixed point, a complex oscillatory regime is pushed towards higher values of k and "
             "tau.",
             "Ours: k 0.5-30 (the Hopf line starts at F'^2/2 = 5.97) and tau 0.1-20.",
-            _axis("k", 0.5, 30, 60), dict(TAU_AXIS), delta=1e-6),
-    _preset("fig5b", "Fig. 5B", "(k, tau) plane, delta = 0.1", "(see Fig. 5A)",
-            "As Fig. 5A, far from the fixed point.",
-            _axis("k", 0.5, 30, 60), dict(TAU_AXIS), delta=0.1),
-    _preset("fig6a", "Fig. 6A", "(a, tau) plane at k = 12, delta = 1e-6",
+            _axis("k", 0.5, 30, 60)),
+    *_pair(6, "(a, tau) plane at k = 12",
             "As far as the effect of the friction parameters is concerned, the influence of the "
             "variation of the higher values of the parameter a is similar to the effect of the "
             "slope deformability (Figure 6). [...] It also explains the nearly vertical "
             "small-delay transition line in Figure 6 and Figure 9.",
             "Ours: a 0.1-10 around the default 3.2 (eq. 13a keeps the friction's shape for "
             "2.7 < a < 3.6; the paper explores far outside it).",
-            _axis("a", 0.1, 10, 50), dict(TAU_AXIS), k=12, delta=1e-6),
-    _preset("fig6b", "Fig. 6B", "(a, tau) plane at k = 12, delta = 0.1", "(see Fig. 6A)",
-            "As Fig. 6A, far from the fixed point.",
-            _axis("a", 0.1, 10, 50), dict(TAU_AXIS), k=12, delta=0.1),
-    _preset("fig7a", "Fig. 7A", "low a (0.03-0.04), k = 12, delta = 1e-6",
+            _axis("a", 0.1, 10, 50), k=12),
+    *_pair(7, "low a (0.03-0.04), k = 12",
             "At very low values of the parameter a, a new dynamical regime appears, namely, the "
             "unstable regime (Figure 7). The investigated system exhibits such dynamics "
             "regardless of the values of the time delay for the values of the parameter a in "
@@ -135,11 +140,8 @@ PRESETS: tuple[Preset, ...] = (
             "time delay (Figure 7B) \"vanishes\" when the initial conditions are away from the "
             "fixed point.",
             "a 0.03-0.04 from the text; k = 12 as in Fig. 6; tau 0.1-20.",
-            _axis("a", 0.03, 0.04, 21), dict(TAU_AXIS), k=12, delta=1e-6),
-    _preset("fig7b", "Fig. 7B", "low a (0.03-0.04), k = 12, delta = 0.1", "(see Fig. 7A)",
-            "As Fig. 7A, far from the fixed point.",
-            _axis("a", 0.03, 0.04, 21), dict(TAU_AXIS), k=12, delta=0.1),
-    _preset("fig8a", "Fig. 8A", "(b, tau) plane at k = 12, delta = 1e-6",
+            _axis("a", 0.03, 0.04, 21), k=12),
+    *_pair(8, "(b, tau) plane at k = 12",
             "Shifting the initial conditions away from the fixed point interacting with b "
             "destabilizes the dynamics of the landslide. Indeed, the oscillatory regime occurs "
             "at much lower values of b and tau when delta is closer to 0. Moreover, at higher "
@@ -147,31 +149,22 @@ PRESETS: tuple[Preset, ...] = (
             "which is largely independent of the initial conditions (Figure 8).",
             "Ours: b 0.5-24 (F'(v) < 0 beyond b = 24.5 at v = 0.1: no damped sliding state), "
             "k = 12 as in Fig. 6.",
-            _axis("b", 0.5, 24, 48), dict(TAU_AXIS), k=12, delta=1e-6),
-    _preset("fig8b", "Fig. 8B", "(b, tau) plane at k = 12, delta = 0.1", "(see Fig. 8A)",
-            "As Fig. 8A, far from the fixed point.",
-            _axis("b", 0.5, 24, 48), dict(TAU_AXIS), k=12, delta=0.1),
-    _preset("fig9a", "Fig. 9A", "(c, tau) plane at k = 12, delta = 1e-6",
+            _axis("b", 0.5, 24, 48), k=12),
+    *_pair(9, "(c, tau) plane at k = 12",
             "As for the joint effect of the friction parameter c and the change in initial "
             "conditions, the dynamics of the landslide seems to stabilize for initial conditions "
             "away from the fixed point. In particular, it can be seen in Figure 9 that in this "
             "case the complex oscillatory regime occurs for lower values of c than when the "
             "initial conditions are close to the fixed point.",
             "Ours: c 0.1-10 around the default 4.8.",
-            _axis("c", 0.1, 10, 50), dict(TAU_AXIS), k=12, delta=1e-6),
-    _preset("fig9b", "Fig. 9B", "(c, tau) plane at k = 12, delta = 0.1", "(see Fig. 9A)",
-            "As Fig. 9A, far from the fixed point.",
-            _axis("c", 0.1, 10, 50), dict(TAU_AXIS), k=12, delta=0.1),
-    _preset("fig10a", "Fig. 10A", "(d, tau) plane at k = 12, delta = 1e-6",
+            _axis("c", 0.1, 10, 50), k=12),
+    *_pair(10, "(d, tau) plane at k = 12",
             "The interaction of noise and change in initial conditions is shown in Figure 10. "
             "It appears that moving away from the fixed point stabilizes the dynamics of the "
             "landslide, as complex oscillations only occur for a very narrow range of "
             "parameters when delta is away from 0 (Figure 10B).",
             "Ours: d from 1e-6 to 1 on a log axis (the default is 1e-4).",
-            _axis("d", 1e-6, 1, 40, "log"), dict(TAU_AXIS), k=12, delta=1e-6),
-    _preset("fig10b", "Fig. 10B", "(d, tau) plane at k = 12, delta = 0.1", "(see Fig. 10A)",
-            "As Fig. 10A, far from the fixed point.",
-            _axis("d", 1e-6, 1, 40, "log"), dict(TAU_AXIS), k=12, delta=0.1),
+            _axis("d", 1e-6, 1, 40, "log"), k=12),
 )
 
 BY_KEY = {p.key: p for p in PRESETS}
