@@ -95,6 +95,15 @@ def test_a_1d_sweep_shows_its_bifurcation_diagram(db):
     run(scenario)
 
 
+async def open_form(app: SlopeApp, pilot) -> NewSweepScreen:
+    """Press n once the store is open; return the form once it has composed."""
+    await wait_until(pilot, lambda: app.db is not None)
+    await pilot.press("n")
+    await wait_until(pilot, lambda: isinstance(app.screen, NewSweepScreen)
+                     and bool(app.screen.query("#form-buttons")))
+    return app.screen
+
+
 def fill(app, values: dict[str, str]) -> None:
     for widget_id, value in values.items():
         app.screen.query_one(f"#{widget_id}").value = value
@@ -104,10 +113,7 @@ def test_submitting_the_form_puts_the_runs_in_the_database(db):
     async def scenario():
         app = app_for(db)
         async with app.run_test(size=(80, 24)) as pilot:
-            await wait_until(pilot, lambda: app.db is not None)
-            await pilot.press("n")
-            await wait_until(pilot, lambda: isinstance(app.screen, NewSweepScreen)
-                             and bool(app.screen.query("#form-buttons")))
+            await open_form(app, pilot)
             fill(app, {"x-param": "k", "x-start": "3", "x-stop": "9", "x-num": "4",
                        "y-param": "tau", "y-start": "1", "y-stop": "4", "y-num": "3",
                        "fixed-delta": "1e-6", "solver-method": "rk4", "solver-dt": "0.01",
@@ -129,11 +135,7 @@ def test_bad_form_input_shows_the_error_and_writes_nothing(db):
     async def scenario():
         app = app_for(db)
         async with app.run_test(size=(80, 24)) as pilot:
-            await wait_until(pilot, lambda: app.db is not None)
-            await pilot.press("n")
-            await wait_until(pilot, lambda: isinstance(app.screen, NewSweepScreen)
-                             and bool(app.screen.query("#form-buttons")))
-            form = app.screen
+            form = await open_form(app, pilot)
             for values, expected, marked in (
                 ({"x-num": "0"}, "x.num", "x-num"),
                 ({"x-num": "5", "y-start": "-1"}, "y.tau", "y-start"),
@@ -157,11 +159,7 @@ def test_friction_constraints_are_warnings_and_presets_fill_the_form(db):
     async def scenario():
         app = app_for(db)
         async with app.run_test(size=(80, 24)) as pilot:
-            await wait_until(pilot, lambda: app.db is not None)
-            await pilot.press("n")
-            await wait_until(pilot, lambda: isinstance(app.screen, NewSweepScreen)
-                             and bool(app.screen.query("#form-buttons")))
-            form = app.screen
+            form = await open_form(app, pilot)
             fill(app, {"fixed-a": "0.03"})
             await pilot.pause()
             assert "⚠" in str(form.query_one("#form-warnings").render())

@@ -8,6 +8,13 @@ from textual.message import Message
 
 
 @dataclass
+class RunChosen(Message):
+    """The user chose a run in a diagram (phase grid or bifurcation view) to open."""
+
+    run_id: int
+
+
+@dataclass
 class StoreFailed(Message):
     """A database call in a worker failed: shown to the user, never as a traceback."""
 

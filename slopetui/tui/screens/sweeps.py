@@ -16,7 +16,7 @@ from textual.widgets import ContentSwitcher, DataTable, Footer, Header, Static
 from slopetui.plots.hopf import Curve
 from slopetui.sweeps.diagram import SweepDiagram, load_diagram, plane_hopf
 from slopetui.sweeps.progress import SweepProgress, format_eta, sweep_progress
-from slopetui.tui.messages import StoreFailed
+from slopetui.tui.messages import RunChosen, StoreFailed
 from slopetui.tui.widgets.bifurcation_view import BifurcationView
 from slopetui.tui.widgets.phase_grid import GridData, PhaseGrid
 
@@ -159,9 +159,8 @@ class SweepsScreen(Screen[None]):
     def action_focus_list(self) -> None:
         self.query_one("#sweep-table").focus()
 
-    @on(PhaseGrid.RunChosen)
-    @on(BifurcationView.RunChosen)
-    def _open_run(self, message: PhaseGrid.RunChosen | BifurcationView.RunChosen) -> None:
+    @on(RunChosen)
+    def _open_run(self, message: RunChosen) -> None:
         self.app.open_run(message.run_id)  # type: ignore[attr-defined]
 
     def _control(self, action: str) -> None:

@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from textual.binding import Binding
-from textual.message import Message
 from textual.reactive import reactive
 
 from slopetui.plots import render_bifurcation
 from slopetui.sweeps.diagram import SweepDiagram
+from slopetui.tui.messages import RunChosen
 from slopetui.tui.widgets.plot_view import PlotView
 
 
@@ -21,10 +19,6 @@ class BifurcationView(PlotView, can_focus=True):
         Binding("right", "step(1)", "→", show=False),
         Binding("enter", "choose", "Open run", id="bifurcation.open"),
     ]
-
-    @dataclass
-    class RunChosen(Message):
-        run_id: int
 
     index: reactive[int] = reactive(0)
 
@@ -58,4 +52,4 @@ class BifurcationView(PlotView, can_focus=True):
 
     def action_choose(self) -> None:
         if self.diagram is not None and self.diagram.runs:
-            self.post_message(self.RunChosen(self.diagram.runs[self.index].id))
+            self.post_message(RunChosen(self.diagram.runs[self.index].id))

@@ -16,11 +16,11 @@ import numpy as np
 from rich.style import Style
 from rich.text import Text
 from textual.binding import Binding
-from textual.message import Message
 from textual.reactive import reactive
 from textual.widget import Widget
 
 from slopetui.plots.regime_colors import LEGEND_ORDER, PENDING, REGIME_STYLES
+from slopetui.tui.messages import RunChosen
 
 #: plotext colour names (slopetui.plots) as Rich colours; "orange" is ANSI 3 there too.
 RICH_COLOR = {"cyan": "cyan", "green": "green", "magenta": "magenta", "orange": "yellow",
@@ -79,10 +79,6 @@ class PhaseGrid(Widget, can_focus=True):
         Binding("down", "move(0, -1)", "↓", show=False),
         Binding("enter", "choose", "Open run", id="grid.open"),
     ]
-
-    @dataclass
-    class RunChosen(Message):
-        run_id: int
 
     cursor: reactive[tuple[int, int]] = reactive((0, 0))
 
@@ -174,7 +170,7 @@ class PhaseGrid(Widget, can_focus=True):
     def action_choose(self) -> None:
         found = self.cursor_run()
         if found is not None:
-            self.post_message(self.RunChosen(found[0]))
+            self.post_message(RunChosen(found[0]))
 
     # --- rendering ------------------------------------------------------------------------
     def render(self) -> Text:
