@@ -171,13 +171,17 @@ def simulate(p: Params, s: SolverSettings | None = None) -> Trajectory:
         win, g.win_start, g.win_stride, trace, g.trace_stride,
         s.lyap, g.renorm_steps, logs,
     )
-    runtime = time.perf_counter() - t0
+    return trajectory_of(p, s, g, int(done), win, trace, logs, time.perf_counter() - t0)
+
+
+def trajectory_of(p: Params, s: SolverSettings, g: Grid, done: int, win: np.ndarray,
+                  trace: np.ndarray, logs: np.ndarray, runtime: float) -> Trajectory:
+    """Wrap a kernel's outputs (done steps, samplers, tangent logs) as a Trajectory."""
     win_n = g.win_start + g.win_stride * np.arange(g.n_win)
     trace_n = g.trace_stride * np.arange(g.n_trace)
     # after a blow-up at step `done`, only the states before it were sampled
     last = g.n_steps if done == g.n_steps else done - 1
     n_w, n_t = int(np.count_nonzero(win_n <= last)), int(np.count_nonzero(trace_n <= last))
     n_r = done // g.renorm_steps if s.lyap else 0
-    return Trajectory(p, s, g, int(done), win_n[:n_w] * g.dt, win[:, :n_w], trace_n[:n_t] * g.dt,
+    return Trajectory(p, s, g, done, win_n[:n_w] * g.dt, win[:, :n_w], trace_n[:n_t] * g.dt,
                       trace[:, :n_t], logs[:n_r], runtime)
-
