@@ -10,11 +10,11 @@ jit_cache.configure()  # before the kernels below are decorated
 from core.classify import REGIMES, Summary, classify
 from core.lyapunov import LyapunovEstimate
 from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
-from core.point import PointResult, run_point
+from core.point import PointResult, run_batch, run_point
 from core.solve import METHODS, SolverSettings, Trajectory, simulate
 
 __all__ = [
     "METHODS", "PARAM_NAMES", "REGIMES", "LyapunovEstimate", "ParameterError", "Params",
     "PointResult", "SolverSettings", "Summary", "Trajectory", "classify", "friction_warnings",
-    "run_point", "simulate",
+    "run_batch", "run_point", "simulate",
 ]

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 
+from core.batch import simulate_batch
 from core.classify import Summary, classify
 from core.lyapunov import LyapunovEstimate, estimate
 from core.params import Params
@@ -50,7 +52,23 @@ def run_point(p: Params, s: SolverSettings | None = None) -> PointResult:
     """Run one point with settings s (defaults: Euler, dt 1e-3, t_end 1e5, window 1000)."""
     s = s or SolverSettings()
     t0 = time.perf_counter()
-    tr = simulate(p, s)
+    return analyse(simulate(p, s), time.perf_counter() - t0)
+
+
+def run_batch(points: Sequence[Params], s: SolverSettings | None = None) -> list[PointResult]:
+    """Run many points with the same settings through the batched kernels (core.batch).
+
+    Each result's runtime_s is its share of the batch's integration time plus its own
+    analysis time."""
+    trajectories = simulate_batch(points, s or SolverSettings())
+    return [analyse(tr, tr.runtime_s) for tr in trajectories]
+
+
+def analyse(tr: Trajectory, integration_s: float) -> PointResult:
+    """lambda_max and the regime of an integrated trajectory."""
+    t0 = time.perf_counter()
+    s = tr.settings
     lyap = estimate(tr.lyap_logs, tr.grid.renorm_interval) if s.lyap and not tr.blew_up else None
     summary = classify(tr.window_t, tr.window, tr.blew_up, lyap)
-    return PointResult(p, s, summary, lyap, tr.t_blowup, time.perf_counter() - t0, tr)
+    return PointResult(tr.params, s, summary, lyap, tr.t_blowup,
+                       integration_s + time.perf_counter() - t0, tr)
