@@ -63,7 +63,7 @@ def test_expired_leases_go_back_to_the_queue_and_the_old_holder_is_fenced(db):
 def test_a_fresh_heartbeat_keeps_the_lease(db):
     submit_quick(db, 1)
     job = jobs.claim(db, "w")
-    jobs.heartbeat(db, "w", job.run_id)
+    jobs.heartbeat(db, "w")
     assert jobs.requeue_expired(db, lease_s=60) == (0, 0)
 
 
@@ -141,3 +141,47 @@ def test_the_claim_skips_locked_rows_on_postgresql():
     assert "FOR UPDATE OF runs SKIP LOCKED" in sql
     assert sql.startswith("UPDATE runs SET") and "RETURNING runs.id" in sql
     assert "statement_timestamp() AT TIME ZONE 'UTC'" in sql
+
+
+def test_a_batch_claims_the_oldest_runs_with_the_same_solver_settings(db):
+    first = submit_quick(db, 5)                    # rk4, dt 0.01, t_end 200
+    other = submit_quick(db, 3, t_end=300.0)       # another t_end: not in the same batch
+    later = submit_quick(db, 4)                    # same settings as the first sweep
+    batch = jobs.claim_batch(db, "w", 7)
+    assert [j.sweep_id for j in batch] == [first.sweep_id] * 5 + [later.sweep_id] * 2
+    assert [j.run_id for j in batch] == sorted(j.run_id for j in batch)
+    assert len({(j.settings.method, j.settings.dt, j.settings.t_end) for j in batch}) == 1
+    assert statuses(db, other.sweep_id) == {"queued": 3}
+    with db.sessions() as s:
+        held = s.scalars(select(Run).where(Run.worker_id == "w")).all()
+    assert {r.id for r in held} == {j.run_id for j in batch}
+    assert all(r.status == "running" and r.attempts == 1 for r in held)
+    # the next claim starts from the oldest queued run: the other sweep's settings
+    assert {j.sweep_id for j in jobs.claim_batch(db, "v", 7)} == {other.sweep_id}
+
+
+def test_a_dead_workers_whole_batch_goes_back_to_the_queue(db):
+    sub = submit_quick(db, 6)
+    batch = jobs.claim_batch(db, "dead", 4)
+    assert jobs.requeue_worker(db, "dead", "worker died") == (4, 0)
+    assert statuses(db, sub.sweep_id) == {"queued": 6}
+    again = jobs.claim_batch(db, "alive", 6)
+    assert {j.run_id for j in batch} <= {j.run_id for j in again}
+    assert all(j.attempts == (2 if j.run_id in {b.run_id for b in batch} else 1) for j in again)
+
+
+def test_a_heartbeat_keeps_every_lease_of_a_batch(db):
+    submit_quick(db, 3)
+    jobs.claim_batch(db, "w", 3)
+    with db.transaction() as s:  # age the leases
+        s.execute(update(Run).values(heartbeat_at=func.datetime("now", "-120 seconds")))
+    jobs.heartbeat(db, "w")
+    assert jobs.requeue_expired(db, lease_s=60) == (0, 0)
+
+
+def test_the_batch_claim_skips_locked_rows_on_postgresql():
+    from sqlalchemy.dialects import postgresql
+
+    sql = str(jobs._CLAIM_BATCH.compile(dialect=postgresql.dialect()))
+    assert "FOR UPDATE OF runs SKIP LOCKED" in sql and "LIMIT" in sql
+    assert sql.startswith("UPDATE runs SET") and "RETURNING runs.id" in sql

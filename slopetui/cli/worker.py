@@ -14,6 +14,11 @@ from slopetui.queue.pool import default_jobs, run_pool
 from slopetui.queue.worker_process import WorkerOptions
 from slopetui.store.database import Database
 
+#: A batch is held in memory whole: the paper's window (1000 time units at 0.01) is 4 MB a
+#: run, so 256 runs take 1 GB per worker. Beyond the kernel's 16 slots, a larger batch only
+#: keeps the slots full when some runs end early.
+MAX_BATCH = 256
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
@@ -37,6 +42,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help=f"seconds between heartbeats (default {jobs.HEARTBEAT_S:g})")
     p.add_argument("--max-attempts", type=int, default=jobs.MAX_ATTEMPTS, metavar="N",
                    help=f"attempts before a run is marked failed (default {jobs.MAX_ATTEMPTS})")
+    p.add_argument("--batch", type=int, default=WorkerOptions.batch, metavar="N",
+                   help="runs with the same solver settings claimed and computed together by "
+                        f"the batched kernels (default {WorkerOptions.batch}; 1 computes one "
+                        f"run at a time; at most {MAX_BATCH})")
     add_db_option(p)
     p.set_defaults(handler=handle)
 
@@ -44,6 +53,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def _check(args: argparse.Namespace) -> None:
     if args.jobs < 1:
         raise UsageError(f"--jobs must be >= 1, got {args.jobs}")
+    if not 1 <= args.batch <= MAX_BATCH:
+        raise UsageError(f"--batch must be between 1 and {MAX_BATCH}, got {args.batch}")
     if args.max_attempts < 1:
         raise UsageError(f"--max-attempts must be >= 1, got {args.max_attempts}")
     if not args.heartbeat > 0:
@@ -55,7 +66,7 @@ def _check(args: argparse.Namespace) -> None:
 
 def _detach(args: argparse.Namespace, db: Database, log: Path) -> int:
     extra = ["--lease", str(args.lease), "--heartbeat", str(args.heartbeat),
-             "--max-attempts", str(args.max_attempts)]
+             "--max-attempts", str(args.max_attempts), "--batch", str(args.batch)]
     if args.exit_when_idle:
         extra.append("--exit-when-idle")
     pid, log = start_detached_pool(db, jobs=args.jobs, log=log, extra=tuple(extra))
@@ -79,6 +90,6 @@ def handle(args: argparse.Namespace) -> int:
               file=sys.stderr)
     opts = WorkerOptions(db_url=url, log_path=str(log), heartbeat_s=args.heartbeat,
                          lease_s=args.lease, max_attempts=args.max_attempts,
-                         exit_when_idle=args.exit_when_idle)
+                         exit_when_idle=args.exit_when_idle, batch=args.batch)
     os.environ.setdefault("PYTHONUNBUFFERED", "1")
     return run_pool(opts, args.jobs)

@@ -81,6 +81,41 @@ _WORKER_DONE = (update(Worker).where(Worker.id == bindparam("wid"))
                         jobs_done=Worker.jobs_done + bindparam("n_done")))
 
 
+# A batch: the oldest queued run's solver settings, then up to n queued runs with the same
+# settings (they can share one call of the batched kernels, core.batch), oldest first.
+_OLDEST_SETTINGS = (select(Run.method, Run.dt, Run.t_end, Run.window, Run.lyap)
+                    .join(Sweep, Sweep.id == Run.sweep_id)
+                    .where(Run.status == "queued", Sweep.status == "active")
+                    .order_by(Run.id).limit(1))
+_COMPATIBLE = (select(Run.id).join(Sweep, Sweep.id == Run.sweep_id)
+               .where(Run.status == "queued", Sweep.status == "active",
+                      Run.method == bindparam("b_method"), Run.dt == bindparam("b_dt"),
+                      Run.t_end == bindparam("b_t_end"), Run.window == bindparam("b_window"),
+                      Run.lyap == bindparam("b_lyap"))
+               .order_by(Run.id).limit(bindparam("n"))
+               .with_for_update(skip_locked=True, of=Run))
+_CLAIM_BATCH = (update(Run).where(Run.id.in_(_COMPATIBLE), Run.status == "queued")
+                .values(status="running", worker_id=bindparam("wid"),
+                        attempts=Run.attempts + 1, started_at=db_now(),
+                        heartbeat_at=db_now(), error=None)
+                .returning(*_CLAIM_COLUMNS))
+
+
+def claim_batch(db: Database, worker_id: str, limit: int) -> list[Job]:
+    """Claim up to ``limit`` queued runs that share the oldest queued run's solver settings
+    (oldest first), in one transaction; [] if nothing is queued. They are all leased to the
+    worker: if it dies, requeue_worker / requeue_expired hand every one of them back."""
+    with db.connection() as conn:
+        settings = conn.execute(_OLDEST_SETTINGS).first()
+        if settings is None:
+            return []
+        rows = conn.execute(_CLAIM_BATCH, {"wid": worker_id, "n": limit, **{
+            f"b_{name}": value for name, value in settings._mapping.items()}}).all()
+        if rows:
+            conn.execute(_WORKER_ON, {"wid": worker_id, "rid": min(r.id for r in rows)})
+    return sorted((_job(row) for row in rows), key=lambda job: job.run_id)
+
+
 def claim(db: Database, worker_id: str) -> Job | None:
     """Claim the oldest queued run of an active sweep, or None if there is none."""
     with db.connection() as conn:
@@ -141,14 +176,14 @@ def release(db: Database, job: Job, worker_id: str) -> bool:
     return n == 1
 
 
-def heartbeat(db: Database, worker_id: str, run_id: int | None) -> None:
-    """Extend the lease of the worker's run and mark the worker alive."""
+def heartbeat(db: Database, worker_id: str) -> None:
+    """Extend the leases of every run the worker holds (one, or a batch) and mark the
+    worker alive."""
     with db.transaction() as s:
         s.execute(update(Worker).where(Worker.id == worker_id)
                   .values(heartbeat_at=db_now()))
-        if run_id is not None:
-            s.execute(update(Run).where(_HOLDING).values(heartbeat_at=db_now()),
-                      {"rid": run_id, "wid": worker_id})
+        s.execute(update(Run).where(Run.status == "running", Run.worker_id == worker_id)
+                  .values(heartbeat_at=db_now()))
 
 
 def _requeue(s: Session, where: Any, reason: str, max_attempts: int) -> tuple[int, int]:
