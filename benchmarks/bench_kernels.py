@@ -1,11 +1,15 @@
-"""ns per step of the single-trajectory kernels at the paper defaults (tau = 10, k = 10).
+"""ns per point-step of the kernels, single-trajectory and batched, on one core.
 
-Run:  python benchmarks/bench_kernels.py [--steps N] [--repeat R]
+Run:  python benchmarks/bench_kernels.py [--t-end T] [--repeat R]
 
-Prints one line per variant (Euler, Euler+lambda_max, RK4, RK4+lambda_max): best-of-R
-ns per step, ns per unit of model time, and the lambda_max overhead ratio measured in the
-same run. Targets (issue 2): <= 10 ns per Euler step on one core, lambda_max <= 2x.
-The kernels are compiled (or loaded from numba's cache) before timing.
+The same 64 parameter points for every variant: k from 6 to 16 times 8 delays tau from 5 to
+15, half of them off the dt grid (so the lanes have different ring-buffer lengths and step
+sizes), default friction (eq. 8). Each run is integrated to t_end with the analysis window
+at the paper's share of the run (1%) and the usual 2000-point trace. Printed per variant:
+best-of-R ns per point-step (time / total steps of all points), ns per unit of model time,
+and the batched kernel's speed-up over the single kernel measured in the same run.
+Targets (issue 6): batched Euler <= 3 ns per point-step, <= 6 ns with lambda_max.
+Kernels are compiled (or loaded from numba's cache) before timing.
 """
 
 from __future__ import annotations
@@ -14,49 +18,56 @@ import argparse
 import os
 import platform
 import time
+from collections.abc import Callable
 
 import numpy as np
 
-from core import Params, SolverSettings
-from core.model import coefficients
-from core.solve import KERNELS, make_grid
+from core import Params, SolverSettings, simulate
+from core.batch import LANES, simulate_batch
+
+POINTS = [Params(k=float(k), tau=float(tau)) for k in np.linspace(6.0, 16.0, 8)
+          for tau in (5.0, 6.4321, 7.5, 8.8765, 10.0, 11.2345, 12.5, 15.0)]
 
 
-def time_variant(method: str, lyap: bool, n_steps: int, repeat: int) -> tuple[float, float]:
-    """Best-of-repeat seconds per step, and the step size, for one kernel variant."""
-    p = Params(tau=10.0, k=10.0)
-    s = SolverSettings(method=method, t_end=1.0, window=1.0, lyap=lyap)
-    g = make_grid(p, s)
-    kernel, coef = KERNELS[method], coefficients(p)
-    win, trace = np.zeros((5, 1001)), np.zeros((5, 1001))
-    logs = np.zeros(n_steps // g.renorm_steps + 1)
-    args = (coef, g.dt, g.n_delay)
-    kernel(*args, 10, win, 0, 1, trace, 1, lyap, g.renorm_steps, logs)  # compile / load cache
-    best = float("inf")
+def best_time(run: Callable[[], int], repeat: int) -> tuple[float, int]:
+    """Best-of-repeat seconds of run(), and the steps it integrated."""
+    best, steps = float("inf"), 0
     for _ in range(repeat):
         t0 = time.perf_counter()
-        done = kernel(*args, n_steps, win, n_steps - 100_000, 100, trace, n_steps // 1000,
-                      lyap, g.renorm_steps, logs)
+        steps = run()
         best = min(best, time.perf_counter() - t0)
-        assert done == n_steps, "benchmark point blew up"
-    return best / n_steps, g.dt
+    return best, steps
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--steps", type=float, default=2e7, help="Euler steps per timing (RK4: /10)")
+    ap.add_argument("--t-end", type=float, default=2000.0, help="model time per run (Euler; "
+                    "RK4 runs 10x longer at its 10x larger step)")
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
     print(f"# {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-          f"python {platform.python_version()}; tau = 10, k = 10, best of {args.repeat}")
-    print(f"{'variant':<16}{'dt':>8}{'ns/step':>10}{'ns/time unit':>15}{'lyap cost':>11}")
+          f"python {platform.python_version()}; {len(POINTS)} points (k x tau, 8 ring "
+          f"lengths), {LANES} slots per batch; best of {args.repeat}")
+    print(f"{'variant':<22}{'dt':>7}{'ns/point-step':>15}{'ns/time unit':>14}{'speed-up':>10}")
     for method in ("euler", "rk4"):
-        n = int(args.steps) if method == "euler" else int(args.steps) // 10
-        plain, dt = time_variant(method, False, n, args.repeat)
-        with_lyap, _ = time_variant(method, True, n, args.repeat)
-        for label, sec, ratio in ((method, plain, ""), (method + "+lyap", with_lyap,
-                                                        f"{with_lyap / plain:.2f}x")):
-            print(f"{label:<16}{dt:>8g}{sec * 1e9:>10.2f}{sec / dt * 1e9:>15.1f}{ratio:>11}")
+        t_end = args.t_end * (1 if method == "euler" else 10)
+        for lyap in (False, True):
+            s = SolverSettings(method=method, t_end=t_end, window=t_end / 100, lyap=lyap)
+            simulate(POINTS[0], SolverSettings(method=method, t_end=1.0, window=1.0,
+                                               lyap=lyap))
+            simulate_batch(POINTS[:2], SolverSettings(method=method, t_end=1.0, window=1.0,
+                                                      lyap=lyap))
+            single, n = best_time(lambda: sum(simulate(p, s).steps_done for p in POINTS),
+                                  args.repeat)
+            batched, n_b = best_time(
+                lambda: sum(t.steps_done for t in simulate_batch(POINTS, s)), args.repeat)
+            assert n == n_b
+            dt = s.step
+            name = method + ("+lyap" if lyap else "")
+            for label, sec, ratio in ((f"{name} single", single, ""),
+                                      (f"{name} batched", batched, f"{single / batched:.2f}x")):
+                ns = sec / n * 1e9
+                print(f"{label:<22}{dt:>7g}{ns:>15.2f}{ns / dt:>14.1f}{ratio:>10}")
 
 
 if __name__ == "__main__":

@@ -2,8 +2,8 @@
 repeat.
 
 A batch is up to ``batch`` queued runs with the same solver settings, computed together by
-the batched kernels (core.batch: ~2.5x the single kernel's throughput); ``batch = 1`` uses
-the single-run kernels. The computation runs in a thread of this process (the numba kernels
+the batched Euler kernel (core.batch: ~2x the single kernel's throughput; see
+BATCHED_METHODS for RK4); ``batch = 1`` uses the single-run kernels. The computation runs in a thread of this process (the numba kernels
 release the GIL), so the main thread stays free to notice a shutdown; a heartbeat thread
 extends the leases of every run of the batch.
 Shutdown: the pool sets ``stop`` (finish the running job, then exit) or ``abort`` (give
@@ -125,12 +125,19 @@ class _Heartbeat(threading.Thread):
                 log.exception("heartbeat failed")
 
 
+#: Methods computed with the batched kernels. RK4's batched kernel is not vectorised by LLVM
+#: yet and runs at half the single kernel's speed (benchmarks/bench_kernels.py), so RK4
+#: batches are computed run by run.
+BATCHED_METHODS = frozenset({"euler"})
+
+
 def _compute(batch: list[jobs.Job]) -> list[dict[str, Any]]:
     from core import run_batch, run_point
-    if len(batch) == 1:
-        return [run_point(batch[0].params, batch[0].settings).as_record()]
-    results = run_batch([job.params for job in batch], batch[0].settings)
-    return [result.as_record() for result in results]
+    settings = batch[0].settings
+    if len(batch) == 1 or settings.method not in BATCHED_METHODS:
+        return [run_point(job.params, job.settings).as_record() for job in batch]
+    return [result.as_record() for result in run_batch([job.params for job in batch],
+                                                       settings)]
 
 
 def _wait(future: Future[list[dict[str, Any]]], abort: Any) -> bool:
