@@ -57,10 +57,10 @@ def main() -> None:
                                                lyap=lyap))
             simulate_batch(POINTS[:2], SolverSettings(method=method, t_end=1.0, window=1.0,
                                                       lyap=lyap))
-            single, n = best_time(lambda: sum(simulate(p, s).steps_done for p in POINTS),
+            single, n = best_time(lambda s=s: sum(simulate(p, s).steps_done for p in POINTS),
                                   args.repeat)
             batched, n_b = best_time(
-                lambda: sum(t.steps_done for t in simulate_batch(POINTS, s)), args.repeat)
+                lambda s=s: sum(t.steps_done for t in simulate_batch(POINTS, s)), args.repeat)
             assert n == n_b
             dt = s.step
             name = method + ("+lyap" if lyap else "")
