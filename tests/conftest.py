@@ -53,3 +53,19 @@ def finish_all(db: Database, worker: str = "test") -> int:
         jobs.complete(db, job, worker, run_point(job.params, job.settings).as_record())
         n += 1
     return n
+
+
+def finish_adaptive(db: Database, sweep_id: int, worker: str = "test") -> int:
+    """Compute an adaptive sweep level by level in this process, advancing it as an idle
+    worker would, until it is refined; returns the runs computed."""
+    from slopetui.store.models import Sweep
+    from slopetui.sweeps.adaptive import advance
+
+    n = 0
+    for _ in range(20):  # more than the 8 levels allowed, plus slack
+        n += finish_all(db, worker)
+        advance(db, sweep_id)
+        with db.sessions() as s:
+            if s.get(Sweep, sweep_id).refined:
+                return n
+    raise AssertionError(f"adaptive sweep {sweep_id} did not finish refining")

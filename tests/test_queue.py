@@ -185,3 +185,15 @@ def test_the_batch_claim_skips_locked_rows_on_postgresql():
     sql = str(jobs._CLAIM_BATCH.compile(dialect=postgresql.dialect()))
     assert "FOR UPDATE OF runs SKIP LOCKED" in sql and "LIMIT" in sql
     assert sql.startswith("UPDATE runs SET") and "RETURNING runs.id" in sql
+
+
+def test_an_inferred_label_never_serves_as_a_cached_result(db):
+    first = submit_quick(db, 1)
+    finish_all(db)
+    with db.transaction() as s:  # as if adaptive refinement had inferred it
+        s.execute(update(Run).where(Run.sweep_id == first.sweep_id).values(inferred=True))
+    again = submit_quick(db, 1)
+    assert again.n_cached == 0
+    job = jobs.claim(db, "w")
+    assert job.sweep_id == again.sweep_id
+    assert jobs.cached_result(db, job) is None

@@ -4,7 +4,9 @@ A 2-D sweep draws its phase diagram (one colour and marker per regime, the exact
 curve of ``core.stability`` over it where the plane has one); a 1-D sweep draws its
 bifurcation diagram (the peak clusters of m_y against the parameter, as in Fig. 4A).
 Runs that are not finished yet are drawn as pending; sliding runs of a bifurcation
-diagram at their mean m_y (near the fixed point m_y = 0).
+diagram at their mean m_y (near the fixed point m_y = 0). An adaptive phase diagram is
+drawn like any other: inferred runs in their regime's style, lattice points of levels
+not queued yet as pending, and "N computed, M inferred" in the legend.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ from slopetui.cli.options import UsageError, add_db_option, open_db, sweep_id
 from slopetui.plots import render_bifurcation, render_phase_diagram
 from slopetui.store.database import Database
 from slopetui.store.models import Sweep
-from slopetui.sweeps.diagram import load_diagram, plane_hopf
+from slopetui.sweeps.diagram import SweepDiagram, load_diagram, plane_hopf
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -57,7 +59,7 @@ def handle(args: argparse.Namespace) -> int:
         args.sweep = newest_sweep(db)
     diagram = load_diagram(db, args.sweep)
     spec, runs = diagram.spec, diagram.runs
-    title = f"sweep {diagram.id}: {diagram.name} ({diagram.n_done}/{len(runs)} done)"
+    title = f"sweep {diagram.id}: {diagram.name} ({diagram.n_done}/{diagram.n_points} done)"
     color = use_color(args.color)
     x = spec.x
     xs = [r.x for r in runs]
@@ -68,11 +70,26 @@ def handle(args: argparse.Namespace) -> int:
                                  height=height, color=color))
         return 0
     y = spec.y
+    ys = [r.y for r in runs]
+    for _, _, px, py in diagram.unqueued():  # an adaptive sweep's levels still to come
+        xs.append(px)
+        ys.append(py)
+        regimes.append(None)
     hopf = plane_hopf(spec) if args.hopf else None
-    print(render_phase_diagram(x.param, y.param, xs, [r.y for r in runs], regimes,
+    print(render_phase_diagram(x.param, y.param, xs, ys, regimes,
                                x_log=x.spacing == "log", y_log=y.spacing == "log", hopf=hopf,
-                               title=title, width=width, height=height, color=color))
+                               title=title, width=width, height=height, color=color,
+                               notes=adaptive_notes(diagram)))
     return 0
+
+
+def adaptive_notes(diagram: SweepDiagram) -> list[str]:
+    """The legend's line on an adaptive sweep: how much of it was computed."""
+    levels = diagram.spec.adaptive_levels
+    if levels is None:
+        return []
+    counts = f"{diagram.n_computed} computed, {diagram.n_inferred} inferred"
+    return [f"{counts} (adaptive, {levels} levels)"]
 
 
 def newest_sweep(db: Database) -> int:

@@ -1,4 +1,10 @@
-"""``slopetui status``: progress per sweep and the live workers."""
+"""``slopetui status``: progress per sweep and the live workers.
+
+An adaptive sweep says where its refinement is before its name: ``[level 2/3]`` while
+its levels run (done/total counts the runs of the levels queued so far against the
+final lattice), ``[612 computed, 3484 inferred]`` once refined. ``--json`` adds the
+keys ``adaptive_levels``, ``level``, ``refined``, ``computed`` and ``inferred``.
+"""
 
 from __future__ import annotations
 
@@ -6,7 +12,12 @@ import argparse
 import json
 
 from slopetui.cli.options import add_db_option, open_db
-from slopetui.sweeps.progress import format_eta, live_workers, sweep_progress
+from slopetui.sweeps.progress import (
+    SweepProgress,
+    format_eta,
+    live_workers,
+    sweep_progress,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -30,7 +41,10 @@ def handle(args: argparse.Namespace) -> int:
         print(json.dumps({
             "sweeps": [{"id": p.id, "name": p.name, "axes": p.axes, "status": p.status,
                         "total": p.total, "counts": p.counts, "cached": p.cached,
-                        "runs_per_min": p.runs_per_min, "eta_s": p.eta_s} for p in sweeps],
+                        "runs_per_min": p.runs_per_min, "eta_s": p.eta_s,
+                        "adaptive_levels": p.adaptive_levels, "level": p.level,
+                        "refined": p.refined, "computed": p.computed, "inferred": p.inferred}
+                       for p in sweeps],
             "workers": [{"id": w.id, "run_id": w.run_id, "jobs_done": w.jobs_done,
                          "heartbeat_age_s": w.heartbeat_age_s} for w in workers]}))
         return 0
@@ -43,7 +57,7 @@ def handle(args: argparse.Namespace) -> int:
             pct = 100 * (p.done + p.failed) // max(p.total, 1)
             print(f"{p.id:>4}  {p.status:9} {p.axes:9} {p.done:>6}/{p.total:<6} {pct:>4} "
                   f"{p.counts.get('running', 0):>3} {p.failed:>4} {p.runs_per_min:>8.1f} "
-                  f"{format_eta(p.eta_s if workers else None):>7}  {p.name}")
+                  f"{format_eta(p.eta_s if workers else None):>7}  {adaptive_stage(p)}{p.name}")
     print()
     if not workers:
         print("no live workers: start a pool with `slopetui worker --detach`")
@@ -52,3 +66,12 @@ def handle(args: argparse.Namespace) -> int:
         print(f"worker {w.id:28} {doing:12} {w.jobs_done:>6} done  "
               f"heartbeat {w.heartbeat_age_s:.0f} s ago")
     return 0
+
+
+def adaptive_stage(p: SweepProgress) -> str:
+    """"[level 2/3] " or "[612 computed, 3484 inferred] " for an adaptive sweep."""
+    if p.adaptive_levels is None:
+        return ""
+    if p.refined:
+        return f"[{p.computed} computed, {p.inferred} inferred] "
+    return f"[{p.stage}] "

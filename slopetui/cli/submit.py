@@ -40,9 +40,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--window", metavar="X", help="analysis window (default 1000)")
     p.add_argument("--no-lyap", dest="lyap", action="store_false", default=None,
                    help="skip lambda_max (about 1.5x faster with Euler)")
+    p.add_argument("--adaptive", metavar="LEVELS",
+                   help="a 2-D sweep as an adaptive phase diagram: compute a lattice "
+                        "2**LEVELS times coarser, refine only where regimes change, infer "
+                        "the rest (LEVELS 1..8; the axes give the final lattice)")
     p.add_argument("--yes", action="store_true",
-                   help=f"queue sweeps of more than {CONFIRM_ABOVE_RUNS} runs")
-    p.add_argument("--json", action="store_true", help="print {sweep_id, n_runs, n_cached}")
+                   help=f"queue sweeps of more than {CONFIRM_ABOVE_RUNS} runs (adaptive: "
+                        "coarse runs)")
+    p.add_argument("--json", action="store_true",
+                   help="print {sweep_id, n_runs, n_cached} (adaptive: also n_points, "
+                        "adaptive_levels)")
     add_db_option(p)
     p.set_defaults(handler=handle)
 
@@ -65,6 +72,8 @@ def spec_data(args: argparse.Namespace) -> dict[str, Any]:
         data["y"] = parse_axis_flag("--y", args.y)
     if args.name:
         data["name"] = args.name
+    if args.adaptive is not None:
+        data["adaptive"] = {"levels": args.adaptive}
     fixed = dict(data.get("fixed") or {})
     fixed.update({n: getattr(args, f"fixed_{n}") for n in PARAM_NAMES
                   if getattr(args, f"fixed_{n}") is not None})
@@ -82,17 +91,27 @@ def spec_data(args: argparse.Namespace) -> dict[str, Any]:
 
 def handle(args: argparse.Namespace) -> int:
     spec = parse_spec(spec_data(args))  # every check happens before the database opens
-    if spec.n_runs > CONFIRM_ABOVE_RUNS and not args.yes:
-        print(f"slopetui submit: this sweep would queue {spec.n_runs} runs (more than "
+    if spec.first_runs > CONFIRM_ABOVE_RUNS and not args.yes:
+        what = (f"{spec.first_runs} coarse runs (of a {spec.n_runs}-point lattice)"
+                if spec.adaptive_levels is not None else f"{spec.n_runs} runs")
+        print(f"slopetui submit: this sweep would queue {what} (more than "
               f"{CONFIRM_ABOVE_RUNS}); add --yes to queue it", file=sys.stderr)
         return 2
     db = open_db(args)
     out = submit(db, spec)
     if args.json:
-        print(json.dumps({"sweep_id": out.sweep_id, "n_runs": out.n_runs,
-                          "n_cached": out.n_cached}))
+        data = {"sweep_id": out.sweep_id, "n_runs": out.n_runs, "n_cached": out.n_cached}
+        if out.adaptive_levels is not None:  # n_runs: the coarse runs; n_points: the lattice
+            data.update(n_points=out.n_points, adaptive_levels=out.adaptive_levels)
+        print(json.dumps(data))
     else:
         cached = f" ({out.n_cached} already computed, taken from the cache)" if out.n_cached else ""
-        print(f"sweep {out.sweep_id}: {out.n_runs} runs queued{cached}")
+        if out.adaptive_levels is None:
+            print(f"sweep {out.sweep_id}: {out.n_runs} runs queued{cached}")
+        else:
+            assert spec.y is not None
+            print(f"sweep {out.sweep_id}: adaptive, {out.n_runs} coarse runs queued{cached}; "
+                  f"refined up to {out.adaptive_levels} levels to the {spec.x.num} x "
+                  f"{spec.y.num} lattice as they finish")
         print(f"watch it: slopetui status; draw it: slopetui show {out.sweep_id}")
     return 0

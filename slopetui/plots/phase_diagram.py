@@ -31,13 +31,15 @@ def render_phase_diagram(x_param: str, y_param: str, xs: Sequence[float], ys: Se
                          regimes: Sequence[str | None], *, x_log: bool = False,
                          y_log: bool = False, hopf: tuple[np.ndarray, np.ndarray] | None = None,
                          title: str = "", width: int = 80, height: int = 24,
-                         color: bool = True) -> str:
+                         color: bool = True, notes: Sequence[str] = ()) -> str:
     """The runs at (xs[i], ys[i]) (parameter values, model units) marked by regimes[i].
 
     One series per regime; regime None or "pending" (not finished) is drawn in the faint
     pending style. The legend under the plot names each regime with its run count, and
     counts the runs a log axis cannot show (values <= 0) or with non-finite values.
-    ``hopf`` is a curve from hopf_boundary, drawn last so no run hides it. Returns exactly
+    ``hopf`` is a curve from hopf_boundary, drawn last so no run hides it. ``notes`` are
+    added to the legend as they are (e.g. an adaptive sweep's computed and inferred
+    counts). Returns exactly
     ``height`` lines of at most ``width`` columns; with ``color`` False, no ANSI escapes.
     Raises ValueError for inputs of unequal length, an unknown regime, or a size too small.
     """
@@ -57,6 +59,7 @@ def render_phase_diagram(x_param: str, y_param: str, xs: Sequence[float], ys: Se
     if hidden:
         why = "<= 0 on a log axis, or not finite" if x_log or y_log else "not finite"
         legend.append(note(f"{hidden} not shown ({why})"))
+    legend.extend(note(text) for text in notes)
     if not series:
         what = f"{len(keys)} runs, none plottable" if keys else "no runs"
         prefix = f"{title}: " if title else ""

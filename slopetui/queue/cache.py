@@ -1,5 +1,10 @@
 """The result cache: equal parameters, delta, solver settings and engine give equal
-results (the model is deterministic), so a finished run's result is reused."""
+results (the model is deterministic), so a finished run's result is reused.
+
+Only computed runs serve: an inferred run of an adaptive sweep (``Run.inferred``) is
+done and has a cache key, but its regime is a guess from its cell's corners and it has
+no measurements, so it must never stand in for a computation.
+"""
 
 from __future__ import annotations
 
@@ -28,12 +33,14 @@ def cache_key(inputs: Mapping[str, Any]) -> str:
 
 
 def finished_results(session: Session, keys: Iterable[str]) -> dict[str, Run]:
-    """The earliest finished run for each of the keys that has one."""
+    """The earliest finished, computed (not inferred) run for each of the keys that has
+    one."""
     found: dict[str, Run] = {}
     keys = list(set(keys))
     for i in range(0, len(keys), 500):  # stay under SQLite's bound-parameter limit
         rows = session.scalars(select(Run).where(Run.cache_key.in_(keys[i:i + 500]),
-                                                 Run.status == "done")
+                                                 Run.status == "done",
+                                                 Run.inferred.is_(False))
                                .order_by(Run.id))
         for run in rows:
             found.setdefault(run.cache_key, run)

@@ -137,7 +137,8 @@ def complete(db: Database, job: Job, worker_id: str, record: dict[str, Any],
 
 
 _CACHED = (select(Run.id, *(getattr(Run, name) for name in RESULT_FIELDS))
-           .where(Run.cache_key == bindparam("key"), Run.status == "done")
+           .where(Run.cache_key == bindparam("key"), Run.status == "done",
+                  Run.inferred.is_(False))  # an inferred label is not a result
            .order_by(Run.id).limit(1))
 
 

@@ -29,6 +29,7 @@ from slopetui.queue import jobs
 from slopetui.store.database import Database
 from slopetui.store.db_time import db_now
 from slopetui.store.models import Run, Sweep, Worker
+from slopetui.sweeps import adaptive
 
 log = logging.getLogger("slopetui.worker")
 
@@ -224,11 +225,16 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any) -> None:
                     break
                 batch = jobs.claim_batch(db, wid, opts.batch)
                 if not batch:
+                    # an adaptive sweep whose level is complete queues its next level
+                    if adaptive.advance_all(db):
+                        continue
                     if opts.exit_when_idle and queue_drained(db):
                         break
                     stop.wait(opts.poll_s)
                 elif not _process(db, wid, batch, pool, abort, opts):
                     break
+                else:
+                    adaptive.advance_all(db)
         finally:
             hb.halt.set()
             _unregister(db, wid)

@@ -63,9 +63,18 @@ class Sweep(Base):
     spec: Mapped[dict[str, Any]]
     x_param: Mapped[str] = mapped_column(String(8))
     y_param: Mapped[str | None] = mapped_column(String(8))
+    #: Points of the lattice (of an adaptive sweep: of the final lattice, which computed
+    #: and inferred runs fill when it is refined).
     n_runs: Mapped[int]
     status: Mapped[str] = mapped_column(String(16), default="active")
     created_at: Mapped[datetime] = mapped_column(DateTime, server_default=func.now())
+    #: An adaptive phase diagram (slopetui.sweeps.adaptive): how many times its coarse
+    #: lattice is refined at most, the level queued last, and whether refinement is over
+    #: (its inferred runs are written). NULL, NULL, false for a sweep of every point.
+    adaptive_levels: Mapped[int | None]
+    level: Mapped[int | None]
+    #: server defaults '0' as in migration 0002 (why a literal: see there).
+    refined: Mapped[bool] = mapped_column(Boolean, default=False, server_default="0")
 
     runs: Mapped[list[Run]] = relationship(back_populates="sweep", passive_deletes=True)
 
@@ -120,6 +129,12 @@ class Run(Base):
     error: Mapped[str | None] = mapped_column(Text)
     #: The finished run whose result this one copied (the cache), if any.
     cached_from: Mapped[int | None] = mapped_column(ForeignKey("runs.id", ondelete="SET NULL"))
+    #: Adaptive sweeps: the refinement level at which the run was queued, or for an
+    #: inferred run the level of the cell it was inferred from; NULL in other sweeps.
+    level: Mapped[int | None]
+    #: Not computed: the regime was inferred from the 4 equal corners of its cell of an
+    #: adaptive sweep. Its measurements are NULL, and it never serves as a cache hit.
+    inferred: Mapped[bool] = mapped_column(Boolean, default=False, server_default="0")
 
     # The result (core.point.PointResult.as_record).
     regime: Mapped[str | None] = mapped_column(String(16))

@@ -1,4 +1,9 @@
-"""A sweep's runs as diagram data: grid positions, axis values, regimes and peaks."""
+"""A sweep's runs as diagram data: grid positions, axis values, regimes and peaks.
+
+An adaptive sweep's inferred runs come back like done ones (status done, their regime)
+with ``inferred`` true; lattice points without a run yet (levels not queued yet) are
+listed by ``SweepDiagram.unqueued`` so that drawings show them as pending.
+"""
 
 from __future__ import annotations
 
@@ -29,6 +34,7 @@ class RunPoint:
     lambda_max: float = float("nan")
     lambda_err: float = float("nan")
     drift: float = float("nan")  # window mean of m_y
+    inferred: bool = False  # an adaptive sweep's regime taken from its cell's corners
 
 
 @dataclass(frozen=True)
@@ -41,6 +47,31 @@ class SweepDiagram:
     @property
     def n_done(self) -> int:
         return sum(r.status == "done" for r in self.runs)
+
+    @property
+    def n_inferred(self) -> int:
+        return sum(r.inferred for r in self.runs)
+
+    @property
+    def n_computed(self) -> int:
+        """Done runs that were computed (or copied from a computed run), not inferred."""
+        return sum(r.status == "done" and not r.inferred for r in self.runs)
+
+    @property
+    def n_points(self) -> int:
+        """Points of the sweep's lattice (an adaptive sweep has runs for some so far)."""
+        return self.spec.n_runs
+
+    def unqueued(self) -> list[tuple[int, int, float, float | None]]:
+        """(ix, iy, x, y) of the lattice points that have no run yet: an adaptive sweep's
+        points of levels not queued yet, and those it will infer."""
+        if len(self.runs) >= self.n_points:
+            return []
+        have = {(r.ix, r.iy) for r in self.runs}
+        xs = self.spec.x.values()
+        ys = self.spec.y.values() if self.spec.y else [None]
+        return [(ix, iy, float(x), None if y is None else float(y))
+                for iy, y in enumerate(ys) for ix, x in enumerate(xs) if (ix, iy) not in have]
 
 
 def plane_hopf(spec: SweepSpec) -> Curve | None:
@@ -62,12 +93,12 @@ def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
         cols = (Run.id, Run.ix, Run.iy, getattr(Run, spec.x.param),
                 getattr(Run, spec.y.param) if spec.y else Run.iy, Run.status, Run.regime,
                 Run.peaks, Run.drift, Run.error, Run.detail, Run.period_count, Run.lambda_max,
-                Run.lambda_err)
+                Run.lambda_err, Run.inferred)
         rows = s.execute(select(*cols).where(Run.sweep_id == sweep_id)
                          .order_by(Run.iy, Run.ix)).all()
     runs = []
-    for rid, ix, iy, x, y, status, regime, peaks, drift, error, detail, count, lam, lam_err \
-            in rows:
+    for rid, ix, iy, x, y, status, regime, peaks, drift, error, detail, count, lam, lam_err, \
+            inferred in rows:
         done = status == "done"
         # A sliding run has no peaks: it rests near the fixed point m_y = 0 (eqs. 14-17;
         # with noise d > 0 it drifts at a small constant m_y). It is drawn at its window
@@ -75,5 +106,5 @@ def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
         shown = ([drift] if regime == "sliding" else list(peaks or [])) if done else []
         runs.append(RunPoint(rid, ix, iy, x, y if spec.y else None, status,
                              regime if done else None, shown, error, detail if done else None,
-                             count if done else None, lam, lam_err, drift))
+                             count if done else None, lam, lam_err, drift, bool(inferred)))
     return SweepDiagram(sweep.id, sweep.name, spec, runs)

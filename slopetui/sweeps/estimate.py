@@ -28,12 +28,20 @@ def wall_seconds(spec: SweepSpec, workers: int) -> float:
 
 
 def describe(spec: SweepSpec, workers: int) -> str:
-    total = wall_seconds(spec, workers)
-    if total < 120:
-        when = f"{total:.0f} s"
-    elif total < 7200:
-        when = f"{total / 60:.0f} min"
-    else:
-        when = f"{total / 3600:.1f} h"
-    return (f"{spec.n_runs} runs x {seconds_per_run(spec):.2f} s = about {when} "
-            f"on {workers} worker{'s' if workers != 1 else ''}")
+    """One line for the new-sweep form. An adaptive sweep is estimated by its coarse
+    lattice: how much refinement adds depends on the regime boundaries it finds."""
+    on = f"on {workers} worker{'s' if workers != 1 else ''}"
+    if spec.adaptive_levels is not None:
+        first = spec.first_runs * seconds_per_run(spec) / max(workers, 1)
+        return (f"{spec.first_runs} coarse runs x {seconds_per_run(spec):.2f} s = about "
+                f"{_duration(first)} {on}, then refinement")
+    return (f"{spec.n_runs} runs x {seconds_per_run(spec):.2f} s = about "
+            f"{_duration(wall_seconds(spec, workers))} {on}")
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"

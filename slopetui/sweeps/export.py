@@ -1,4 +1,8 @@
-"""Runs as flat rows: the columns of `runs --csv` and `export --csv`."""
+"""Runs as flat rows: the columns of `runs --csv` and `export --csv`.
+
+An inferred run of an adaptive sweep (``inferred`` True) has its regime and nothing
+else: its measurements are empty cells (never measured), not nan (measured, undefined).
+"""
 
 from __future__ import annotations
 
@@ -14,7 +18,7 @@ from slopetui.store.models import Run
 
 COLUMNS = ("id", "sweep_id", "ix", "iy", *PARAM_NAMES, "method", "dt", "t_end", "window",
            "lyap", "status", *RESULT_FIELDS, "attempts", "worker_id", "cached_from",
-           "started_at", "finished_at", "error")
+           "started_at", "finished_at", "error", "inferred", "level")
 
 
 def cell(value: Any) -> Any:
@@ -35,7 +39,8 @@ def write_csv(runs: Iterable[Run], out: IO[str]) -> int:
     n = 0
     for run in runs:
         finished = run.status == "done"  # other runs have no result yet: empty, not nan
-        writer.writerow(["" if c in RESULT_FIELDS and not finished else cell(getattr(run, c))
-                         for c in COLUMNS])
+        measured = finished and not run.inferred
+        writer.writerow(["" if c in RESULT_FIELDS and not (measured or finished and c == "regime")
+                         else cell(getattr(run, c)) for c in COLUMNS])
         n += 1
     return n

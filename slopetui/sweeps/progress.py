@@ -1,4 +1,10 @@
-"""Progress of sweeps and the live workers, as plain data (for `status` and the TUI)."""
+"""Progress of sweeps and the live workers, as plain data (for `status` and the TUI).
+
+An adaptive sweep's total is its final lattice; its runs exist only for the levels
+queued so far, so done/total grows in steps and reaches the total when the inferred
+runs are written. It is ``done`` only then: between two levels nothing is queued, but
+the next level is still to come. ``stage`` says where it is ("level 2/3", "refined").
+"""
 
 from __future__ import annotations
 
@@ -27,7 +33,11 @@ class SweepProgress:
     counts: dict[str, int]  # runs per status
     cached: int             # done runs that took an earlier result
     runs_per_min: float     # computed runs finished per minute, recent window; 0 if none
-    eta_s: float | None     # None when idle or nothing left
+    eta_s: float | None     # None when idle or nothing left (adaptive: this level's runs)
+    adaptive_levels: int | None = None  # None: every point is computed
+    level: int | None = None            # the level queued last (adaptive)
+    refined: bool = False               # adaptive: refinement over, inferred runs written
+    inferred: int = 0                   # runs inferred, not computed (among done/failed)
 
     @property
     def done(self) -> int:
@@ -40,6 +50,18 @@ class SweepProgress:
     @property
     def left(self) -> int:
         return self.counts.get("queued", 0) + self.counts.get("running", 0)
+
+    @property
+    def computed(self) -> int:
+        """Done runs that were computed (or copied from a computed run)."""
+        return self.done + self.failed - self.inferred
+
+    @property
+    def stage(self) -> str:
+        """"level 2/3" or "refined" for an adaptive sweep, "" for others."""
+        if self.adaptive_levels is None:
+            return ""
+        return "refined" if self.refined else f"level {self.level}/{self.adaptive_levels}"
 
 
 @dataclass(frozen=True)
@@ -79,11 +101,15 @@ def sweep_progress(db: Database, sweep_ids: list[int] | None = None) -> list[Swe
         cached = dict(s.execute(select(Run.sweep_id, func.count())
                                 .where(Run.sweep_id.in_(ids), Run.cached_from.is_not(None))
                                 .group_by(Run.sweep_id)).all())
+        adaptive = [sw.id for sw in sweeps if sw.adaptive_levels is not None]
+        inferred = dict(s.execute(select(Run.sweep_id, func.count())
+                                  .where(Run.sweep_id.in_(adaptive), Run.inferred.is_(True))
+                                  .group_by(Run.sweep_id)).all()) if adaptive else {}
         since = now - timedelta(minutes=RATE_WINDOW_MIN)
         recent = {sid: (n, first) for sid, n, first in s.execute(
             select(Run.sweep_id, func.count(), func.min(Run.started_at))
             .where(Run.sweep_id.in_(ids), Run.status == "done", Run.cached_from.is_(None),
-                   Run.finished_at >= since)
+                   Run.inferred.is_(False), Run.finished_at >= since)
             .group_by(Run.sweep_id))}
     out = []
     for sw in sweeps:
@@ -92,11 +118,13 @@ def sweep_progress(db: Database, sweep_ids: list[int] | None = None) -> list[Swe
         minutes = max((now - max(first, since)).total_seconds() / 60.0, 1 / 60) if first else 0
         rate = n / minutes if minutes else 0.0
         left = c.get("queued", 0) + c.get("running", 0)
-        status = "done" if left == 0 and sw.status != "cancelled" else sw.status
+        finished = left == 0 and (sw.adaptive_levels is None or sw.refined)
+        status = "done" if finished and sw.status != "cancelled" else sw.status
         eta = left / rate * 60.0 if rate > 0 and left and status == "active" else None
         axes = sw.x_param + (f" x {sw.y_param}" if sw.y_param else "")
         out.append(SweepProgress(sw.id, sw.name, axes, status, sw.created_at, sw.n_runs,
-                                 dict(c), cached.get(sw.id, 0), rate, eta))
+                                 dict(c), cached.get(sw.id, 0), rate, eta, sw.adaptive_levels,
+                                 sw.level, sw.refined, inferred.get(sw.id, 0)))
     return out
 
 

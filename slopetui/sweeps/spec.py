@@ -20,6 +20,12 @@ The TOML form (``slopetui submit spec.toml``)::
     t_end = 1e5
     window = 1000
     lyap = true
+    [adaptive]               # optional, 2-D only: refine the phase diagram adaptively
+    levels = 3               # coarse spacing 2**levels lattice steps (1..8)
+
+With ``[adaptive]`` the lattice of x.num x y.num points is the *final* resolution:
+only a coarse lattice is computed first, then only where regimes change (see
+``slopetui.sweeps.adaptive``); the rest of the lattice is filled by inference.
 
 Every error names the field (``x.num``, ``fixed.tau``...) and what is allowed, and is
 raised before anything is written.
@@ -29,7 +35,7 @@ from __future__ import annotations
 
 import math
 import tomllib
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -46,9 +52,13 @@ CONFIRM_ABOVE_RUNS = 2500
 #: Hard limit: one sweep is one transaction of inserts.
 MAX_RUNS = 1_000_000
 
-TOP_KEYS = {"name", "x", "y", "fixed", "solver"}
+TOP_KEYS = {"name", "x", "y", "fixed", "solver", "adaptive"}
 AXIS_KEYS = {"param", "start", "stop", "num", "spacing"}
 SOLVER_KEYS = {"method", "dt", "t_end", "window", "lyap"}
+ADAPTIVE_KEYS = {"levels"}
+#: Allowed refinement levels: 2**8 = 256 lattice steps between coarse points is already
+#: coarser than any useful first look (a 2-D sweep of MAX_RUNS points is 1000 x 1000).
+ADAPTIVE_LEVELS = (1, 8)
 
 
 class SpecError(ValueError):
@@ -141,22 +151,42 @@ class SweepSpec:
     y: Axis | None = None
     fixed: dict[str, float] = field(default_factory=dict)
     solver: SolverSettings = field(default_factory=SolverSettings)
+    #: Refinement levels of an adaptive phase diagram (None: every point is computed).
+    adaptive_levels: int | None = None
 
     @property
     def n_runs(self) -> int:
+        """Points of the lattice (for an adaptive sweep: of the final lattice)."""
         return self.x.num * (self.y.num if self.y else 1)
+
+    @property
+    def first_runs(self) -> int:
+        """Runs queued at submission: the whole lattice, or an adaptive sweep's coarse
+        lattice (what a ``--yes`` confirmation is about: refinement adds runs only where
+        regimes change, and at most the rest of the lattice)."""
+        if self.adaptive_levels is None or self.y is None:
+            return self.n_runs
+        step = 2 ** self.adaptive_levels
+        return coarse_count(self.x.num, step) * coarse_count(self.y.num, step)
 
     @property
     def base(self) -> Params:
         return Params(**self.fixed)
 
-    def points(self) -> Iterator[tuple[int, int, Params]]:
-        """(ix, iy, params) for every grid point, x varying fastest."""
+    def points(self, only: Iterable[tuple[int, int]] | None = None
+               ) -> Iterator[tuple[int, int, Params]]:
+        """(ix, iy, params) for every grid point, x varying fastest; or for the points
+        ``only`` (grid indices), in their order."""
         base = self.base
-        ys = self.y.values() if self.y else [None]
+        xs, ys = self.x.values(), (self.y.values() if self.y else [None])
+        if only is not None:
+            for ix, iy in only:
+                p = base.with_(**{self.x.param: float(xs[ix])})
+                yield ix, iy, p if self.y is None else p.with_(**{self.y.param: float(ys[iy])})
+            return
         for iy, yv in enumerate(ys):
             row = base if self.y is None else base.with_(**{self.y.param: float(yv)})
-            for ix, xv in enumerate(self.x.values()):
+            for ix, xv in enumerate(xs):
                 yield ix, iy, row.with_(**{self.x.param: float(xv)})
 
     def to_dict(self) -> dict[str, Any]:
@@ -166,7 +196,15 @@ class SweepSpec:
                                "fixed": dict(self.fixed), "solver": solver}
         if self.y:
             out["y"] = asdict(self.y)
+        if self.adaptive_levels is not None:
+            out["adaptive"] = {"levels": self.adaptive_levels}
         return out
+
+
+def coarse_count(num: int, step: int) -> int:
+    """Points of an axis of ``num`` points on a coarse lattice: every ``step``-th index
+    and the last one (so that ``num`` need not be 2**levels * m + 1)."""
+    return len(range(0, num, step)) + (0 if (num - 1) % step == 0 else 1)
 
 
 def _parse_fixed(data: object, axes: list[Axis]) -> dict[str, float]:
@@ -204,6 +242,29 @@ def _parse_solver(data: object) -> SolverSettings:
     if settings.dt is None:  # resolve now: the stored spec and the cache key need it
         settings = SolverSettings(**{**kw, "dt": DEFAULT_DT[settings.method]})
     return settings
+
+
+def _parse_adaptive(data: object, x: Axis, y: Axis | None) -> int:
+    """The refinement levels of an ``[adaptive]`` table (2-D sweeps only)."""
+    if not isinstance(data, Mapping):
+        raise SpecError("adaptive", "expected a table with levels, e.g. [adaptive] levels = 3")
+    _unknown_keys("adaptive", data, ADAPTIVE_KEYS)
+    if y is None:
+        raise SpecError("adaptive", "adaptive refinement needs a phase diagram: add a [y] "
+                                    "axis or remove [adaptive]")
+    if "levels" not in data:
+        raise SpecError("adaptive.levels", "missing: how many times the coarse lattice is "
+                                           f"refined, {ADAPTIVE_LEVELS[0]}..{ADAPTIVE_LEVELS[1]}")
+    lo, hi = ADAPTIVE_LEVELS
+    value = data["levels"]
+    levels = _number("adaptive.levels", value)
+    if levels != int(levels) or not lo <= levels <= hi:
+        raise SpecError("adaptive.levels", f"expected an integer from {lo} to {hi}, got {value!r}")
+    for name, axis in (("x", x), ("y", y)):
+        if axis.num < 2:
+            raise SpecError(f"{name}.num", "an adaptive phase diagram needs at least 2 points "
+                                           f"on each axis, got {axis.num}")
+    return int(levels)
 
 
 def _corners(spec: SweepSpec) -> list[dict[str, float]]:
@@ -255,8 +316,10 @@ def parse_spec(data: Mapping[str, Any]) -> SweepSpec:
     name = data.get("name") or _default_name(x, y)
     if not isinstance(name, str) or len(name) > 200:
         raise SpecError("name", "expected a string of at most 200 characters")
+    adaptive = data.get("adaptive")
     spec = SweepSpec(name=name, x=x, y=y, fixed=_parse_fixed(data.get("fixed", {}), axes),
-                     solver=_parse_solver(data.get("solver", {})))
+                     solver=_parse_solver(data.get("solver", {})),
+                     adaptive_levels=None if adaptive is None else _parse_adaptive(adaptive, x, y))
     if spec.n_runs > MAX_RUNS:
         raise SpecError("x.num", f"{spec.n_runs} runs; at most {MAX_RUNS} per sweep")
     _check_points(spec)

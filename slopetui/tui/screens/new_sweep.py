@@ -2,6 +2,8 @@
 
 The form is a view of a spec mapping (``slopetui.sweeps.spec``): every change re-parses
 it, so the form and ``slopetui submit`` accept and refuse exactly the same sweeps.
+"adaptive levels" (beside the name, so the form still fits 80x24) makes a phase
+diagram adaptive (``[adaptive] levels``); empty means every point is computed.
 """
 
 from __future__ import annotations
@@ -80,7 +82,11 @@ class NewSweepScreen(Screen[int | None]):
                              Select([(f"{p.figure}: {p.title}", p.key) for p in PRESETS], prompt="(none)",
                                     compact=True, id="preset"), classes="form-row")
             yield Horizontal(Label("name:", classes="row-label"),
-                             Input(placeholder="(from the axes)", compact=True, id="name"), classes="form-row")
+                             Input(placeholder="(from the axes)", compact=True, id="name"),
+                             Label("adaptive levels", classes="param-label"),
+                             Input(placeholder="off", compact=True, id="adaptive-levels",
+                                   classes="num"),
+                             classes="form-row")
             yield _axis_row("x", "k", "2", "20", "19")
             yield _axis_row("y", "tau", "0.5", "10", "12")
             yield _fixed_row(("a", "b", "c", "d"))
@@ -148,6 +154,8 @@ class NewSweepScreen(Screen[int | None]):
                           "t_end": self._value("solver-t_end"),
                           "window": self._value("solver-window"),
                           "lyap": bool(self._value("solver-lyap"))}
+        if self._value("adaptive-levels").strip():
+            data["adaptive"] = {"levels": self._value("adaptive-levels").strip()}
         return data
 
     def validate_form(self) -> SweepSpec | None:
@@ -177,6 +185,8 @@ class NewSweepScreen(Screen[int | None]):
     def _mark_invalid(self, field: str) -> None:
         section, _, name = field.partition(".")
         ids = {f"{section}-{name}"}
+        if section == "adaptive":  # "adaptive" alone: a 1-D sweep cannot be adaptive
+            ids = {"adaptive-levels"}
         if section in ("x", "y") and name in PARAM_NAMES:  # a bad value on the axis
             ids = {f"{section}-start", f"{section}-stop"}
         for widget_id in ids:
@@ -224,10 +234,11 @@ class NewSweepScreen(Screen[int | None]):
         if spec is None:
             self.notify("fix the field marked in red first", severity="error")
             return
-        if spec.n_runs > CONFIRM_ABOVE_RUNS and self.confirmed_runs != spec.n_runs:
-            self.confirmed_runs = spec.n_runs
+        if spec.first_runs > CONFIRM_ABOVE_RUNS and self.confirmed_runs != spec.first_runs:
+            self.confirmed_runs = spec.first_runs
+            what = ("coarse runs" if spec.adaptive_levels is not None else "runs")
             self.query_one("#form-error", Static).update(
-                f"This sweep queues {spec.n_runs} runs (more than {CONFIRM_ABOVE_RUNS}): "
+                f"This sweep queues {spec.first_runs} {what} (more than {CONFIRM_ABOVE_RUNS}): "
                 "submit again to confirm.")
             return
         if getattr(self.app, "db", None) is None:
@@ -244,8 +255,9 @@ class NewSweepScreen(Screen[int | None]):
             self.app.call_from_thread(self._submit_failed, f"{type(exc).__name__}: {exc}")
             return
         cached = f", {out.n_cached} from the cache" if out.n_cached else ""
+        what = "runs" if out.adaptive_levels is None else "coarse runs (adaptive)"
         self.app.call_from_thread(self.app.notify,
-                                  f"sweep {out.sweep_id}: {out.n_runs} runs queued{cached}")
+                                  f"sweep {out.sweep_id}: {out.n_runs} {what} queued{cached}")
         self.app.call_from_thread(self.dismiss, out.sweep_id)
 
     def _submit_failed(self, error: str) -> None:

@@ -13,7 +13,9 @@ the stored ones, and says when they differ and whether the engine changed since.
 
 Runs that are not done (queued, running, failed, cancelled) show their status and
 stored error; their traces are computed only on request (r), and only when their
-inputs are valid. Every database call and computation runs in a thread worker and
+inputs are valid. So are the *inferred* runs of an adaptive sweep: the screen says that
+their regime was inferred from their cell's corners, not computed, and r computes them
+(and compares the computed regime with the inferred one). Every database call and computation runs in a thread worker and
 reports back with a message; widgets are touched on the UI thread only.
 """
 
@@ -101,6 +103,8 @@ class StoredRun:
     drift: float
     t_blowup: float | None
     runtime_s: float | None
+    inferred: bool = False
+    level: int | None = None
 
     @classmethod
     def of(cls, run: Run) -> StoredRun:
@@ -221,6 +225,11 @@ def summary_text(run: StoredRun) -> str:
               f"v {run.v:g}  τ {run.tau:g}  δ {run.delta:g}")
     solver = (f"{run.method} · dt {run.dt:g} · t_end {run.t_end:g} · window {run.window:g} · "
               f"engine {run.engine}")
+    if run.inferred:
+        what = (f"inferred {run.regime}" if run.done else "inferred failed")
+        return "\n".join([who, params, solver,
+                          f"{what}, not computed: its cell's 4 corners agree (level {run.level})",
+                          "no measurements; r computes this point"])
     if not run.done:
         error = f"last error: {last_line(run.error)}" if run.error else "no error recorded"
         return "\n".join([who, params, solver, f"no stored result ({run.status})", error])
@@ -265,6 +274,13 @@ def compare(run: StoredRun, traces: Traces, engine_now: str) -> Verdict:
     engine_changed = run.engine != engine_now
     engine_note = (f"the engine changed since the run (stored {run.engine}, now {engine_now})"
                    if engine_changed else "")
+    if run.inferred:
+        computed = f"computed: {s.regime} ({s.detail}), λmax {_lambda_text(lam, err)}"
+        if not run.done:
+            return Verdict(True, f"{computed} · inferred failed, nothing to compare")
+        if s.regime == run.regime:
+            return Verdict(True, f"{computed} · the inferred regime was right")
+        return Verdict(False, f"warning: {computed}; the inferred regime was {run.regime}")
     if not run.done:
         return Verdict(True, f"computed: {s.regime} ({s.detail}), λmax {_lambda_text(lam, err)}"
                              f" · nothing stored to compare ({run.status})")
@@ -392,7 +408,9 @@ class RunDetailScreen(Screen[None]):
     def on_run_loaded(self, message: RunLoaded) -> None:
         run = self.run = message.run
         self.query_one("#run-summary", Static).update(summary_text(run))
-        if run.done:
+        if run.inferred:
+            self._status("inferred, not computed: nothing to plot; press r to compute it")
+        elif run.done:
             self.start_recompute()
         else:
             self._status(f"status {run.status}: no stored result to plot; press r to "

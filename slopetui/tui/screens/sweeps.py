@@ -36,7 +36,9 @@ def grid_data(d: SweepDiagram, hopf: Curve | None) -> GridData:
     assert spec.y is not None
     x, y = spec.x, spec.y
     return GridData(x.param, y.param, x.values(), y.values(), x.spacing == "log",
-                    y.spacing == "log", {(r.ix, r.iy): (r.id, r.regime) for r in d.runs}, hopf)
+                    y.spacing == "log", {(r.ix, r.iy): (r.id, r.regime) for r in d.runs}, hopf,
+                    frozenset((r.ix, r.iy) for r in d.runs if r.inferred),
+                    spec.adaptive_levels is not None)
 
 
 class SweepsScreen(Screen[None]):
@@ -115,6 +117,8 @@ class SweepsScreen(Screen[None]):
         for p in sweeps:
             name = p.name if len(p.name) <= NAME_WIDTH else p.name[:NAME_WIDTH - 1] + "…"
             status = f"{p.status}, {p.failed} failed" if p.failed else p.status
+            if p.adaptive_levels is not None and not p.refined:  # short: fits 80 columns
+                status += f", L{p.level}/{p.adaptive_levels}"
             table.add_row(str(p.id), name, progress_bar(p.done + p.failed, p.total),
                           f"{p.done}/{p.total}", f"{p.runs_per_min:.0f}", format_eta(p.eta_s),
                           status, key=str(p.id))

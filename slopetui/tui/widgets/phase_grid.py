@@ -4,6 +4,11 @@ and the exact Hopf curve rasterised over them.
 
 Unlike the plotext rendering of ``slopetui show``, every cell here maps back to runs,
 so the cursor can open the run under it.
+
+An adaptive sweep is drawn like any other: an inferred run in its regime's marker and
+colour, dimmed (a display cell is dimmed when all its runs are inferred), and the legend
+counts computed and inferred runs. Lattice points without a run yet (levels to come)
+are pending.
 """
 
 from __future__ import annotations
@@ -26,9 +31,10 @@ from slopetui.tui.messages import RunChosen
 RICH_COLOR = {"cyan": "cyan", "green": "green", "magenta": "magenta", "orange": "yellow",
               "red": "red", "gray": "bright_black"}
 HOPF_STYLE = Style(bgcolor="grey30")
+INFERRED_STYLE = Style(dim=True)
 LABEL_WIDTH = 8  # y tick labels
 #: Rows under the grid: x tick labels (ending in the axis name), legend, the cursor's run
-#: (which names both parameters).
+#: (which names both parameters); an adaptive sweep adds its computed/inferred counts.
 FOOTER_ROWS = 3
 
 
@@ -45,6 +51,14 @@ class GridData:
     y_log: bool
     runs: dict[tuple[int, int], tuple[int, str | None]] = field(default_factory=dict)
     hopf: tuple[np.ndarray, np.ndarray] | None = None
+    #: Adaptive sweeps: the grid points whose run was inferred, not computed.
+    inferred: frozenset[tuple[int, int]] = frozenset()
+    adaptive: bool = False
+
+    @property
+    def n_unqueued(self) -> int:
+        """Grid points without a run (an adaptive sweep's levels still to come)."""
+        return len(self.xs) * len(self.ys) - len(self.runs)
 
 
 def _style(regime: str | None) -> tuple[str, Style]:
@@ -103,7 +117,7 @@ class PhaseGrid(Widget, can_focus=True):
         if self.data is None:
             return None
         width = max(self.size.width - LABEL_WIDTH - 1, 1)
-        height = max(self.size.height - FOOTER_ROWS, 1)
+        height = max(self.size.height - FOOTER_ROWS - int(self.data.adaptive), 1)
         nx, ny = len(self.data.xs), len(self.data.ys)
         sx, sy = math.ceil(nx / width), math.ceil(ny / height)
         cols, rows = math.ceil(nx / sx), math.ceil(ny / sy)
@@ -116,6 +130,14 @@ class PhaseGrid(Widget, can_focus=True):
                 for ix in range(col * sx, min((col + 1) * sx, len(self.data.xs)))
                 for iy in range(row * sy, min((row + 1) * sy, len(self.data.ys)))
                 if (ix, iy) in self.data.runs]
+
+    def _all_inferred(self, col: int, row: int, sx: int, sy: int) -> bool:
+        assert self.data is not None
+        if not self.data.inferred:
+            return False
+        return all((ix, iy) in self.data.inferred
+                   for ix in range(col * sx, min((col + 1) * sx, len(self.data.xs)))
+                   for iy in range(row * sy, min((row + 1) * sy, len(self.data.ys))))
 
     def _label(self, block: list[tuple[int, str | None]]) -> str | None:
         done = Counter(r for _, r in block if r is not None)
@@ -195,6 +217,8 @@ class PhaseGrid(Widget, can_focus=True):
                 out.append(" " * (LABEL_WIDTH - 1) + "│")
             for col in range(cols):
                 marker, style = _style(self._label(self._block(col, row, sx, sy)))
+                if self._all_inferred(col, row, sx, sy):
+                    style = style + INFERRED_STYLE
                 if (col, row) in hopf:
                     style = style + HOPF_STYLE
                 if (col, row) == cursor:
@@ -204,6 +228,7 @@ class PhaseGrid(Widget, can_focus=True):
             out.append("\n")
         out.append(self._x_ticks(cols, cell_w, sx)[:width] + "\n")
         counts = Counter(r or PENDING for _, r in d.runs.values())
+        counts[PENDING] += d.n_unqueued
         for key in LEGEND_ORDER:
             if counts.get(key):
                 marker, style = _style(None if key == PENDING else key)
@@ -213,11 +238,21 @@ class PhaseGrid(Widget, can_focus=True):
             out.append("  ", HOPF_STYLE)
             out.append(" Hopf (exact)")
         out.append("\n")
+        if d.adaptive:  # a line of its own: the legend line has no room left at 80 columns
+            computed = sum(r is not None and p not in d.inferred
+                           for p, (_, r) in d.runs.items())
+            out.append(f"adaptive: {computed} computed, ")
+            out.append(f"{len(d.inferred)} inferred (dim)", INFERRED_STYLE)
+            if d.n_unqueued:
+                out.append(f", {d.n_unqueued} not queued yet")
+            out.append("\n")
         found = self.cursor_run()
         if found is not None:
             run_id, x, y, regime = found
+            how = ", inferred" if self._center_run(*cursor, sx, sy) in d.inferred else ""
             out.append(f"{d.x_param} = {x:.5g}, {d.y_param} = {y:.5g}: "
-                       f"{regime or 'pending'} (run {run_id}; enter opens it)", Style(bold=True))
+                       f"{regime or 'pending'}{how} (run {run_id}; enter opens it)",
+                       Style(bold=True))
         return out
 
     def _x_ticks(self, cols: int, cell_w: int, sx: int) -> str:
