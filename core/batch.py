@@ -72,7 +72,7 @@ N_INT = 10
 # m_x, m_y and their tangents. ``past`` holds what the block reads from the ring buffers,
 # ``made`` what it writes to them. Two arrays, not one: LLVM does not vectorise a loop that
 # reads and writes one array at offsets it cannot compare.
-(BX, BY, BEX, BEY) = range(4)
+(BX, BY, BEX, BEY) = range(4)  # a variable's tangent is two planes after it
 # Columns of the per-lane ``plan`` (the core.solve.Grid of each lane).
 (P_N_DELAY, P_N_STEPS, P_WIN_START, P_WIN_STRIDE, P_N_WIN, P_TRACE_STRIDE, P_N_TRACE,
  P_RENORM) = range(8)
@@ -197,13 +197,11 @@ def read_block(k, n_active, fl, ints, flat, e_flat, width, past, lyap, rows):
         row, size = ints[ROW * LANES + j], nd + rows - 1
         start = (ints[STEP * LANES + j] + rows - 1) % size  # where step n - N is kept
         count = k + rows - 1
-        copy_from_ring(flat, (row * rows + 0) * width, size, start, count, past, BX, j)
-        if rows == 2:
-            copy_from_ring(flat, (row * rows + 1) * width, size, start, count, past, BY, j)
-        if lyap:
-            copy_from_ring(e_flat, (row * rows + 0) * width, size, start, count, past, BEX, j)
-            if rows == 2:
-                copy_from_ring(e_flat, (row * rows + 1) * width, size, start, count, past, BEY, j)
+        for var in range(rows):  # m_x, and m_y for RK4: planes BX + var and BEX + var
+            base = (row * rows + var) * width
+            copy_from_ring(flat, base, size, start, count, past, BX + var, j)
+            if lyap:
+                copy_from_ring(e_flat, base, size, start, count, past, BEX + var, j)
         if rows == 2 and nd == 1:  # tau = dt: RK4's second value is step n, the current state
             past[at(BX, 1, j)], past[at(BY, 1, j)] = fl[M_X * LANES + j], fl[M_Y * LANES + j]
             past[at(BEX, 1, j)], past[at(BEY, 1, j)] = fl[E_X * LANES + j], fl[E_Y * LANES + j]
@@ -248,13 +246,11 @@ def write_block(k, n_active, ints, flat, e_flat, width, made, lyap, rows):
             continue
         row, size = ints[ROW * LANES + j], nd + rows - 1
         start = ints[STEP * LANES + j] % size
-        copy_to_ring(flat, (row * rows + 0) * width, size, start, k, made, BX, j)
-        if rows == 2:
-            copy_to_ring(flat, (row * rows + 1) * width, size, start, k, made, BY, j)
-        if lyap:
-            copy_to_ring(e_flat, (row * rows + 0) * width, size, start, k, made, BEX, j)
-            if rows == 2:
-                copy_to_ring(e_flat, (row * rows + 1) * width, size, start, k, made, BEY, j)
+        for var in range(rows):
+            base = (row * rows + var) * width
+            copy_to_ring(flat, base, size, start, k, made, BX + var, j)
+            if lyap:
+                copy_to_ring(e_flat, base, size, start, k, made, BEX + var, j)
 
 
 @njit(**BATCH_JIT)
