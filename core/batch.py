@@ -16,9 +16,13 @@ samplers and renormalisation interval. Each slot keeps its own step counter.
   lane are already in its buffer when K <= N (they were written N steps earlier), so the
   kernel copies K values per lane into a block, runs K vectorised steps, and writes the K
   new values back: the buffer is touched by contiguous copies only.
-* **Events** (a window or trace sample, a tangent renormalisation, the end of a run) are
-  rare: all slots advance until the next event of any slot, then the slots that have one
-  handle it.
+* **Events** (a trace sample, a tangent renormalisation, the end of a run) are rare: all
+  slots advance until the next event of any slot, then the slots that have one handle it.
+* **Window samples come from the blocks.** The window samples every 10 steps, and lanes
+  of different tau sample at different steps: as events they would cut the chunks down
+  to a step or two (with the window half of the run: 58 ns per point-step, not 5). A
+  block during which a slot samples its window keeps every step's state (planes of
+  ``made``), and the samples are copied out of it afterwards (sample_block).
 * **Lanes leave without stalling the others.** A lane that has finished or blown up frees
   its slot for the next waiting lane; when none is waiting, the last slot moves into the
   gap, so the vector loop stays dense. Blow-up is found at the exact step (per lane, no
@@ -69,10 +73,12 @@ N_FLOAT = 20
 (LANE, ROW, STEP, N_DELAY, NEXT_W, I_W, NEXT_T, I_T, NEXT_R, I_R) = range(10)
 N_INT = 10
 # Planes of the flat delay blocks (block[at(plane, i, j)]: step i of the block, slot j):
-# m_x, m_y and their tangents. ``past`` holds what the block reads from the ring buffers,
-# ``made`` what it writes to them. Two arrays, not one: LLVM does not vectorise a loop that
-# reads and writes one array at offsets it cannot compare.
-(BX, BY, BEX, BEY) = range(4)  # a variable's tangent is two planes after it
+# m_x, m_y and their tangents, then s_x, s_y, u. ``past`` holds what the block reads from
+# the ring buffers (the first 4 planes), ``made`` the state each step started from (all 7:
+# what it writes to the ring buffers, and the samples). Two arrays, not one: LLVM does not
+# vectorise a loop that reads and writes one array at offsets it cannot compare.
+(BX, BY, BEX, BEY, BSX, BSY, BU) = range(7)  # a variable's tangent is two planes after it
+N_PAST, N_MADE = 4, 7
 # Columns of the per-lane ``plan`` (the core.solve.Grid of each lane).
 (P_N_DELAY, P_N_STEPS, P_WIN_START, P_WIN_STRIDE, P_N_WIN, P_TRACE_STRIDE, P_N_TRACE,
  P_RENORM) = range(8)
@@ -128,7 +134,8 @@ def move_slot(src, dst, fl, ints):
 
 @njit(**BATCH_JIT)
 def lane_events(j, fl, ints, plan, e_hist, win, trace, lyap, logs, rows):
-    """Slot j's renormalisation and samples at its current step (core.euler's order)."""
+    """Slot j's renormalisation and trace sample at its current step, and its window
+    sample at the end of its run (the blocks sample earlier steps: sample_block)."""
     lane, n, row = ints[LANE * LANES + j], ints[STEP * LANES + j], ints[ROW * LANES + j]
     if lyap and n == ints[NEXT_R * LANES + j]:
         nd = ints[N_DELAY * LANES + j]
@@ -146,9 +153,12 @@ def lane_events(j, fl, ints, plan, e_hist, win, trace, lyap, logs, rows):
         ints[NEXT_R * LANES + j] += plan[lane, P_RENORM]
     m_x, m_y = fl[M_X * LANES + j], fl[M_Y * LANES + j]
     s_x, s_y, u = fl[S_X * LANES + j], fl[S_Y * LANES + j], fl[U * LANES + j]
-    ints[NEXT_W * LANES + j], ints[I_W * LANES + j] = sample(
-        n, ints[NEXT_W * LANES + j], ints[I_W * LANES + j], plan[lane, P_WIN_STRIDE],
-        win[lane, :, :plan[lane, P_N_WIN]], m_x, m_y, s_x, s_y, u)
+    i_w = ints[I_W * LANES + j]
+    if (n == plan[lane, P_N_STEPS] and n == ints[NEXT_W * LANES + j]
+            and i_w < plan[lane, P_N_WIN]):
+        win[lane, i_w, 0], win[lane, i_w, 1], win[lane, i_w, 2] = m_x, m_y, s_x
+        win[lane, i_w, 3], win[lane, i_w, 4] = s_y, u
+        ints[I_W * LANES + j] = i_w + 1
     ints[NEXT_T * LANES + j], ints[I_T * LANES + j] = sample(
         n, ints[NEXT_T * LANES + j], ints[I_T * LANES + j], plan[lane, P_TRACE_STRIDE],
         trace[lane, :, :plan[lane, P_N_TRACE]], m_x, m_y, s_x, s_y, u)
@@ -161,8 +171,6 @@ def steps_to_next_event(n_active, ints, plan, lyap):
     for j in range(n_active):
         lane, n = ints[LANE * LANES + j], ints[STEP * LANES + j]
         until = plan[lane, P_N_STEPS]
-        if ints[I_W * LANES + j] < plan[lane, P_N_WIN]:
-            until = min(until, ints[NEXT_W * LANES + j])
         if ints[I_T * LANES + j] < plan[lane, P_N_TRACE]:
             until = min(until, ints[NEXT_T * LANES + j])
         if lyap:
@@ -254,6 +262,45 @@ def write_block(k, n_active, ints, flat, e_flat, width, made, lyap, rows):
 
 
 @njit(**BATCH_JIT)
+def window_due(k, n_active, ints, plan):
+    """Whether a slot samples its window during the next k steps."""
+    for j in range(n_active):
+        lane = ints[LANE * LANES + j]
+        if (ints[I_W * LANES + j] < plan[lane, P_N_WIN]
+                and ints[NEXT_W * LANES + j] < ints[STEP * LANES + j] + k):
+            return True
+    return False
+
+
+@njit(**BATCH_JIT)
+def sample_block(k, n_active, ints, plan, made, win):
+    """Copy the window samples of the block's k steps out of ``made``: the samples
+    core.recording.sample would have taken at steps n..n+k-1 of each slot. A lane that
+    blew up in the block also gets the samples after it, which trajectory_of drops (the
+    single kernel stopped before them)."""
+    for j in range(n_active):
+        lane, n = ints[LANE * LANES + j], ints[STEP * LANES + j]
+        ints[NEXT_W * LANES + j], ints[I_W * LANES + j] = sample_steps(
+            n, n + k, ints[NEXT_W * LANES + j], ints[I_W * LANES + j],
+            plan[lane, P_WIN_STRIDE], plan[lane, P_N_WIN], win[lane], made, j)
+
+
+@njit(**BATCH_JIT)
+def sample_steps(n, end, next_n, i, stride, count, out, made, j):
+    """One sampler over the block's steps n..end-1 of slot j; return (next_n, i)."""
+    while next_n < end and i < count:
+        b = next_n - n
+        out[i, 0] = made[at(BX, b, j)]
+        out[i, 1] = made[at(BY, b, j)]
+        out[i, 2] = made[at(BSX, b, j)]
+        out[i, 3] = made[at(BSY, b, j)]
+        out[i, 4] = made[at(BU, b, j)]
+        next_n += stride
+        i += 1
+    return next_n, i
+
+
+@njit(**BATCH_JIT)
 def mark_blow_up(step, j, fl):
     """Remember the first step of the chunk after which slot j is out of bounds, without a
     branch: BAD stays 0 while the lane is in bounds."""
@@ -262,7 +309,7 @@ def mark_blow_up(step, j, fl):
 
 
 @njit(**BATCH_JIT)
-def euler_block(k, c, n_active, fl, past, made, lyap):
+def euler_block(k, c, n_active, fl, past, made, lyap, record):
     """Euler steps c..c+k-1 of the chunk for every active slot (core.euler's loop body).
 
     Loads are unconditional and choices are selects, so that both loops vectorise. The
@@ -288,6 +335,12 @@ def euler_block(k, c, n_active, fl, past, made, lyap):
                 fl[E_SX * LANES + j] += dt * f[2]
                 fl[E_SY * LANES + j] += dt * f[3]
                 fl[E_U * LANES + j] += dt * f[4]
+        if record:  # the rest of the state, for the window samples (sample_block)
+            for j in range(n_active):
+                made[at(BY, i, j)] = fl[M_Y * LANES + j]
+                made[at(BSX, i, j)] = fl[S_X * LANES + j]
+                made[at(BSY, i, j)] = fl[S_Y * LANES + j]
+                made[at(BU, i, j)] = fl[U * LANES + j]
         for j in range(n_active):  # (6a-6e)
             m_x, m_x_buf = fl[M_X * LANES + j], past[at(BX, i, j)]
             m_x_tau = m_x if fl[N_DELAY_F * LANES + j] == 0.0 else m_x_buf
@@ -324,6 +377,7 @@ def rk4_lane(i, j, fl, past, made, lyap):
     m_x, m_y, s_x = fl[M_X * LANES + j], fl[M_Y * LANES + j], fl[S_X * LANES + j]
     s_y, u = fl[S_Y * LANES + j], fl[U * LANES + j]
     made[at(BX, i, j)], made[at(BY, i, j)] = m_x, m_y
+    made[at(BSX, i, j)], made[at(BSY, i, j)], made[at(BU, i, j)] = s_x, s_y, u
     # t_n + dt - tau <= 0: the delayed values are the history delta (tangent 0)
     history = fl[STEP_F * LANES + j] + i < nd
     delta = fl[DELTA * LANES + j]
@@ -369,19 +423,22 @@ def rk4_lane(i, j, fl, past, made, lyap):
 
 
 @njit(**BATCH_JIT)
-def advance(m, n_active, fl, ints, flat, e_flat, width, past, made, lyap, rows):
-    """m steps of every active slot, in delay blocks."""
+def advance(m, n_active, fl, ints, plan, flat, e_flat, width, past, made, win, lyap, rows):
+    """m steps of every active slot, in delay blocks, and their samples."""
     c = 0
     while c < m:
         k = block_length(m - c, n_active, ints, rows)
         read_block(k, n_active, fl, ints, flat, e_flat, width, past, lyap, rows)
         for j in range(n_active):
             fl[STEP_F * LANES + j] = ints[STEP * LANES + j]
+        record = window_due(k, n_active, ints, plan)
         if rows == 1:
-            euler_block(k, c, n_active, fl, past, made, lyap)
-        else:
+            euler_block(k, c, n_active, fl, past, made, lyap, record)
+        else:  # RK4 keeps the whole state in made at every step (rk4_lane)
             rk4_block(k, c, n_active, fl, past, made, lyap)
         write_block(k, n_active, ints, flat, e_flat, width, made, lyap, rows)
+        if record:
+            sample_block(k, n_active, ints, plan, made, win)
         for j in range(n_active):
             ints[STEP * LANES + j] += k
         c += k
@@ -399,8 +456,8 @@ def batch(rows, coef, dt, plan, hist, e_hist, win, trace, lyap, logs, done):
     n_lanes = coef.shape[0]
     fl = np.zeros(N_FLOAT * LANES)
     ints = np.zeros(N_INT * LANES, dtype=np.int64)
-    past = np.zeros(4 * (BLOCK + 1) * LANES)
-    made = np.zeros(4 * (BLOCK + 1) * LANES)
+    past = np.zeros(N_PAST * (BLOCK + 1) * LANES)
+    made = np.zeros(N_MADE * (BLOCK + 1) * LANES)
     flat, e_flat, width = hist.reshape(-1), e_hist.reshape(-1), hist.shape[2]  # C order
     n_active = min(LANES, n_lanes)
     for j in range(n_active):
@@ -430,7 +487,7 @@ def batch(rows, coef, dt, plan, hist, e_hist, win, trace, lyap, logs, done):
         m = steps_to_next_event(n_active, ints, plan, lyap)
         for j in range(n_active):  # BAD counts steps from the start of this chunk
             fl[BAD * LANES + j] = 0.0
-        advance(m, n_active, fl, ints, flat, e_flat, width, past, made, lyap, rows)
+        advance(m, n_active, fl, ints, plan, flat, e_flat, width, past, made, win, lyap, rows)
         for j in range(n_active):
             if fl[BAD * LANES + j] != 0.0:  # as a step count since the lane's start
                 fl[BAD * LANES + j] += ints[STEP * LANES + j] - m
@@ -453,7 +510,11 @@ def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) ->
     slots = min(LANES, n_lanes)
     hist = np.zeros((slots, rows, width))
     e_hist = np.zeros((slots, rows, width if s.lyap else 0))
-    win = np.full((n_lanes, 5, int(plan[:, P_N_WIN].max())), np.nan)
+    # A lane's window samples are rows of 5 values, one stream of writes per lane (a
+    # (5, n) array per lane makes 5 streams per lane: too many for the prefetchers, and
+    # the window then costs 3x the integration). Trajectories get (5, n) views of it.
+    # Every sample up to a lane's end or blow-up is written (trajectory_of keeps no more).
+    win = np.empty((n_lanes, int(plan[:, P_N_WIN].max()), 5))
     trace = np.full((n_lanes, 5, int(plan[:, P_N_TRACE].max())), np.nan)
     n_logs = plan[:, P_N_STEPS] // plan[:, P_RENORM]
     logs = np.zeros((n_lanes, int(n_logs.max()) if s.lyap else 0))
@@ -463,6 +524,6 @@ def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) ->
           plan, hist, e_hist, win, trace, s.lyap, logs, done)
     runtime = time.perf_counter() - t0
     share = done / max(1, int(done.sum()))
-    return [trajectory_of(p, s, g, int(done[j]), win[j, :, :g.n_win], trace[j, :, :g.n_trace],
+    return [trajectory_of(p, s, g, int(done[j]), win[j, :g.n_win].T, trace[j, :, :g.n_trace],
                           logs[j, :n_logs[j] if s.lyap else 0], runtime * share[j])
             for j, (p, g) in enumerate(zip(points, grids))]

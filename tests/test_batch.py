@@ -39,6 +39,22 @@ def test_lanes_equal_single_kernel_bit_for_bit(method: str) -> None:
 
 
 @pytest.mark.parametrize("method", ["euler", "rk4"])
+def test_blow_up_inside_the_window_keeps_the_samples_before_it(method: str) -> None:
+    # The window is the whole run, so the blocks sample every step up to the blow-up and
+    # must stop at the step the single kernel stopped at.
+    dt = 1e-3 if method == "euler" else 1e-2  # RK4 at 1e-3 does not blow up at low a
+    s = SolverSettings(method=method, dt=dt, t_end=50.0, window=50.0, lyap=False)
+    points = [p for p in POINTS if p.tau == 0.0 or p.tau >= dt]
+    lanes = simulate_batch(points, s)
+    assert any(lane.blew_up and lane.window.shape[1] > 1 for lane in lanes)
+    for p, lane in zip(points, lanes, strict=True):
+        single = simulate(p, s)
+        assert lane.steps_done == single.steps_done, p
+        assert np.array_equal(lane.window, single.window), p
+        assert np.array_equal(lane.window_t, single.window_t), p
+
+
+@pytest.mark.parametrize("method", ["euler", "rk4"])
 def test_lanes_with_lambda_equal_single_kernel_to_rounding(method: str) -> None:
     s = SolverSettings(method=method, dt=1e-3, t_end=300.0, window=100.0, lyap=True)
     for p, lane in zip(POINTS, simulate_batch(POINTS, s), strict=True):
