@@ -7,8 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from core import LyapunovEstimate, classify
-from core.classify import dominant_frequency, find_peaks, peak_period, zero_one_test
+from core import LyapunovEstimate, Params, SolverSettings, classify, run_point
+from core.classify import (RETURN_NOISE, dominant_frequency, find_peaks, peak_period,
+                           zero_one_test)
 
 T = np.arange(0.0, 1000.0, 0.01)
 
@@ -81,6 +82,27 @@ def test_peak_refinement_is_accurate():
     t = np.arange(0.0, 50.0, 0.05)
     pt, py = find_peaks(t, np.cos(2 * np.pi * (t - 0.013) / 7.0))
     assert np.allclose(py, 1.0, atol=1e-5) and np.allclose(pt % 7.0, 0.013, atol=1e-3)
+
+
+def test_peak_refinement_error_is_below_the_return_noise_floor():
+    # A sharp periodic peak (period 1.708 at the window's sample step 0.01, like the
+    # cycles at small tau and large k; off the sample grid, so the peaks fall at every
+    # phase between two samples): every peak must come out the same to well below
+    # RETURN_NOISE. The parabola's spread here is 3.4e-6, the quartic's 2.7e-8.
+    t = np.arange(0.0, 500.0, 0.01)
+    y = np.exp(5.0 * np.cos(2 * np.pi * t / 1.70813))
+    _, py = find_peaks(t, y)
+    assert np.ptp(py) < 0.05 * RETURN_NOISE * np.ptp(y)
+
+
+def test_settled_cycle_at_small_tau_is_period_one():
+    # A point of the 64 x 64 (k, tau) lattice of benchmarks/bench_adaptive.py: a settled
+    # period-1 cycle (period 1.71). With the parabola's peak refinement its peaks repeated
+    # best after 12 periods, and it was called complex (period-12).
+    r = run_point(Params(k=2 + 45 * 18 / 63, tau=0.5 + 5 * 9.5 / 63), SolverSettings(method="rk4", dt=0.01,
+                                                               t_end=2000.0, window=500.0,
+                                                               lyap=False))
+    assert (r.summary.regime, r.summary.detail) == ("oscillatory", "period-1")
 
 
 def test_peak_period_of_sequences():
