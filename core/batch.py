@@ -147,7 +147,7 @@ def lane_events(j, fl, ints, plan, e_hist, win, trace, lyap, logs, rows):
         (logs[lane, i_r], fl[E_X * LANES + j], fl[E_Y * LANES + j], fl[E_SX * LANES + j],
          fl[E_SY * LANES + j], fl[E_U * LANES + j]) = renormalise(
             fl[E_X * LANES + j], fl[E_Y * LANES + j], fl[E_SX * LANES + j],
-            fl[E_SY * LANES + j], fl[E_U * LANES + j], e_hist[row, :, :nd + rows - 1],
+            fl[E_SY * LANES + j], fl[E_U * LANES + j], e_hist[row], nd + rows - 1,
             fl[DT * LANES + j])
         ints[I_R * LANES + j] = i_r + 1
         ints[NEXT_R * LANES + j] += plan[lane, P_RENORM]
@@ -366,7 +366,7 @@ def rk4_block(k, c, n_active, fl, past, made, lyap):
             mark_blow_up(c + i, j, fl)
 
 
-@njit(**BATCH_JIT)
+@njit(inline="always", **BATCH_JIT)
 def rk4_lane(i, j, fl, past, made, lyap):
     """Step i of the block for slot j and its tangent: the arithmetic of core.rk4.rk4."""
     a, q, f1 = fl[CA * LANES + j], fl[CQ * LANES + j], fl[CF1 * LANES + j]

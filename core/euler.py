@@ -64,7 +64,8 @@ def euler(coef, dt, n_delay, n_steps, win, win_start, win_stride, trace, trace_s
         if blown_up(m_y, s_y):
             return n + 1
         if lyap and n + 1 == next_r:
-            logs[i_r], e_x, e_y, e_sx, e_sy, e_u = renormalise(e_x, e_y, e_sx, e_sy, e_u, e_hist, dt)
+            logs[i_r], e_x, e_y, e_sx, e_sy, e_u = renormalise(e_x, e_y, e_sx, e_sy, e_u, e_hist,
+                                                                     e_hist.shape[1], dt)
             i_r += 1
             next_r += renorm_steps
     sample(n_steps, next_w, i_w, win_stride, win, m_x, m_y, s_x, s_y, u)

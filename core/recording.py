@@ -48,26 +48,49 @@ def blown_up(m_y: float, s_y: float) -> bool:
 
 
 @njit(**JIT)
-def renormalise(e_x, e_y, e_sx, e_sy, e_u, history, dt):
+def renormalise(e_x, e_y, e_sx, e_sy, e_u, history, n, dt):
     """Project out the neutral translation mode, measure the tangent, scale it to 1.
 
-    The discrete state is the five variables plus the delay buffer(s) ``history``
-    (row 0: tangent m_x over the last tau; row 1, for RK4: tangent m_y). Shifting m_x
+    The discrete state is the five variables plus the delay buffer(s) ``history[:, :n]``
+    (row 0: tangent m_x over the last tau; row 1, for RK4: tangent m_y; the batch's
+    buffers are wider than n, and a C-contiguous row is what lets LLVM vectorise the
+    loops over it). Shifting m_x
     and its whole history by a constant changes nothing (only m_x,tau - m_x enters
     eq. 6b), so we subtract the current e_x from row 0 and from e_x, and use the norm
         |e|^2 = e_y^2 + e_sx^2 + e_sy^2 + e_u^2 + dt * sum_rows sum_j h_j^2.
     Returns log|e| and the scaled five-vector.
+
+    The history runs over tau/dt values and is renormalised every tau, so this costs
+    about one history value per step: summed into four partial sums, not one, so that
+    the additions do not wait for each other (one sum cost ~1.3 ns per step).
     """
-    acc = 0.0
-    for j in range(history.shape[1]):
-        history[0, j] -= e_x
-        acc += history[0, j] * history[0, j]
+    acc = _sum_of_squares(history[0], n, e_x)
     for r in range(1, history.shape[0]):
-        for j in range(history.shape[1]):
-            acc += history[r, j] * history[r, j]
+        acc += _sum_of_squares(history[r], n, 0.0)
     norm = math.sqrt(e_y * e_y + e_sx * e_sx + e_sy * e_sy + e_u * e_u + dt * acc)
     inv = 1.0 / norm
-    for r in range(history.shape[0]):
-        for j in range(history.shape[1]):
-            history[r, j] *= inv
+    row = history[0]
+    for j in range(n):
+        row[j] = (row[j] - e_x) * inv
+    for r in range(1, history.shape[0]):
+        row = history[r]
+        for j in range(n):
+            row[j] *= inv
     return math.log(norm), 0.0, e_y * inv, e_sx * inv, e_sy * inv, e_u * inv
+
+
+@njit(**JIT)
+def _sum_of_squares(row, n, shift):
+    """sum_{j < n} (row[j] - shift)^2, in four interleaved partial sums."""
+    a0 = a1 = a2 = a3 = 0.0
+    n4 = n - n % 4
+    for j in range(0, n4, 4):
+        h0, h1, h2, h3 = row[j] - shift, row[j + 1] - shift, row[j + 2] - shift, row[j + 3] - shift
+        a0 += h0 * h0
+        a1 += h1 * h1
+        a2 += h2 * h2
+        a3 += h3 * h3
+    for j in range(n4, n):
+        h = row[j] - shift
+        a0 += h * h
+    return (a0 + a1) + (a2 + a3)

@@ -105,7 +105,8 @@ def rk4(coef, dt, n_delay, n_steps, win, win_start, win_stride, trace, trace_str
             # the slot at pos (step n - N) is stale: make it vanish from the norm
             e_hist[0, pos] = e_x
             e_hist[1, pos] = 0.0
-            logs[i_r], e_x, e_y, e_sx, e_sy, e_u = renormalise(e_x, e_y, e_sx, e_sy, e_u, e_hist, dt)
+            logs[i_r], e_x, e_y, e_sx, e_sy, e_u = renormalise(e_x, e_y, e_sx, e_sy, e_u, e_hist,
+                                                                     e_hist.shape[1], dt)
             i_r += 1
             next_r += renorm_steps
     sample(n_steps, next_w, i_w, win_stride, win, m_x, m_y, s_x, s_y, u)
