@@ -20,8 +20,10 @@ What is measured
   Accuracy. Every contender integrates to t_end = 1000 and samples m_y every 0.01 over
   the last 200 time units (the transient has died by then). From these samples:
   amplitude = peak-to-peak of m_y, with the maximum and minimum refined on the quartic
-  through five samples (refined_maxima says why not a parabola through three), so the
-  sampling phase does not enter; period = mean spacing of the refined maxima, one per cycle (the highest between two
+  through five samples (core.classify.find_peaks, as the classifier), so the sampling
+  phase does not enter (the parabola through three samples moved peak times by up to
+  ~1e-4 here, which would swamp the period errors of the accurate contenders);
+  period = mean spacing of the refined maxima, one per cycle (the highest between two
   upward crossings of the mid-level: loose JiTCDDE tolerances leave wiggles in its dense
   output, which an "every local maximum" count takes for extra peaks). Errors are
   relative and signed, against a tight reference: slopetui RK4 at dt = 5e-4 (4th order),
@@ -98,6 +100,7 @@ import numpy as np
 from numpy_euler import euler_loop
 
 from core import Params, SolverSettings, run_point, simulate
+from core.classify import find_peaks
 from core.lyapunov import LyapunovEstimate, estimate
 from core.solve import Trajectory
 
@@ -152,42 +155,10 @@ class Shape:
         return (self.amplitude - ref.amplitude) / ref.amplitude, (self.period - ref.period) / ref.period
 
 
-#: Exact quartic through five equally spaced samples at offsets -2..2: coefficients
-#: (highest power first) = _QUARTIC @ samples.
-_QUARTIC = np.linalg.inv(np.vander(np.arange(-2.0, 3.0), 5))
-
-
-def refined_maxima(t: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Local maxima of y, refined on the quartic through each one and two neighbours a side.
-
-    Why not the parabola through three samples (core.classify.find_peaks): on this cycle,
-    sampled at 0.01, it moves the peak times by up to ~1e-4 depending on where the samples
-    fall (measured: spacings of a settled cycle scatter by +-1.3e-4, peak values by 2e-8),
-    which would swamp the period errors of the accurate contenders once their phase
-    drifts. The quartic's scatter is +-8e-7 and 1e-10.
-    """
-    mid = y[2:-2]
-    i = np.nonzero((mid > y[1:-3]) & (mid >= y[3:-1]))[0] + 2
-    if len(i) == 0:
-        return np.zeros(0), np.zeros(0)
-    c = y[i[:, None] + np.arange(-2, 3)] @ _QUARTIC.T  # (peaks, 5), highest power first
-    d1 = np.stack([4 * c[:, 0], 3 * c[:, 1], 2 * c[:, 2], c[:, 3]], axis=1)
-    d2 = np.stack([12 * c[:, 0], 6 * c[:, 1], 2 * c[:, 2]], axis=1)
-    # Newton on the quartic's slope, from the sample; stay within one sample of it
-    x = np.zeros(len(i))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for _ in range(6):
-            slope = ((d1[:, 0] * x + d1[:, 1]) * x + d1[:, 2]) * x + d1[:, 3]
-            curv = (d2[:, 0] * x + d2[:, 1]) * x + d2[:, 2]
-            x = np.clip(np.where(curv < 0.0, x - slope / curv, x), -1.0, 1.0)
-    value = (((c[:, 0] * x + c[:, 1]) * x + c[:, 2]) * x + c[:, 3]) * x + c[:, 4]
-    return t[i] + x * (t[1] - t[0]), value
-
-
 def shape_of(t: np.ndarray, m_y: np.ndarray) -> Shape:
     """Measure m_y sampled at a uniform step over the window (see the module docstring)."""
-    t_max, y_max = refined_maxima(t, m_y)
-    _, y_min = refined_maxima(t, -m_y)
+    t_max, y_max = find_peaks(t, m_y)
+    _, y_min = find_peaks(t, -m_y)
     top = max(float(y_max.max()), float(m_y.max())) if len(y_max) else float(m_y.max())
     bottom = min(-float(y_min.max()), float(m_y.min())) if len(y_min) else float(m_y.min())
     # One maximum per cycle: the highest between two upward crossings of the mid-level.
