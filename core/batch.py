@@ -16,8 +16,12 @@ samplers and renormalisation interval. Each slot keeps its own step counter.
   lane are already in its buffer when K <= N (they were written N steps earlier), so the
   kernel copies K values per lane into a block, runs K vectorised steps, and writes the K
   new values back: the buffer is touched by contiguous copies only.
-* **Events** (a trace sample, a tangent renormalisation, the end of a run) are rare: all
-  slots advance until the next event of any slot, then the slots that have one handle it.
+* **Events** (a tangent renormalisation, the end of a run) are rare: all slots advance
+  until the next event of any slot, then the slots that have one handle it.
+* **Trace samples are taken inside the blocks.** A lane samples its trace every ~1000
+  steps, but 16 lanes of different tau do so at different steps: as events they would
+  cut the chunks to ~60 steps. The step loop instead stops at the next step at which any
+  slot samples its trace (one comparison per step) and copies that slot's state.
 * **Window samples come from the blocks.** The window samples every 10 steps, and lanes
   of different tau sample at different steps: as events they would cut the chunks down
   to a step or two (with the window half of the run: 58 ns per point-step, not 5). A
@@ -46,7 +50,7 @@ from numba import njit, uint64
 
 from core.model import JIT, coefficients, rhs, rhs_tangent
 from core.params import Params
-from core.recording import blown_up, renormalise, sample
+from core.recording import blown_up, renormalise
 from core.rk4 import hermite_mid
 from core.solve import SolverSettings, Trajectory, make_grid, trajectory_of
 
@@ -134,8 +138,9 @@ def move_slot(src, dst, fl, ints):
 
 @njit(**BATCH_JIT)
 def lane_events(j, fl, ints, plan, e_hist, win, trace, lyap, logs, rows):
-    """Slot j's renormalisation and trace sample at its current step, and its window
-    sample at the end of its run (the blocks sample earlier steps: sample_block)."""
+    """Slot j's renormalisation at its current step, and at the end of its run the window
+    and trace samples of its last state (the blocks sample earlier steps: sample_block,
+    take_trace)."""
     lane, n, row = ints[LANE * LANES + j], ints[STEP * LANES + j], ints[ROW * LANES + j]
     if lyap and n == ints[NEXT_R * LANES + j]:
         nd = ints[N_DELAY * LANES + j]
@@ -159,9 +164,12 @@ def lane_events(j, fl, ints, plan, e_hist, win, trace, lyap, logs, rows):
         win[lane, i_w, 0], win[lane, i_w, 1], win[lane, i_w, 2] = m_x, m_y, s_x
         win[lane, i_w, 3], win[lane, i_w, 4] = s_y, u
         ints[I_W * LANES + j] = i_w + 1
-    ints[NEXT_T * LANES + j], ints[I_T * LANES + j] = sample(
-        n, ints[NEXT_T * LANES + j], ints[I_T * LANES + j], plan[lane, P_TRACE_STRIDE],
-        trace[lane, :, :plan[lane, P_N_TRACE]], m_x, m_y, s_x, s_y, u)
+    i_t = ints[I_T * LANES + j]
+    if (n == plan[lane, P_N_STEPS] and n == ints[NEXT_T * LANES + j]
+            and i_t < plan[lane, P_N_TRACE]):
+        trace[lane, i_t, 0], trace[lane, i_t, 1], trace[lane, i_t, 2] = m_x, m_y, s_x
+        trace[lane, i_t, 3], trace[lane, i_t, 4] = s_y, u
+        ints[I_T * LANES + j] = i_t + 1
 
 
 @njit(**BATCH_JIT)
@@ -171,8 +179,6 @@ def steps_to_next_event(n_active, ints, plan, lyap):
     for j in range(n_active):
         lane, n = ints[LANE * LANES + j], ints[STEP * LANES + j]
         until = plan[lane, P_N_STEPS]
-        if ints[I_T * LANES + j] < plan[lane, P_N_TRACE]:
-            until = min(until, ints[NEXT_T * LANES + j])
         if lyap:
             until = min(until, ints[NEXT_R * LANES + j])
         m = min(m, until - n)
@@ -301,6 +307,31 @@ def sample_steps(n, end, next_n, i, stride, count, out, made, j):
 
 
 @njit(**BATCH_JIT)
+def next_trace(k, n_active, ints, plan):
+    """The first step i < k of the block at which a slot samples its trace, else k."""
+    due = k
+    for j in range(n_active):
+        if ints[I_T * LANES + j] < plan[ints[LANE * LANES + j], P_N_TRACE]:
+            due = min(due, ints[NEXT_T * LANES + j] - ints[STEP * LANES + j])
+    return due
+
+
+@njit(**BATCH_JIT)
+def take_trace(i, k, n_active, fl, ints, plan, trace):
+    """The trace samples due at step i of the block (the state before the step, as
+    core.recording.sample); return the next step at which one is due (next_trace)."""
+    for j in range(n_active):
+        lane, i_t = ints[LANE * LANES + j], ints[I_T * LANES + j]
+        if ints[NEXT_T * LANES + j] == ints[STEP * LANES + j] + i and i_t < plan[lane, P_N_TRACE]:
+            trace[lane, i_t, 0], trace[lane, i_t, 1] = fl[M_X * LANES + j], fl[M_Y * LANES + j]
+            trace[lane, i_t, 2], trace[lane, i_t, 3] = fl[S_X * LANES + j], fl[S_Y * LANES + j]
+            trace[lane, i_t, 4] = fl[U * LANES + j]
+            ints[I_T * LANES + j] = i_t + 1
+            ints[NEXT_T * LANES + j] += plan[lane, P_TRACE_STRIDE]
+    return next_trace(k, n_active, ints, plan)
+
+
+@njit(**BATCH_JIT)
 def mark_blow_up(step, j, fl):
     """Remember the first step of the chunk after which slot j is out of bounds, without a
     branch: BAD stays 0 while the lane is in bounds."""
@@ -309,7 +340,7 @@ def mark_blow_up(step, j, fl):
 
 
 @njit(**BATCH_JIT)
-def euler_block(k, c, n_active, fl, past, made, lyap, record):
+def euler_block(k, c, n_active, fl, ints, plan, past, made, trace, lyap, record):
     """Euler steps c..c+k-1 of the chunk for every active slot (core.euler's loop body).
 
     Loads are unconditional and choices are selects, so that both loops vectorise. The
@@ -318,6 +349,7 @@ def euler_block(k, c, n_active, fl, past, made, lyap, record):
     from the single kernel, so with lambda_max a lane agrees with it to rounding, not to the
     bit (tests/test_batch.py); without lambda_max it is bit for bit equal.
     """
+    due = next_trace(k, n_active, ints, plan)
     for i in range(k):
         if lyap:
             for j in range(n_active):
@@ -341,6 +373,8 @@ def euler_block(k, c, n_active, fl, past, made, lyap, record):
                 made[at(BSX, i, j)] = fl[S_X * LANES + j]
                 made[at(BSY, i, j)] = fl[S_Y * LANES + j]
                 made[at(BU, i, j)] = fl[U * LANES + j]
+        if i == due:
+            due = take_trace(i, k, n_active, fl, ints, plan, trace)
         for j in range(n_active):  # (6a-6e)
             m_x, m_x_buf = fl[M_X * LANES + j], past[at(BX, i, j)]
             m_x_tau = m_x if fl[N_DELAY_F * LANES + j] == 0.0 else m_x_buf
@@ -358,9 +392,12 @@ def euler_block(k, c, n_active, fl, past, made, lyap, record):
 
 
 @njit(**BATCH_JIT)
-def rk4_block(k, c, n_active, fl, past, made, lyap):
+def rk4_block(k, c, n_active, fl, ints, plan, past, made, trace, lyap):
     """RK4 steps c..c+k-1 of the chunk for every active slot (core.rk4's loop body)."""
+    due = next_trace(k, n_active, ints, plan)
     for i in range(k):
+        if i == due:
+            due = take_trace(i, k, n_active, fl, ints, plan, trace)
         for j in range(n_active):
             rk4_lane(i, j, fl, past, made, lyap)
             mark_blow_up(c + i, j, fl)
@@ -423,7 +460,8 @@ def rk4_lane(i, j, fl, past, made, lyap):
 
 
 @njit(**BATCH_JIT)
-def advance(m, n_active, fl, ints, plan, flat, e_flat, width, past, made, win, lyap, rows):
+def advance(m, n_active, fl, ints, plan, flat, e_flat, width, past, made, win, trace, lyap,
+            rows):
     """m steps of every active slot, in delay blocks, and their samples."""
     c = 0
     while c < m:
@@ -433,9 +471,9 @@ def advance(m, n_active, fl, ints, plan, flat, e_flat, width, past, made, win, l
             fl[STEP_F * LANES + j] = ints[STEP * LANES + j]
         record = window_due(k, n_active, ints, plan)
         if rows == 1:
-            euler_block(k, c, n_active, fl, past, made, lyap, record)
+            euler_block(k, c, n_active, fl, ints, plan, past, made, trace, lyap, record)
         else:  # RK4 keeps the whole state in made at every step (rk4_lane)
-            rk4_block(k, c, n_active, fl, past, made, lyap)
+            rk4_block(k, c, n_active, fl, ints, plan, past, made, trace, lyap)
         write_block(k, n_active, ints, flat, e_flat, width, made, lyap, rows)
         if record:
             sample_block(k, n_active, ints, plan, made, win)
@@ -487,7 +525,8 @@ def batch(rows, coef, dt, plan, hist, e_hist, win, trace, lyap, logs, done):
         m = steps_to_next_event(n_active, ints, plan, lyap)
         for j in range(n_active):  # BAD counts steps from the start of this chunk
             fl[BAD * LANES + j] = 0.0
-        advance(m, n_active, fl, ints, plan, flat, e_flat, width, past, made, win, lyap, rows)
+        advance(m, n_active, fl, ints, plan, flat, e_flat, width, past, made, win, trace, lyap,
+                rows)
         for j in range(n_active):
             if fl[BAD * LANES + j] != 0.0:  # as a step count since the lane's start
                 fl[BAD * LANES + j] += ints[STEP * LANES + j] - m
@@ -515,7 +554,7 @@ def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) ->
     # the window then costs 3x the integration). Trajectories get (5, n) views of it.
     # Every sample up to a lane's end or blow-up is written (trajectory_of keeps no more).
     win = np.empty((n_lanes, int(plan[:, P_N_WIN].max()), 5))
-    trace = np.full((n_lanes, 5, int(plan[:, P_N_TRACE].max())), np.nan)
+    trace = np.empty((n_lanes, int(plan[:, P_N_TRACE].max()), 5))  # as win
     n_logs = plan[:, P_N_STEPS] // plan[:, P_RENORM]
     logs = np.zeros((n_lanes, int(n_logs.max()) if s.lyap else 0))
     done = np.zeros(n_lanes, dtype=np.int64)
@@ -524,6 +563,6 @@ def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) ->
           plan, hist, e_hist, win, trace, s.lyap, logs, done)
     runtime = time.perf_counter() - t0
     share = done / max(1, int(done.sum()))
-    return [trajectory_of(p, s, g, int(done[j]), win[j, :g.n_win].T, trace[j, :, :g.n_trace],
+    return [trajectory_of(p, s, g, int(done[j]), win[j, :g.n_win].T, trace[j, :g.n_trace].T,
                           logs[j, :n_logs[j] if s.lyap else 0], runtime * share[j])
             for j, (p, g) in enumerate(zip(points, grids))]
