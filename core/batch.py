@@ -156,20 +156,24 @@ def lane_events(j, fl, ints, plan, e_hist, win, trace, lyap, logs, rows):
             fl[DT * LANES + j])
         ints[I_R * LANES + j] = i_r + 1
         ints[NEXT_R * LANES + j] += plan[lane, P_RENORM]
-    m_x, m_y = fl[M_X * LANES + j], fl[M_Y * LANES + j]
-    s_x, s_y, u = fl[S_X * LANES + j], fl[S_Y * LANES + j], fl[U * LANES + j]
-    i_w = ints[I_W * LANES + j]
-    if (n == plan[lane, P_N_STEPS] and n == ints[NEXT_W * LANES + j]
-            and i_w < plan[lane, P_N_WIN]):
-        win[lane, i_w, 0], win[lane, i_w, 1], win[lane, i_w, 2] = m_x, m_y, s_x
-        win[lane, i_w, 3], win[lane, i_w, 4] = s_y, u
-        ints[I_W * LANES + j] = i_w + 1
-    i_t = ints[I_T * LANES + j]
-    if (n == plan[lane, P_N_STEPS] and n == ints[NEXT_T * LANES + j]
-            and i_t < plan[lane, P_N_TRACE]):
-        trace[lane, i_t, 0], trace[lane, i_t, 1], trace[lane, i_t, 2] = m_x, m_y, s_x
-        trace[lane, i_t, 3], trace[lane, i_t, 4] = s_y, u
-        ints[I_T * LANES + j] = i_t + 1
+    if n == plan[lane, P_N_STEPS]:
+        sample_slot(win[lane], plan[lane, P_N_WIN], plan[lane, P_WIN_STRIDE], NEXT_W, I_W, n,
+                    j, fl, ints)
+        sample_slot(trace[lane], plan[lane, P_N_TRACE], plan[lane, P_TRACE_STRIDE], NEXT_T,
+                    I_T, n, j, fl, ints)
+
+
+@njit(**BATCH_JIT)
+def sample_slot(out, count, stride, next_row, i_row, n, j, fl, ints):
+    """One sampler of slot j (its next step and column in rows next_row, i_row of ints):
+    if it is due at step n, store the slot's state in out[column] (core.recording.sample,
+    with the samples as rows)."""
+    i = ints[i_row * LANES + j]
+    if ints[next_row * LANES + j] == n and i < count:
+        for v in range(5):
+            out[i, v] = fl[(M_X + v) * LANES + j]
+        ints[i_row * LANES + j] = i + 1
+        ints[next_row * LANES + j] += stride
 
 
 @njit(**BATCH_JIT)
@@ -321,13 +325,11 @@ def take_trace(i, k, n_active, fl, ints, plan, trace):
     """The trace samples due at step i of the block (the state before the step, as
     core.recording.sample); return the next step at which one is due (next_trace)."""
     for j in range(n_active):
-        lane, i_t = ints[LANE * LANES + j], ints[I_T * LANES + j]
-        if ints[NEXT_T * LANES + j] == ints[STEP * LANES + j] + i and i_t < plan[lane, P_N_TRACE]:
-            trace[lane, i_t, 0], trace[lane, i_t, 1] = fl[M_X * LANES + j], fl[M_Y * LANES + j]
-            trace[lane, i_t, 2], trace[lane, i_t, 3] = fl[S_X * LANES + j], fl[S_Y * LANES + j]
-            trace[lane, i_t, 4] = fl[U * LANES + j]
-            ints[I_T * LANES + j] = i_t + 1
-            ints[NEXT_T * LANES + j] += plan[lane, P_TRACE_STRIDE]
+        n = ints[STEP * LANES + j] + i
+        if ints[NEXT_T * LANES + j] == n:  # before making a view of the lane's trace
+            lane = ints[LANE * LANES + j]
+            sample_slot(trace[lane], plan[lane, P_N_TRACE], plan[lane, P_TRACE_STRIDE],
+                        NEXT_T, I_T, n, j, fl, ints)
     return next_trace(k, n_active, ints, plan)
 
 
