@@ -54,9 +54,9 @@ def renormalise(e_x, e_y, e_sx, e_sy, e_u, history, n, dt):
     The discrete state is the five variables plus the delay buffer(s) ``history[:, :n]``
     (row 0: tangent m_x over the last tau; row 1, for RK4: tangent m_y; the batch's
     buffers are wider than n, and a C-contiguous row is what lets LLVM vectorise the
-    loops over it). Shifting m_x
-    and its whole history by a constant changes nothing (only m_x,tau - m_x enters
-    eq. 6b), so we subtract the current e_x from row 0 and from e_x, and use the norm
+    loops over it). Shifting m_x and its whole history by a constant changes nothing
+    (only m_x,tau - m_x enters eq. 6b), so we subtract the current e_x from row 0 and
+    from e_x, and use the norm
         |e|^2 = e_y^2 + e_sx^2 + e_sy^2 + e_u^2 + dt * sum_rows sum_j h_j^2.
     Returns log|e| and the scaled five-vector.
 
