@@ -166,14 +166,34 @@ def subwindow_amplitudes(t: np.ndarray, y: np.ndarray, n: int = N_SUBWINDOWS) ->
 
 
 def power_spectrum(t: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """One-sided power spectrum of y (mean removed, Hann window); frequency in 1/time."""
+    """One-sided power spectrum of y (mean removed, Hann window, zero-padded to a length
+    whose only prime factors are 2, 3 and 5); frequency in 1/time.
+
+    Why the padding: a window of 1000 time units sampled every 0.01 has 100001 samples,
+    11 x 9091, and numpy's FFT of a length with a large prime factor took 16 ms, against
+    0.7 ms at 100000: most of the analysis of a run, and ~15% of a 64 x 64 diagram's
+    wall time at t_end = 1e4."""
     if len(y) < 4:
         return np.zeros(0), np.zeros(0)
     h = t[1] - t[0]
     w = np.hanning(len(y))
-    spec = np.abs(np.fft.rfft((y - y.mean()) * w)) ** 2
-    freqs = np.fft.rfftfreq(len(y), h)
+    n = fast_fft_length(len(y))
+    spec = np.abs(np.fft.rfft((y - y.mean()) * w, n)) ** 2
+    freqs = np.fft.rfftfreq(n, h)
     return freqs, spec
+
+
+def fast_fft_length(n: int) -> int:
+    """The smallest m >= n whose only prime factors are 2, 3 and 5."""
+    m = n
+    while True:
+        r = m
+        for p in (2, 3, 5):
+            while r % p == 0:
+                r //= p
+        if r == 1:
+            return m
+        m += 1
 
 
 def dominant_frequency(t: np.ndarray, y: np.ndarray) -> float:

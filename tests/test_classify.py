@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from core import LyapunovEstimate, Params, SolverSettings, classify, run_point
-from core.classify import (RETURN_NOISE, dominant_frequency, find_peaks, peak_period,
-                           zero_one_test)
+from core.classify import (RETURN_NOISE, dominant_frequency, fast_fft_length, find_peaks,
+                           peak_period, zero_one_test)
 
 T = np.arange(0.0, 1000.0, 0.01)
 
@@ -121,6 +121,24 @@ def test_zero_one_test_separates_chaos_from_order():
     assert zero_one_test(np.array(seq)) > 0.8
     n = np.arange(2000)                         # quasi-periodic sequence
     assert abs(zero_one_test(np.sin(2 * np.pi * n * (math.sqrt(5) - 1) / 2 * 0.37))) < 0.2
+
+
+def test_fft_length_is_the_next_5_smooth_number():
+    def smooth(m: int) -> bool:
+        for p in (2, 3, 5):
+            while m % p == 0:
+                m //= p
+        return m == 1
+    for n in (4, 7, 100001, 123457):
+        m = fast_fft_length(n)
+        assert m >= n and smooth(m) and not any(smooth(x) for x in range(n, m))
+
+
+def test_dominant_frequency_of_a_window_of_awkward_length():
+    # 100001 samples (11 x 9091): the spectrum is zero-padded to 101250 points
+    t = np.arange(100001) * 0.01
+    assert dominant_frequency(t, np.sin(2 * np.pi * 0.0951 * t)) == pytest.approx(0.0951,
+                                                                                  rel=1e-3)
 
 
 def test_dominant_frequency():
