@@ -40,8 +40,8 @@ def test_lanes_equal_single_kernel_bit_for_bit(method: str) -> None:
 
 @pytest.mark.parametrize("method", ["euler", "rk4"])
 def test_blow_up_inside_the_window_keeps_the_samples_before_it(method: str) -> None:
-    # The window is the whole run, so the blocks sample every step up to the blow-up and
-    # must stop at the step the single kernel stopped at.
+    # The window is the whole run, so the blocks sample every step up to the blow-up, and
+    # the lane's window must end where the single kernel's did.
     dt = 1e-3 if method == "euler" else 1e-2  # RK4 at 1e-3 does not blow up at low a
     s = SolverSettings(method=method, dt=dt, t_end=50.0, window=50.0, lyap=False)
     points = [p for p in POINTS if p.tau == 0.0 or p.tau >= dt]
