@@ -127,7 +127,7 @@ class _Heartbeat(threading.Thread):
 
 
 #: Methods computed with the batched kernels. RK4's batched kernel is not vectorised by LLVM
-#: yet and runs at half the single kernel's speed (benchmarks/bench_kernels.py), so RK4
+#: yet and runs at ~0.6x the single kernel's speed (benchmarks/bench_kernels.py), so RK4
 #: batches are computed run by run.
 BATCHED_METHODS = frozenset({"euler"})
 
