@@ -100,6 +100,7 @@ import numpy as np
 from numpy_euler import euler_loop
 
 from core import Params, SolverSettings, run_point, simulate
+from core.batch import LANES, simulate_batch
 from core.classify import find_peaks
 from core.lyapunov import LyapunovEstimate, estimate
 from core.solve import Trajectory
@@ -135,8 +136,8 @@ LOOP_STRIDE = 10
 TIMED_WINDOW_FRACTION = 0.01
 #: Shortest timed slopetui run (time units).
 SLOPETUI_T_MIN = 1000.0
-#: Batch: lanes, and the step in k between them (all stay on period-1 cycles).
-LANES = 16
+#: Batch: as many points as the kernel's slots (core.batch.LANES), k stepped by LANE_DK
+#: between them (all stay on period-1 cycles).
 LANE_DK = 0.02
 
 
@@ -454,12 +455,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if jv is None:
         print("JiTCDDE rows skipped: jitcdde is not installed "
               "(install it with `.venv/bin/pip install -e '.[bench]'`; it needs a C compiler).\n")
-    simulate_batch = None
-    if not args.no_batch:
-        try:
-            from core.batch import simulate_batch
-        except ImportError:
-            print("Batched rows skipped: core.batch is not available.\n")
+    batched = not args.no_batch
 
     # -- the point is periodic ----------------------------------------------------
     check = run_point(POINT, slopetui_settings("rk4", RK4_DT, ACC_T_END, lyap=False)).summary
@@ -499,7 +495,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     keep = t_loop >= ACC_T_END - ACC_WINDOW - 1e-9
     loop_err = shape_of(t_loop[keep], y_loop[1, keep]).errors(ref)
     batch_err: dict[str, tuple[float, float]] = {}
-    if simulate_batch:
+    if batched:
         for method, dt in (("euler", EULER_DT), ("rk4", RK4_DT)):
             lane0 = simulate_batch(batch_points(), slopetui_settings(method, dt, ACC_T_END, lyap=False))[0]
             batch_err[method] = trajectory_shape(lane0).errors(ref)
@@ -524,7 +520,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             tm = time_per_unit(one, SLOPETUI_T_MIN, 1e6, min_time, repeat)
             rows.append(Row("slopetui", label(method, lyap), f"dt {dt:g}", lyap, err,
                             lyap_of(tm.extra) if lyap else None, tm))
-    if simulate_batch:
+    if batched:
         for method, dt in (("euler", EULER_DT), ("rk4", RK4_DT)):
             for lyap in (False, True):
                 def many(t_end: float, method: str = method, dt: float = dt, lyap: bool = lyap) -> list[Trajectory]:
