@@ -349,7 +349,9 @@ def euler_block(k, c, n_active, fl, ints, plan, past, made, trace, lyap, record)
     tangent has its own loop: one loop with both bodies is too large for LLVM to vectorise
     (3x slower). LLVM then fuses the multiply-adds of the two loops a little differently
     from the single kernel, so with lambda_max a lane agrees with it to rounding, not to the
-    bit (tests/test_batch.py); without lambda_max it is bit for bit equal.
+    bit (tests/test_batch.py); without lambda_max it is bit for bit equal. The five row
+    updates of each loop are spelled out: a shared helper looping over the rows stopped
+    LLVM vectorising the tangent loop (9.5 ns per point-step against 6.6).
     """
     due = next_trace(k, n_active, ints, plan)
     for i in range(k):
