@@ -113,6 +113,7 @@ def test_works_from_a_non_editable_install(tmp_path):
                            text=True, timeout=600)
     assert build.returncode == 0, build.stderr
     assert (target / "migrations" / "versions").is_dir()
+    assert (target / "slopetui" / "tui" / "slopetui.tcss").is_file()  # the app's styles
     env = {"PYTHONPATH": str(target)}
     code = "import slopetui, migrations; print(slopetui.__file__); print(migrations.__file__)"
     files = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

@@ -25,7 +25,7 @@ from slopetui.cli import (
     worker,
 )
 from slopetui.cli.options import UsageError
-from slopetui.store.database import StoreError
+from slopetui.store.database import StoreError, explain
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.spec import SpecError
 
@@ -62,8 +62,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"slopetui {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except SQLAlchemyError as exc:
-        reason = getattr(exc, "orig", None) or exc
-        print(f"slopetui {args.command}: database error: {reason}", file=sys.stderr)
+        print(f"slopetui {args.command}: database error: "
+              f"{explain(exc, getattr(args, 'db', None))}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)

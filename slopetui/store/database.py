@@ -20,10 +20,11 @@ from urllib.parse import quote
 from platformdirs import user_data_path
 from sqlalchemy import Connection, Engine, create_engine, event, select
 from sqlalchemy.engine import URL, make_url
-from sqlalchemy.exc import ArgumentError
+from sqlalchemy.exc import ArgumentError, DBAPIError, SQLAlchemyError
 from sqlalchemy.orm import Session, sessionmaker
 
 from slopetui.store.db_time import db_now
+from slopetui.store.failures import StoreError, describe, os_failure
 
 #: Environment variable that selects the database (any SQLAlchemy URL).
 DB_ENV = "SLOPETUI_DB"
@@ -43,10 +44,6 @@ REFUSAL_WORDS = ("readonly", "read-only", "authoriz")
 def is_refusal(message: str) -> bool:
     """Did the read-only connection refuse the statement (rather than fail on it)?"""
     return any(word in message for word in REFUSAL_WORDS)
-
-
-class StoreError(Exception):
-    """The database cannot be opened or used; the message says why and what to do."""
 
 
 def default_url() -> str:
@@ -72,15 +69,35 @@ def sqlite_path(url: URL) -> Path | None:
     return Path(url.database).expanduser().resolve()
 
 
-def _create_private_file(path: Path) -> None:
+def _create_private_file(path: Path, *, make_folder: bool) -> None:
     """Create the database file readable by its owner only (SQLite gives its -wal and
-    -shm files the permissions of the database file)."""
-    path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
+    -shm files the permissions of the database file).
+
+    make_folder : create the folder too. Only for the default store: a folder named in an
+                  explicit URL that does not exist is more likely a typo than a wish, and
+                  creating it would hide the typo behind an empty store.
+    """
     try:
+        if make_folder:
+            path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
         fd = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o600)
     except FileExistsError:
         return
+    except OSError as exc:
+        raise os_failure(path, exc) from None
     os.close(fd)
+
+
+def explain(exc: SQLAlchemyError, url: str | None = None) -> str:
+    """One line for a database error met by a command on the store at ``url`` (default:
+    ``default_url()``): for a SQLite file, its path and the cause (damaged, disk full,
+    read-only...), see ``slopetui.store.failures``."""
+    reason = str(getattr(exc, "orig", None) or exc).strip()
+    try:
+        path = sqlite_path(parse_url(url or default_url()))
+    except StoreError:
+        path = None
+    return describe(path, reason)
 
 
 def _sqlite_on_connect(dbapi_connection: Any, _record: Any) -> None:
@@ -140,14 +157,17 @@ class Database:
     """
 
     def __init__(self, url: str | None = None, *, upgrade: bool = True) -> None:
-        self.url = parse_url(url or default_url())
+        explicit = url or os.environ.get(DB_ENV)
+        self.url = parse_url(explicit or default_url())
         self.path = sqlite_path(self.url)
         if self.path is not None:
-            _create_private_file(self.path)
+            _create_private_file(self.path, make_folder=not explicit)
             self.url = self.url.set(database=str(self.path))
         self.engine = self._make_engine()
         #: The same pool, for reads: ``with db.reader.connect() as conn``.
         self.reader = self.engine.execution_options(**{READ_OPTION: True})
+        if self.path is not None:
+            self._probe()
         #: Sessions for reading (``with db.sessions() as s``); writes use transaction().
         self.sessions = sessionmaker(self.reader, expire_on_commit=False)
         self._write_sessions = sessionmaker(self.engine, expire_on_commit=False)
@@ -168,6 +188,17 @@ class Database:
             event.listen(engine, "connect", _sqlite_on_connect)
             event.listen(engine, "begin", _sqlite_begin)
         return engine
+
+    def _probe(self) -> None:
+        """Open one connection now, so that a file SQLite cannot use (not a database, a
+        read-only folder for its -wal file...) fails here with its cause named, not at the
+        first query with "unable to open database file"."""
+        assert self.path is not None
+        try:
+            with self.reader.connect() as conn:
+                conn.exec_driver_sql("PRAGMA schema_version").scalar()
+        except DBAPIError as exc:
+            raise StoreError(describe(self.path, str(exc.orig).strip())) from None
 
     @property
     def display_url(self) -> str:

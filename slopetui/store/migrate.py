@@ -1,11 +1,25 @@
 """Alembic, configured in code: the scripts in ``migrations/`` (shipped as a package, so a
-non-editable install carries them), applied when a database is opened."""
+non-editable install carries them), applied when a database is opened.
+
+Every change of schema, up or down, first copies a SQLite store aside
+(``slopetui.db.bak-<revision before>``), and runs with SQLite's foreign keys off: Alembic's
+batch mode rebuilds a table by copy, DROP and rename, and with foreign keys on, the DROP of
+``sweeps`` cascades to ``runs`` (a downgrade of 0002 deleted every run that way).
+``PRAGMA foreign_key_check`` then runs inside the migration's transaction, and a
+violation rolls the whole migration back.
+"""
 
 from __future__ import annotations
 
 import hashlib
+import os
+import sqlite3
+from collections.abc import Iterator
+from contextlib import closing, contextmanager
+from datetime import datetime
 from functools import lru_cache
 from pathlib import Path
+from urllib.parse import quote
 
 from alembic import command
 from alembic.config import Config
@@ -13,9 +27,11 @@ from alembic.runtime.migration import MigrationContext
 from alembic.script import ScriptDirectory
 from filelock import FileLock
 from platformdirs import user_cache_path
+from sqlalchemy import Connection
 
 import migrations
-from slopetui.store.database import Database, StoreError
+from slopetui.store.database import Database
+from slopetui.store.failures import StoreError, describe
 
 #: How long a process waits for another one that is migrating the same database (s).
 LOCK_TIMEOUT_S = 300
@@ -59,17 +75,93 @@ def upgrade(db: Database) -> tuple[str | None, str]:
         before = current_revision(db)
         if before != head_revision():
             _check_known(before)
+            backup_copy(db, before)
             command.upgrade(alembic_config(db), "head")
         return before, head_revision()
 
 
-def _check_known(revision: str | None) -> None:
-    if revision is None:
-        return
+def downgrade(db: Database, revision: str) -> tuple[str | None, str, Path | None]:
+    """Downgrade to ``revision`` (an older one, or "base": no tables at all) under the
+    lock, after a backup copy; returns (revision before, revision after, the copy)."""
+    known = revisions()
+    if revision != "base" and revision not in known:
+        raise StoreError(f"REV: unknown revision {revision!r}; one of "
+                         f"{', '.join(known)} or base")
+    with FileLock(_lock_path(db), timeout=LOCK_TIMEOUT_S, mode=0o600):
+        before = current_revision(db)
+        _check_known(before)
+        if before is None or (revision != "base"
+                              and known.index(revision) >= known.index(before)):
+            raise StoreError(f"REV: {revision} is not older than the database's revision "
+                             f"{before or 'none (empty)'}")
+        copy = backup_copy(db, before)
+        command.downgrade(alembic_config(db), revision)
+        return before, revision, copy
+
+
+@lru_cache(maxsize=1)
+def revisions() -> list[str]:
+    """Every revision, oldest first."""
     script = ScriptDirectory(str(Path(migrations.__file__).parent))
-    if revision not in {s.revision for s in script.walk_revisions()}:
+    return [s.revision for s in reversed(list(script.walk_revisions()))]
+
+
+def _check_known(revision: str | None) -> None:
+    if revision is not None and revision not in revisions():
         raise StoreError(f"the database is at schema revision {revision}, which this "
                          f"slopetui does not know: it was written by a newer slopetui")
+
+
+def backup_copy(db: Database, revision: str | None) -> Path | None:
+    """Copy a SQLite store aside before its schema changes, as ``<file>.bak-<revision>``
+    (never over an older copy: then ``.bak-<revision>-<time>``), readable by its owner
+    only. None for a new (empty) store or a server database, which has its own backups
+    (pg_dump). SQLite's backup API copies a consistent state, the WAL included."""
+    if db.path is None or revision is None:
+        return None
+    target = db.path.with_name(f"{db.path.name}.bak-{revision}")
+    if target.exists():
+        stamp = datetime.now().strftime("%Y%m%dT%H%M%S%f")
+        target = target.with_name(f"{target.name}-{stamp}")
+    try:
+        os.close(os.open(target, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o600))
+        source = sqlite3.connect(f"file:{quote(str(db.path))}?mode=ro", uri=True)
+        with closing(source), closing(sqlite3.connect(target)) as copy:
+            source.backup(copy)
+    except (OSError, sqlite3.Error) as exc:
+        target.unlink(missing_ok=True)
+        raise StoreError(f"the schema was not changed: the backup copy {target} could not "
+                         f"be written ({describe(target, str(exc))})") from None
+    return target
+
+
+@contextmanager
+def foreign_keys_off(connection: Connection, db: Database) -> Iterator[None]:
+    """SQLite's foreign keys off for a migration on ``connection`` (see the module
+    docstring), on again after it. The pragma is a no-op inside a transaction, so it is
+    set on the driver's connection before Alembic begins one."""
+    if not db.is_sqlite:
+        yield
+        return
+    raw = connection.connection.driver_connection
+    raw.execute("PRAGMA foreign_keys = OFF")
+    try:
+        yield
+    finally:
+        raw.execute("PRAGMA foreign_keys = ON")
+
+
+def check_foreign_keys(connection: Connection, db: Database) -> None:
+    """Inside the migration's transaction: refuse to commit rows whose foreign keys point
+    nowhere (the exception rolls the migration back)."""
+    if not db.is_sqlite:
+        return  # PostgreSQL enforces foreign keys during DDL itself
+    bad = connection.exec_driver_sql("PRAGMA foreign_key_check").fetchall()
+    if bad:
+        table, rowid, parent, _ = bad[0]
+        raise StoreError(f"the migration was rolled back: it would leave {len(bad)} rows "
+                         f"whose foreign keys point nowhere (first: {table} row {rowid} -> "
+                         f"{parent})")
 
 
 def upgrade_on_open(db: Database) -> None:
