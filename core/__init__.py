@@ -1,20 +1,48 @@
 """slopetui's numerical engine: the mean-field spring-block model of a conditionally
 stable slope (eqs. 6a-6e of the seed paper), its solvers, lambda_max, linear stability
 and regime classification. Pure computation: no database, no UI.
+
+The names below are imported on first use (PEP 562): ``from core import PARAM_NAMES``
+must not pay ~1 s for numba and the kernels, which ``slopetui --help`` and ``slopetui
+status`` never run. The numba cache folder is set by ``core.model``, which every kernel
+module imports before it decorates a kernel (see ``core.jit_cache``).
 """
 
-from core import jit_cache
+from __future__ import annotations
 
-jit_cache.configure()  # before the kernels below are decorated
+import importlib
+from typing import TYPE_CHECKING, Any
 
-from core.classify import REGIMES, Summary, classify
-from core.lyapunov import LyapunovEstimate
-from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
-from core.point import PointResult, run_batch, run_point
-from core.solve import METHODS, SolverSettings, Trajectory, simulate
+#: Public name -> the module that defines it.
+_EXPORTS = {
+    "REGIMES": "core.classify", "Summary": "core.classify", "classify": "core.classify",
+    "LyapunovEstimate": "core.lyapunov",
+    "PARAM_NAMES": "core.params", "ParameterError": "core.params", "Params": "core.params",
+    "friction_warnings": "core.params",
+    "PointResult": "core.point", "run_batch": "core.point", "run_point": "core.point",
+    "METHODS": "core.solve", "SolverSettings": "core.solve", "Trajectory": "core.solve",
+    "simulate": "core.solve",
+}
 
-__all__ = [
-    "METHODS", "PARAM_NAMES", "REGIMES", "LyapunovEstimate", "ParameterError", "Params",
-    "PointResult", "SolverSettings", "Summary", "Trajectory", "classify", "friction_warnings",
-    "run_batch", "run_point", "simulate",
-]
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'core' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_EXPORTS})
+
+
+if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
+    from core.classify import REGIMES, Summary, classify
+    from core.lyapunov import LyapunovEstimate
+    from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
+    from core.point import PointResult, run_batch, run_point
+    from core.solve import METHODS, SolverSettings, Trajectory, simulate

@@ -16,8 +16,6 @@ import hashlib
 import os
 from pathlib import Path
 
-import numba
-
 CORE_DIR = Path(__file__).resolve().parent
 
 
@@ -40,4 +38,6 @@ def configure() -> None:
     """Point numba's cache at cache_dir(); must run before any kernel is decorated."""
     if os.environ.get("NUMBA_CACHE_DIR"):
         return
+    import numba  # here, not at the top: source_digest() alone must not load numba
+
     numba.config.CACHE_DIR = str(cache_dir())

@@ -15,7 +15,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from core import jit_cache
 from core.params import Params
+
+# Every module with a kernel imports this one first, so the cache folder is set before
+# any kernel is decorated.
+jit_cache.configure()
 
 #: numba options shared by every kernel. "contract" lets LLVM fuse a*b+c into one FMA,
 #: which shortens the per-step dependency chain; we do not enable "nnan"/"fast", because
