@@ -70,3 +70,36 @@ def test_the_fast_stability_test_matches_the_roots(changes):
 
     p = Params(**changes)
     assert linearly_stable(p) == (leading_exponent(p) < 0)
+
+
+def test_an_interrupted_report_draws_no_verdict_from_missing_runs(tmp_path, capsys,
+                                                                  monkeypatch):
+    """Ctrl-C after a few hundred runs once wrote "5381 runs" and DISAGREE verdicts for
+    figures that had no runs at all ("nan% of 0 runs agree")."""
+    from slopetui.reproduce import report
+    from slopetui.store import Database, Run, Sweep
+    from tests.conftest import finish_all
+
+    url = f"sqlite:///{tmp_path / 's.db'}"
+
+    def interrupted_pool(opts, n_workers):  # the pool stopped after the Fig. 2 points
+        db = Database(url)
+        with db.transaction() as s:
+            for sweep in s.query(Sweep).filter(~Sweep.name.like("Fig. 2%")):
+                sweep.status = "paused"
+        finish_all(db)
+        return 0
+
+    monkeypatch.setattr(report, "run_pool", interrupted_pool)
+    out = tmp_path / "reproduction.md"
+    code = main(["reproduce", "--report", "--resolution", "2", "--t-end", "100",
+                 "--out", str(out), "--db", url])
+    assert code == 1 and "INCOMPLETE" in capsys.readouterr().out
+    text = out.read_text()
+    assert text.startswith("# The paper reproduced (INCOMPLETE)")
+    assert "nan" not in text.lower()
+    assert text.count("**Verdict: ") == 1  # Fig. 2 only: every other finding lacks runs
+    with Database(url).sessions() as s:
+        n_done = s.query(Run).filter(Run.status == "done").count()
+        n_all = s.query(Run).count()
+    assert f"{n_done} of {n_all} runs done" in text

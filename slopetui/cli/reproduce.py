@@ -71,7 +71,12 @@ def handle(args: argparse.Namespace) -> int:
     if args.report:
         from slopetui.reproduce.report import write_report
         resolution = args.resolution or REPORT_RESOLUTION
-        path = write_report(open_db(args), resolution, args.t_end, Path(args.out), args.jobs)
+        path, complete = write_report(open_db(args), resolution, args.t_end, Path(args.out),
+                                      args.jobs)
+        if not complete:
+            print(f"report written to {path}, marked INCOMPLETE: some figures have runs "
+                  "missing and no verdict; run the same command again to finish")
+            return 1
         print(f"report written to {path}")
         return 0
     specs = preset_specs(keys, args.resolution, args.t_end)
