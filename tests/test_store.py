@@ -33,6 +33,11 @@ def test_an_empty_database_upgrades_to_head(db_url):
     assert "already at" in again.stdout
 
 
+def test_the_fast_revision_check_knows_the_head(db):
+    import migrations
+    assert migrations.HEAD == head_revision() == db.stored_revision() == current_revision(db)
+
+
 def test_models_and_migrations_agree(db):
     with db.engine.connect() as conn:
         ctx = MigrationContext.configure(conn, opts={"compare_type": True})

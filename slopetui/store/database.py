@@ -18,11 +18,12 @@ from typing import Any
 from urllib.parse import quote
 
 from platformdirs import user_data_path
-from sqlalchemy import Connection, Engine, create_engine, event, select
+from sqlalchemy import Connection, Engine, create_engine, event, inspect, select
 from sqlalchemy.engine import URL, make_url
 from sqlalchemy.exc import ArgumentError, DBAPIError, SQLAlchemyError
 from sqlalchemy.orm import Session, sessionmaker
 
+import migrations
 from slopetui.store.db_time import db_now
 from slopetui.store.failures import StoreError, describe, os_failure
 
@@ -171,9 +172,17 @@ class Database:
         #: Sessions for reading (``with db.sessions() as s``); writes use transaction().
         self.sessions = sessionmaker(self.reader, expire_on_commit=False)
         self._write_sessions = sessionmaker(self.engine, expire_on_commit=False)
-        if upgrade:
-            from slopetui.store.migrate import upgrade_on_open
-            upgrade_on_open(self)
+        if upgrade and self.stored_revision() != migrations.HEAD:
+            # only a stale schema pays for Alembic and the migration lock
+            from slopetui.store.migrate import upgrade as upgrade_schema
+            upgrade_schema(self)
+
+    def stored_revision(self) -> str | None:
+        """The schema revision the store is at, read in plain SQL (None: no schema yet)."""
+        with self.reader.connect() as conn:
+            if not inspect(conn).has_table("alembic_version"):
+                return None
+            return conn.exec_driver_sql("SELECT version_num FROM alembic_version").scalar()
 
     @property
     def is_sqlite(self) -> bool:

@@ -162,9 +162,3 @@ def check_foreign_keys(connection: Connection, db: Database) -> None:
         raise StoreError(f"the migration was rolled back: it would leave {len(bad)} rows "
                          f"whose foreign keys point nowhere (first: {table} row {rowid} -> "
                          f"{parent})")
-
-
-def upgrade_on_open(db: Database) -> None:
-    """The fast path checks the revision without the lock; only a stale schema locks."""
-    if current_revision(db) != head_revision():
-        upgrade(db)
