@@ -11,6 +11,8 @@ module imports before it decorates a kernel (see ``core.jit_cache``).
 from __future__ import annotations
 
 import importlib
+import sys
+import types
 from typing import TYPE_CHECKING, Any
 
 #: Public name -> the module that defines it.
@@ -38,6 +40,21 @@ def __getattr__(name: str) -> Any:
 
 def __dir__() -> list[str]:
     return sorted({*globals(), *_EXPORTS})
+
+
+class _Engine(types.ModuleType):
+    """``core.classify`` is a submodule and the function it defines. Importing the
+    submodule sets the package attribute to the module (the import system does that),
+    which would hide the function from ``from core import classify``; the function wins,
+    as it did when this package imported everything eagerly."""
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if isinstance(value, types.ModuleType) and _EXPORTS.get(name) == value.__name__:
+            value = getattr(value, name)
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Engine
 
 
 if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
