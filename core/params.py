@@ -26,14 +26,24 @@ class ParameterError(ValueError):
         self.field = field
         self.value = value
         self.allowed = allowed
-        super().__init__(f"{field} = {value!r} is out of range: allowed {allowed}")
+        shown = repr(value)  # repr: a string's control characters come out escaped
+        if len(shown) > 40:  # an integer of 400 digits is still one readable line
+            shown = shown[:37] + "..."
+        super().__init__(f"{field} = {shown} is out of range: allowed {allowed}")
 
 
 def check_finite(field: str, value: float) -> float:
-    """Coerce ``value`` to float and reject NaN and infinities."""
+    """Coerce ``value`` to float and reject NaN, infinities and booleans.
+
+    A bool is refused although float(True) is 1.0: ``k = true`` in a spec or a JSON
+    settings file is a mistake, not a stiffness of 1. An integer too large for a float
+    (10**400) raises OverflowError in float(), which is refused like any other non-number.
+    """
+    if isinstance(value, bool):
+        raise ParameterError(field, value, "a finite real number, not a boolean")
     try:
         x = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(field, value, "a finite real number") from None
     if not math.isfinite(x):
         raise ParameterError(field, value, "a finite real number")

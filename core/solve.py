@@ -19,16 +19,15 @@ Decisions the paper leaves open, made here:
 from __future__ import annotations
 
 import math
+import numbers
 import time
 from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
 
-from core.euler import euler
-from core.model import coefficients
+from core.classify import N_SUBWINDOWS
 from core.params import ParameterError, Params, check_positive
-from core.rk4 import rk4
 
 Method = Literal["euler", "rk4"]
 METHODS: tuple[str, ...] = ("euler", "rk4")
@@ -36,6 +35,9 @@ METHODS: tuple[str, ...] = ("euler", "rk4")
 #: Default step per method. Euler: the paper's dt = 1e-3. RK4: 1e-2, which costs about
 #: as much per time unit as Euler at 1e-3 and is ~1e6 times more accurate.
 DEFAULT_DT: dict[str, float] = {"euler": 1e-3, "rk4": 1e-2}
+#: The paper's analysis window, [99000, 100000]: the default when the run is long enough
+#: (see default_window).
+DEFAULT_WINDOW = 1000.0
 
 #: Spacing of the stored analysis window (time units). Peaks are refined with the quartic
 #: through five samples (core.classify.find_peaks): at h = 0.01 its error was at most
@@ -44,6 +46,49 @@ DEFAULT_DT: dict[str, float] = {"euler": 1e-3, "rk4": 1e-2}
 WINDOW_SAMPLE_DT = 0.01
 #: At most this many stored window samples (a long window is sampled more coarsely).
 MAX_WINDOW_SAMPLES = 1 << 20
+#: A window to classify needs this many samples: core.classify splits it into
+#: N_SUBWINDOWS sub-windows and measures an amplitude in each from 3 samples or more.
+#: With fewer, a run of a single sample was labelled "sliding (at rest)" and a window of
+#: a few samples stopped the classifier with a traceback.
+MIN_WINDOW_SAMPLES = 3 * N_SUBWINDOWS
+
+#: At most this many steps per run. The paper's run is 1e8 Euler steps (t = 1e5 at
+#: dt = 1e-3); 1e10 is a hundred times that, and takes about 3 min of Euler with
+#: lambda_max (17 ns a step) or 11 min of RK4 (66 ns) on the 2-core machine we measured
+#: (benchmarks/bench_kernels.py measures others). Far beyond, a run holds a worker for
+#: hours to years (t_end = 1e300 would never end), and the step counts must stay well
+#: inside the kernels' 64-bit integers.
+MAX_STEPS = 10**10
+#: At most this much memory per run (bytes): 2 GiB, under the free memory of a laptop or
+#: of a small cloud worker with a core or two, and some 400 times a paper run's needs
+#: (5 MB, mostly its window of 100 001 samples; the delay ring of tau = 10 at dt = 1e-3
+#: is 160 kB). It counts what make_grid lays out (memory_of): the delay ring, the window
+#: and trace samples and the lambda_max logs. It is per run: a worker's batch (core.batch)
+#: holds the window, trace and logs of each of its runs (up to its --batch, default 32)
+#: and the rings of up to 16 of them at once, so a batch of runs near this limit needs
+#: many times it. Such runs are rare (tau over 10^5 time units at dt = 1e-3, or more than
+#: 2.7e8 lambda_max renormalisations); a worker should then compute them with --batch 1.
+MAX_RUN_BYTES = 2 * 1024**3
+#: Bytes per delay step of the ring buffers: m_x for Euler, (m_x, m_y) for RK4, and as
+#: much again for the tangent, which the single-run kernels allocate even without
+#: lambda_max (core.euler, core.rk4).
+RING_BYTES: dict[str, int] = {"euler": 2 * 8, "rk4": 2 * 2 * 8}
+#: Bytes per window or trace sample: five variables and the sample's time.
+SAMPLE_BYTES = 6 * 8
+#: Bytes per lambda_max log: one float per tangent renormalisation.
+LOG_BYTES = 8
+
+
+class LimitError(ParameterError):
+    """A setting the model allows but the engine refuses: more steps or memory than a run
+    may take, or a window too short to classify. A stored spec that predates a limit is
+    still read back (slopetui.sweeps.spec); its runs then fail with this message."""
+
+
+def default_window(t_end: float) -> float:
+    """The window when none is given: the paper's 1000, or half of a shorter run (so that
+    ``t_end`` alone is never refused because of the default window)."""
+    return min(DEFAULT_WINDOW, t_end / 2.0)
 
 
 @dataclass(frozen=True, slots=True)
@@ -53,8 +98,9 @@ class SolverSettings:
     method : "euler" (paper-faithful) or "rk4" (4th order, Hermite delay).
     dt     : step in model time units; None takes DEFAULT_DT[method].
     t_end  : end of the run (default 1e5, the paper's horizon).
-    window : length of the analysis window at the end of the run (default 1000, the
-             paper's [99000, 100000]).
+    window : length of the analysis window at the end of the run; None takes
+             min(1000, t_end / 2) (default_window: 1000 is the paper's [99000, 100000]).
+             The settings keep the resolved value, so stored settings are explicit.
     lyap   : also compute lambda_max (tangent-linear co-integration).
     trace_points : size of the decimated whole-run trace kept for plots.
     """
@@ -62,21 +108,26 @@ class SolverSettings:
     method: str = "euler"
     dt: float | None = None
     t_end: float = 1e5
-    window: float = 1000.0
+    window: float | None = None
     lyap: bool = True
     trace_points: int = 2000
 
     def __post_init__(self) -> None:
-        if self.method not in METHODS:
+        if not isinstance(self.method, str) or self.method not in METHODS:
             raise ParameterError("method", self.method, "one of " + ", ".join(METHODS))
         if self.dt is not None:
             object.__setattr__(self, "dt", check_positive("dt", self.dt))
         object.__setattr__(self, "t_end", check_positive("t_end", self.t_end))
+        if self.window is None:
+            object.__setattr__(self, "window", default_window(self.t_end))
         object.__setattr__(self, "window", check_positive("window", self.window))
         if self.window > self.t_end:
             raise ParameterError("window", self.window, f"0 < window <= t_end = {self.t_end:g}")
-        if int(self.trace_points) < 2:
-            raise ParameterError("trace_points", self.trace_points, "an integer >= 2")
+        points = self.trace_points
+        if (isinstance(points, bool) or not isinstance(points, numbers.Real)
+                or not math.isfinite(points) or points != int(points) or points < 2):
+            raise ParameterError("trace_points", points, "an integer >= 2")
+        object.__setattr__(self, "trace_points", int(points))
 
     @property
     def step(self) -> float:
@@ -107,27 +158,164 @@ class Grid:
         return self.renorm_steps * self.dt
 
 
+@dataclass(frozen=True, slots=True)
+class Memory:
+    """The bytes one run lays out, by part (see MAX_RUN_BYTES)."""
+
+    ring: int    # delay history, with the tangent's
+    window: int  # analysis window samples
+    trace: int   # decimated trace samples
+    logs: int    # lambda_max logs
+
+    @property
+    def total(self) -> int:
+        return self.ring + self.window + self.trace + self.logs
+
+
+def memory_of(g: Grid, s: SolverSettings) -> Memory:
+    """The memory a run on grid ``g`` needs (single-run kernel; see MAX_RUN_BYTES)."""
+    return Memory(ring=RING_BYTES[s.method] * (g.n_delay + 1), window=SAMPLE_BYTES * g.n_win,
+                  trace=SAMPLE_BYTES * g.n_trace,
+                  logs=LOG_BYTES * (g.n_steps // g.renorm_steps) if s.lyap else 0)
+
+
 def make_grid(p: Params, s: SolverSettings) -> Grid:
-    """Validate the pair (p, s) and lay out the grid. Raises ParameterError."""
+    """Validate the pair (p, s) and lay out the grid. Raises ParameterError (LimitError
+    beyond MAX_STEPS or MAX_RUN_BYTES), before anything is allocated."""
     dt = s.step
     if p.tau > 0.0:
         if dt > p.tau:
             raise ParameterError("dt", dt, f"0 < dt <= tau = {p.tau:g}")
+        # in floats first: tau / dt may be far beyond any ring we could hold, or infinite
+        if RING_BYTES[s.method] * (p.tau / dt + 1.0) > MAX_RUN_BYTES:
+            raise _ring_error(p, s, MAX_RUN_BYTES)
         n_delay = math.ceil(p.tau / dt - 1e-9)
         dt = p.tau / n_delay
     else:
         n_delay = 0
-    n_steps = math.ceil(s.t_end / dt - 1e-9)
+    if not s.t_end / dt <= MAX_STEPS:  # also an infinite ratio, before ceil() sees it
+        raise _steps_error(p, s, dt)
+    n_steps = max(1, math.ceil(s.t_end / dt - 1e-9))  # t_end far below dt: one step
     n_window_steps = min(n_steps, math.ceil(s.window / dt - 1e-9))
     win_stride = max(1, round(WINDOW_SAMPLE_DT / dt), math.ceil(n_window_steps / MAX_WINDOW_SAMPLES))
     n_win = n_window_steps // win_stride + 1
     win_start = n_steps - (n_win - 1) * win_stride
-    trace_stride = max(1, n_steps // (int(s.trace_points) - 1))
+    trace_stride = max(1, n_steps // (s.trace_points - 1))
     n_trace = n_steps // trace_stride + 1
-    # renormalise the tangent every tau time units, clamped to [1, 10]: long enough that
-    # the O(N) projection is cheap per step, short enough that e^{lambda T_r} cannot overflow
-    renorm_steps = max(1, round(min(max(p.tau, 1.0), 10.0) / dt))
-    return Grid(dt, n_delay, n_steps, win_start, win_stride, n_win, trace_stride, n_trace, renorm_steps)
+    renorm_steps = _renorm_steps(p, dt)
+    g = Grid(dt, n_delay, n_steps, win_start, win_stride, n_win, trace_stride, n_trace,
+             renorm_steps)
+    _check_memory(p, s, g)
+    return g
+
+
+def _renorm_steps(p: Params, dt: float) -> int:
+    """Steps between tangent renormalisations at the effective step dt."""
+    # every tau time units, clamped to [1, 10]: long enough that the O(N) projection is
+    # cheap per step, short enough that e^{lambda T_r} cannot overflow
+    return max(1, round(min(max(p.tau, 1.0), 10.0) / dt))
+
+
+def validate_run(p: Params, s: SolverSettings) -> Grid:
+    """make_grid, and the window long enough to classify (MIN_WINDOW_SAMPLES): what a run
+    that will be classified (``slopetui run``, a sweep) must pass. ``simulate`` alone
+    accepts shorter windows: integrating needs no analysis."""
+    g = make_grid(p, s)
+    if g.n_win < MIN_WINDOW_SAMPLES:
+        raise _window_error(s, g)
+    return g
+
+
+# -- the limits' messages: each names one field and its allowed range at the others ---
+
+def _size(n: float) -> str:
+    """Bytes in binary units, e.g. 21.8 TiB."""
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"):
+        if n < 1024.0 or unit == "EiB":
+            return f"{n:.3g} {unit}"
+        n /= 1024.0
+    raise AssertionError("unreachable")
+
+
+def _finer_dt_given(s: SolverSettings) -> bool:
+    """Whether a limit on the steps or the ring is the fault of a dt chosen finer than the
+    method's default (then dt is named; otherwise t_end or tau)."""
+    return s.dt is not None and s.dt < DEFAULT_DT[s.method]
+
+
+def _dt_floor(p: Params, s: SolverSettings) -> float:
+    """The smallest dt within both MAX_STEPS and the ring's share of MAX_RUN_BYTES."""
+    floor = s.t_end / MAX_STEPS
+    if p.tau > 0.0:  # tau / dt + 1 slots of RING_BYTES
+        floor = max(floor, p.tau / (MAX_RUN_BYTES / RING_BYTES[s.method] - 1.0))
+    return floor
+
+
+def _ring_error(p: Params, s: SolverSettings, budget: float) -> LimitError:
+    slots = max(1, int(budget // RING_BYTES[s.method]) - 1)  # delay steps that fit
+    need = RING_BYTES[s.method] * (p.tau / s.step + 1.0)
+    cause = (f"the delay history holds tau / dt steps of {RING_BYTES[s.method]} bytes: "
+             f"{_size(need)} of at most {_size(MAX_RUN_BYTES)} per run")
+    if _finer_dt_given(s):
+        low = max(p.tau / slots, _dt_floor(p, s))
+        return LimitError("dt", s.step, f"dt >= {low:.3g} at tau = {p.tau:g}, "
+                                        f"t_end = {s.t_end:g} ({cause})")
+    return LimitError("tau", p.tau, f"0 <= tau <= {slots * s.step:.4g} at dt = {s.step:g} "
+                                    f"({cause})")
+
+
+def _steps_error(p: Params, s: SolverSettings, dt: float) -> LimitError:
+    cause = f"at most {MAX_STEPS:.0e} steps per run".replace("e+", "e")
+    if _finer_dt_given(s):
+        return LimitError("dt", s.step, f"dt >= {_dt_floor(p, s):.3g} at tau = {p.tau:g}, "
+                                        f"t_end = {s.t_end:g} ({cause})")
+    high = MAX_STEPS * dt
+    if s.lyap:  # the lambda_max logs may bind first (_check_memory)
+        high = min(high, MAX_RUN_BYTES // LOG_BYTES * _renorm_steps(p, dt) * dt)
+    return LimitError("t_end", s.t_end, f"0 < t_end <= {high:.4g} at dt = {dt:g} ({cause})")
+
+
+def _check_memory(p: Params, s: SolverSettings, g: Grid) -> None:
+    """Raise a LimitError naming the field of the largest part if the run needs more than
+    MAX_RUN_BYTES; the range given leaves the other parts as they are."""
+    m = memory_of(g, s)
+    if m.total <= MAX_RUN_BYTES:
+        return
+    largest = max(("ring", m.ring), ("logs", m.logs), ("trace", m.trace), ("window", m.window),
+                  key=lambda part: part[1])[0]
+    budget = MAX_RUN_BYTES - (m.total - getattr(m, largest))
+    cause = f"{_size(m.total)} of at most {_size(MAX_RUN_BYTES)} per run"
+    if largest == "ring":
+        raise _ring_error(p, s, budget)
+    if largest == "logs":
+        t_max = min(budget // LOG_BYTES * g.renorm_interval, MAX_STEPS * g.dt)
+        raise LimitError("t_end", s.t_end,
+                         f"0 < t_end <= {t_max:.4g} with lambda_max at dt = {g.dt:g}, "
+                         f"tau = {p.tau:g} "
+                         f"(one {LOG_BYTES}-byte log per renormalisation, every "
+                         f"{g.renorm_interval:g} time units: {cause}), or no lambda_max")
+    if largest == "trace":
+        raise LimitError("trace_points", s.trace_points,
+                         f"2 <= trace_points <= {budget // SAMPLE_BYTES - 1:.0f} ({cause})")
+    raise LimitError("window", s.window, f"a shorter window ({cause})")  # at most ~50 MB
+
+
+def _window_error(s: SolverSettings, g: Grid) -> LimitError:
+    spacing = g.win_stride * g.dt
+    needed = (MIN_WINDOW_SAMPLES - 1) * spacing
+    cause = (f"the analysis window needs {MIN_WINDOW_SAMPLES} samples, 3 for each of the "
+             f"classifier's {N_SUBWINDOWS} sub-windows, one every {spacing:.3g} time units")
+    if needed <= s.t_end:
+        return LimitError("window", s.window, f"{needed:.3g} <= window <= t_end = {s.t_end:g} "
+                                              f"({cause}; by default the window is "
+                                              f"min({DEFAULT_WINDOW:g}, t_end / 2))")
+    # a step coarser than the sample spacing leaves fewer samples: a finer dt is the fix
+    # if the run is long enough for a window sampled every WINDOW_SAMPLE_DT
+    if (s.dt is not None and g.win_stride == 1
+            and s.t_end >= (MIN_WINDOW_SAMPLES - 1) * WINDOW_SAMPLE_DT):
+        return LimitError("dt", s.dt, f"dt <= {s.t_end / (MIN_WINDOW_SAMPLES - 1):.3g} at "
+                                      f"t_end = {s.t_end:g} ({cause})")
+    return LimitError("t_end", s.t_end, f"t_end >= {needed:.3g} at dt = {g.dt:g} ({cause})")
 
 
 @dataclass(slots=True)
@@ -155,18 +343,21 @@ class Trajectory:
         return self.steps_done * self.grid.dt if self.blew_up else None
 
 
-KERNELS = {"euler": euler, "rk4": rk4}
-
-
 def simulate(p: Params, s: SolverSettings | None = None) -> Trajectory:
     """Integrate eqs. 6a-6e from the initial conditions of eq. 19."""
+    # imported here: they load numba (~0.3 s), which validating a spec or a run's
+    # settings (make_grid, for `slopetui submit`) never needs
+    from core.euler import euler
+    from core.model import coefficients
+    from core.rk4 import rk4
+
     s = s or SolverSettings()
     g = make_grid(p, s)
     win = np.full((5, g.n_win), np.nan)
     trace = np.full((5, g.n_trace), np.nan)
     logs = np.zeros(g.n_steps // g.renorm_steps if s.lyap else 0)
     t0 = time.perf_counter()
-    done = KERNELS[s.method](
+    done = {"euler": euler, "rk4": rk4}[s.method](
         coefficients(p), g.dt, g.n_delay, g.n_steps,
         win, g.win_start, g.win_stride, trace, g.trace_stride,
         s.lyap, g.renorm_steps, logs,

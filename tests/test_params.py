@@ -8,7 +8,16 @@ import pytest
 
 from core import ParameterError, Params, SolverSettings, friction_warnings
 from core.params import fixed_points, friction, friction_extrema
-from core.solve import make_grid
+from core.solve import (
+    MAX_RUN_BYTES,
+    MAX_STEPS,
+    RING_BYTES,
+    SAMPLE_BYTES,
+    LimitError,
+    make_grid,
+    memory_of,
+    validate_run,
+)
 
 
 def test_defaults_are_eq_8():
@@ -125,3 +134,82 @@ def test_runs_that_leave_the_fixed_point_rest_on_the_steady_sliding_branch():
     assert low == pytest.approx(0.885458, rel=1e-5) and high == pytest.approx(5.155011, rel=1e-6)
     r = run_point(p, SolverSettings(method="rk4", t_end=2000.0, window=200.0, lyap=False))
     assert r.summary.regime == "sliding" and r.summary.drift == pytest.approx(high, rel=1e-5)
+
+
+# -- the window's default and the engine's limits (core.solve) ----------------------------
+
+def test_the_default_window_is_the_papers_or_half_a_shorter_run():
+    assert SolverSettings().window == 1000.0
+    assert SolverSettings(t_end=100).window == 50.0           # not refused: t_end alone is fine
+    assert SolverSettings(t_end=2000).window == 1000.0
+    with pytest.raises(ParameterError) as exc:                 # an explicit one still is
+        SolverSettings(t_end=100, window=1000)
+    assert exc.value.field == "window" and "t_end = 100" in str(exc.value)
+
+
+@pytest.mark.parametrize(
+    "kwargs,field",
+    [(dict(trace_points=1), "trace_points"), (dict(trace_points=2.5), "trace_points"),
+     (dict(trace_points=True), "trace_points"), (dict(trace_points=math.inf), "trace_points"),
+     (dict(method=1), "method"), (dict(method=["euler"]), "method"),
+     (dict(dt=True), "dt"), (dict(t_end=10**400), "t_end"), (dict(window=math.inf), "window")],
+)
+def test_more_bad_settings_name_their_field(kwargs, field):
+    with pytest.raises(ParameterError) as exc:
+        SolverSettings(**kwargs)
+    assert exc.value.field == field
+
+
+@pytest.mark.parametrize("value", [True, False, 10**400, "1e999", None, [1.0]])
+def test_booleans_and_huge_integers_are_not_parameters(value):
+    with pytest.raises(ParameterError) as exc:
+        Params(k=value)
+    assert exc.value.field == "k" and len(str(exc.value)) < 200
+
+
+@pytest.mark.parametrize(
+    "params,settings,field,allowed",
+    [  # before: numba's "Int value is too large", a MemoryError, or 2**63 steps
+        (dict(), dict(dt=1e-300), "dt", "dt >= 1e-05"),
+        (dict(), dict(t_end=1e300), "t_end", "t_end <= 1e+07"),
+        (dict(tau=1e9), dict(), "tau", "tau <= 1.342e+05"),
+        (dict(), dict(dt=1e-12), "dt", "dt >= 1e-05"),
+        (dict(tau=1e-300), dict(dt=1e-300), "dt", "dt >= 1e-05"),
+        (dict(tau=0.0), dict(dt=1e-300, t_end=10, window=5), "dt", "dt >= 1e-09"),
+        (dict(tau=1e6), dict(method="rk4"), "tau", "tau <= 6.711e+05"),  # rk4: 32 B a step
+        (dict(tau=0.0), dict(dt=1.0, t_end=1e9), "t_end", "t_end <= 2.684e+08"),  # the logs
+        (dict(), dict(trace_points=10**9), "trace_points", "trace_points <= "),
+    ],
+)
+def test_runs_beyond_the_limits_are_refused_before_allocating(params, settings, field, allowed):
+    with pytest.raises(LimitError) as exc:
+        make_grid(Params(**params), SolverSettings(**settings))
+    assert exc.value.field == field and allowed in str(exc.value)
+    assert "per run" in str(exc.value)  # the cause
+
+
+def test_what_a_run_needs_is_counted_part_by_part():
+    s = SolverSettings()
+    g = make_grid(Params(), s)                     # the paper's run: tau = 10 at dt = 1e-3
+    m = memory_of(g, s)
+    assert m.ring == RING_BYTES["euler"] * 10_001 and m.window == SAMPLE_BYTES * 100_001
+    assert m.logs == 8 * g.n_steps // g.renorm_steps and m.total < 5 * 2**20
+    assert memory_of(g, SolverSettings(lyap=False)).logs == 0
+    assert g.n_steps <= MAX_STEPS and m.total <= MAX_RUN_BYTES
+    big = make_grid(Params(tau=1e5), s)            # the largest tau the limit lets through
+    assert memory_of(big, s).total <= MAX_RUN_BYTES
+
+
+@pytest.mark.parametrize(
+    "settings,field",
+    [(dict(t_end=10, window=1e-300), "window"),       # before: "sliding (at rest)" from 1 sample
+     (dict(t_end=1e-300, window=1e-300), "t_end"),    # before: a run of 0 steps, "sliding"
+     (dict(dt=9, t_end=10, window=5), "dt"),          # before: a traceback in core.classify
+     (dict(t_end=1), "window")],
+)
+def test_a_run_to_classify_needs_a_window_of_enough_samples(settings, field):
+    p = Params(tau=10.0)
+    with pytest.raises(LimitError) as exc:
+        validate_run(p, SolverSettings(**settings))
+    assert exc.value.field == field and "60 samples" in str(exc.value)
+    make_grid(p, SolverSettings(t_end=10, window=1e-300))   # integrating alone still may

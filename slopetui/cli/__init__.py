@@ -14,6 +14,7 @@ from slopetui import __version__
 from slopetui.cli import (
     control,
     db,
+    example,
     nblock,
     reproduce,
     run,
@@ -45,7 +46,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-workers", action="store_true",
                         help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for module in (run, submit, status, show, runs, control, sql, worker, db, nblock, reproduce):
+    for module in (run, submit, example, status, show, runs, control, sql, worker, db, nblock,
+                   reproduce):
         module.register(sub)
     return parser
 

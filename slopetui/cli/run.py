@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 import sys
 
 from core import (
@@ -17,7 +18,7 @@ from core import (
     run_point,
 )
 from core.point import PointResult
-from core.solve import make_grid
+from core.solve import validate_run
 
 #: The keys of ``--json``, in order (the issue's contract), plus a few extras after them.
 JSON_KEYS = ("regime", "lambda_max", "lambda_err", "amplitude", "period", "peaks", "drift",
@@ -35,10 +36,25 @@ PARAM_HELP = {
 }
 
 
+#: A negative number as scientific notation ("-1e-3", "-2.5E4") or -inf/-nan. argparse
+#: (Python 3.11, 3.12) only knows "-3" and "-0.5": it took "--a -1e-3" for an option
+#: and stopped with "expected one argument", though the model has negative a, v, delta.
+NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$",
+                             re.IGNORECASE)
+
+
+def accept_negative_numbers(parser: argparse.ArgumentParser) -> None:
+    """Let option values be negative numbers in any notation (see NEGATIVE_NUMBER). The
+    matcher is argparse's private attribute, unchanged since Python 3.2; the parser has
+    no option that looks like a negative number, so nothing else is affected."""
+    parser._negative_number_matcher = NEGATIVE_NUMBER  # type: ignore[attr-defined]
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="run one parameter point and print its regime",
                        description="Integrate eqs. 6a-6e at one point, classify the analysis "
                                    "window and estimate lambda_max.")
+    accept_negative_numbers(p)
     for name in PARAM_NAMES:
         p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="X", help=PARAM_HELP[name])
     p.add_argument("--method", choices=METHODS, default="euler",
@@ -46,8 +62,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--dt", metavar="X", help="time step (default 1e-3 for euler, 1e-2 for rk4)")
     p.add_argument("--t-end", dest="t_end", metavar="X", default="1e5",
                    help="end time of the run (default 1e5)")
-    p.add_argument("--window", metavar="X", default="1000",
-                   help="analysis window at the end of the run (default 1000)")
+    p.add_argument("--window", metavar="X",
+                   help="analysis window at the end of the run (default min(1000, t_end / 2): "
+                        "the paper's 1000, or half of a shorter run)")
     p.add_argument("--no-lyap", dest="lyap", action="store_false", help="skip lambda_max")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=handle)
@@ -59,7 +76,7 @@ def parse_inputs(args: argparse.Namespace) -> tuple[Params, SolverSettings]:
     params = Params(**given)  # type: ignore[arg-type]  # strings are checked and coerced
     settings = SolverSettings(method=args.method, dt=args.dt, t_end=args.t_end,
                               window=args.window, lyap=args.lyap)
-    make_grid(params, settings)  # validates the pair: dt against tau
+    validate_run(params, settings)  # the pair: dt against tau, the engine's limits, the window
     return params, settings
 
 
@@ -75,7 +92,7 @@ def json_safe(value: object) -> object:
 def render_text(r: PointResult) -> str:
     s, rec = r.summary, r.as_record()
     p = r.params
-    lam = r.lyap.format() if r.lyap else "not computed"
+    lam = lambda_text(r)
     peaks = ", ".join(f"{v:.6g}" for v in s.peaks) or "none"
     lines = [
         f"point      a={p.a:g} b={p.b:g} c={p.c:g} d={p.d:g} k={p.k:g} v={p.v:g} "
@@ -95,6 +112,19 @@ def render_text(r: PointResult) -> str:
         lines.append(f"blow-up    at t = {r.t_blowup:.6g}")
     lines.append(f"runtime    {r.runtime_s:.3f} s")
     return "\n".join(lines)
+
+
+def lambda_text(r: PointResult) -> str:
+    """lambda_max in the paper's notation, or why there is none or no error bar."""
+    if r.lyap is None:
+        return "not computed" if not r.settings.lyap else "none (the run blew up)"
+    if not math.isfinite(r.lyap.value):
+        interval = r.trajectory.grid.renorm_interval
+        return (f"not estimated (the run is too short: one log-growth every {interval:g} "
+                "time units, and the first half of the run is discarded)")
+    if not math.isfinite(r.lyap.error):
+        return f"{r.lyap.format()}  (no error: {r.lyap.n_blocks} block of the run's second half)"
+    return r.lyap.format()
 
 
 def handle(args: argparse.Namespace) -> int:

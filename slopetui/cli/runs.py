@@ -3,13 +3,17 @@
 from __future__ import annotations
 
 import argparse
+import io
 import sys
+from collections.abc import Iterable
 from pathlib import Path
 
 from sqlalchemy import select
 
 from core import REGIMES
-from slopetui.cli.options import UsageError, add_db_option, open_db, sweep_id
+from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.cli.status import int_arg, sweep_arg
+from slopetui.display_text import terminal_safe, terminal_safe_lines
 from slopetui.store.models import RUN_STATUSES, Run, Sweep
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.export import write_csv
@@ -18,10 +22,10 @@ from slopetui.sweeps.export import write_csv
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("runs", help="list runs, filtered",
                        description="List runs, newest first. For anything richer: slopetui sql.")
-    p.add_argument("--sweep", type=sweep_id, metavar="SWEEP", help="only this sweep")
+    p.add_argument("--sweep", metavar="SWEEP", help="only this sweep (its id)")
     p.add_argument("--regime", choices=REGIMES, help="only this regime")
     p.add_argument("--status", choices=RUN_STATUSES, help="only this status")
-    p.add_argument("--limit", type=int, default=50, metavar="N",
+    p.add_argument("--limit", default="50", metavar="N",
                    help="at most N runs (default 50; 0 for all)")
     p.add_argument("--csv", action="store_true", help="CSV with every column")
     add_db_option(p)
@@ -29,8 +33,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     e = sub.add_parser("export", help="write a sweep's runs as CSV",
                        description="Every column of every run of the sweep, in grid order. "
-                                   "NaN and infinity are written as nan, inf, -inf.")
-    e.add_argument("sweep", type=sweep_id, metavar="SWEEP", help="sweep id")
+                                   "NaN and infinity are written as nan, inf, -inf. Text is "
+                                   "written as stored, except on a terminal, where control "
+                                   "characters are shown escaped (\\x1b).")
+    e.add_argument("sweep", metavar="SWEEP", help="sweep id")
     e.add_argument("--csv", action="store_true", required=True, help="CSV (the only format)")
     e.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
     add_db_option(e)
@@ -41,21 +47,34 @@ def _num(x: float | None, fmt: str = ".4g") -> str:
     return "-" if x is None else format(x, fmt)
 
 
+def csv_to_stdout(runs: Iterable[Run]) -> int:
+    """The runs as CSV on stdout; returns how many. Into a pipe or a file the text is as
+    stored (it is data: a reader must get what the store holds); on a terminal, where a
+    stored escape sequence would drive the reader's terminal, it goes through
+    terminal_safe, newlines kept."""
+    if not sys.stdout.isatty():
+        return write_csv(runs, sys.stdout)
+    buf = io.StringIO()
+    n = write_csv(runs, buf)
+    sys.stdout.write(terminal_safe_lines(buf.getvalue()))
+    return n
+
+
 def handle_runs(args: argparse.Namespace) -> int:
-    if args.limit < 0:
-        raise UsageError(f"--limit must be >= 0, got {args.limit}")
+    limit = int_arg("--limit", args.limit, 0, note=" (0 for all)")
+    sweep = None if args.sweep is None else sweep_arg(args.sweep, "--sweep")
     db = open_db(args)
     q = select(Run).order_by(Run.id.desc())
-    for column, value in (("sweep_id", args.sweep), ("regime", args.regime),
+    for column, value in (("sweep_id", sweep), ("regime", args.regime),
                           ("status", args.status)):
         if value is not None:
             q = q.where(getattr(Run, column) == value)
-    if args.limit:
-        q = q.limit(args.limit)
+    if limit:
+        q = q.limit(limit)
     with db.sessions() as s:
         runs = list(s.scalars(q))
     if args.csv:
-        write_csv(runs, sys.stdout)
+        csv_to_stdout(runs)
         return 0
     if not runs:
         print("no runs match")
@@ -64,8 +83,9 @@ def handle_runs(args: argparse.Namespace) -> int:
           f"{'b':>6} {'c':>6} {'delta':>7} {'lambda_max':>10} {'amplitude':>9} {'period':>8}")
     for r in runs:
         done = r.status == "done" and not r.inferred  # an inferred run has no measurements
-        status = "inferred" if r.inferred else r.status
-        print(f"{r.id:>6} {r.sweep_id:>5} {status:9} {r.regime or '-':12} {r.k:>7.4g} "
+        status = "inferred" if r.inferred else terminal_safe(r.status)  # stored text
+        regime = terminal_safe(r.regime or "-")
+        print(f"{r.id:>6} {r.sweep_id:>5} {status:9} {regime:12} {r.k:>7.4g} "
               f"{r.tau:>7.4g} {r.a:>6.4g} {r.b:>6.4g} {r.c:>6.4g} {r.delta:>7.2g} "
               f"{_num(r.lambda_max if done else None, '.3g'):>10} "
               f"{_num(r.amplitude if done else None):>9} {_num(r.period if done else None):>8}")
@@ -73,16 +93,30 @@ def handle_runs(args: argparse.Namespace) -> int:
 
 
 def handle_export(args: argparse.Namespace) -> int:
+    sweep = sweep_arg(args.sweep)
     db = open_db(args)
     with db.sessions() as s:
-        if s.get(Sweep, args.sweep) is None:
-            raise UnknownSweep(args.sweep)
-        runs = s.scalars(select(Run).where(Run.sweep_id == args.sweep)
-                         .order_by(Run.iy, Run.ix))
+        if s.get(Sweep, sweep) is None:
+            raise UnknownSweep(sweep)
+        runs = s.scalars(select(Run).where(Run.sweep_id == sweep).order_by(Run.iy, Run.ix))
         if args.output:
-            with Path(args.output).open("w", encoding="utf-8", newline="") as out:
-                n = write_csv(runs, out)
-            print(f"{n} runs of sweep {args.sweep} written to {args.output}", file=sys.stderr)
+            n = _write_file(args.output, runs)
+            print(f"{n} runs of sweep {sweep} written to {terminal_safe(args.output)}",
+                  file=sys.stderr)
         else:
-            write_csv(runs, sys.stdout)
+            csv_to_stdout(runs)
     return 0
+
+
+def _write_file(path: str, runs: Iterable[Run]) -> int:
+    """Write the CSV to ``path``; a UsageError naming it and the cause if it cannot be
+    written (a missing folder, no permission, a directory, a full disk)."""
+    try:
+        with Path(path).open("w", encoding="utf-8", newline="") as out:
+            return write_csv(runs, out)
+    except BrokenPipeError:  # -o /dev/stdout into `head`: main() handles it
+        raise
+    except OSError as exc:
+        raise UsageError(f"--output: cannot write {terminal_safe(path)}: "
+                         f"{exc.strerror or exc} (allowed: a file in an existing folder "
+                         "you can write to)") from None

@@ -18,21 +18,33 @@ import sys
 
 from sqlalchemy import func, select
 
-from slopetui.cli.options import UsageError, add_db_option, open_db, sweep_id
+from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.cli.status import int_arg, sweep_arg
+from slopetui.display_text import terminal_safe
 from slopetui.plots import render_bifurcation, render_phase_diagram
 from slopetui.store.database import Database
 from slopetui.store.models import Sweep
 from slopetui.sweeps.diagram import SweepDiagram, load_diagram, plane_hopf
 
 
+#: The smallest diagram that still has room for its axes, ticks and legend.
+MIN_WIDTH, MIN_HEIGHT = 30, 12
+#: The largest: plotext lays out every cell (a million here, 1.5 s more than 100 x 30), and no
+#: terminal is wider or taller.
+MAX_SIZE = 1000
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("show", help="draw a sweep's phase or bifurcation diagram",
                        description="Draw the sweep's phase diagram (2-D) or bifurcation "
                                    "diagram (1-D) in the terminal.")
-    p.add_argument("sweep", type=sweep_id, metavar="SWEEP", nargs="?",
+    p.add_argument("sweep", metavar="SWEEP", nargs="?",
                    help="sweep id (default: the newest sweep)")
-    p.add_argument("--width", type=int, help="columns (default: the terminal's)")
-    p.add_argument("--height", type=int, help="lines (default: the terminal's, at most 40)")
+    p.add_argument("--width", metavar="N",
+                   help=f"columns, {MIN_WIDTH} to {MAX_SIZE} (default: the terminal's)")
+    p.add_argument("--height", metavar="N",
+                   help=f"lines, {MIN_HEIGHT} to {MAX_SIZE} (default: the terminal's, at most "
+                        "40)")
     p.add_argument("--color", choices=("auto", "always", "never"), default="auto",
                    help="auto: colour on a terminal unless NO_COLOR is set")
     p.add_argument("--no-hopf", dest="hopf", action="store_false",
@@ -49,17 +61,22 @@ def use_color(choice: str) -> bool:
 
 def handle(args: argparse.Namespace) -> int:
     size = shutil.get_terminal_size((100, 30))
-    width = args.width or size.columns
-    height = args.height or min(size.lines - 1, 40)
-    if width < 30 or height < 12:
-        raise UsageError(f"the diagram needs --width >= 30 and --height >= 12, "
-                         f"got {width} x {height}")
+    width = (int_arg("--width", args.width, MIN_WIDTH, MAX_SIZE) if args.width is not None
+             else min(size.columns, MAX_SIZE))
+    height = (int_arg("--height", args.height, MIN_HEIGHT, MAX_SIZE) if args.height is not None
+              else min(size.lines - 1, 40))
+    if width < MIN_WIDTH or height < MIN_HEIGHT:  # a small terminal, no --width/--height
+        raise UsageError(f"the diagram needs --width >= {MIN_WIDTH} and --height >= "
+                         f"{MIN_HEIGHT}; this terminal gives {width} x {height}")
+    sweep = sweep_arg(args.sweep) if args.sweep is not None else None
     db = open_db(args)
-    if args.sweep is None:
-        args.sweep = newest_sweep(db)
-    diagram = load_diagram(db, args.sweep)
+    if sweep is None:
+        sweep = newest_sweep(db)
+    diagram = load_diagram(db, sweep)
     spec, runs = diagram.spec, diagram.runs
-    title = f"sweep {diagram.id}: {diagram.name} ({diagram.n_done}/{diagram.n_points} done)"
+    # the name is stored text: escaped, so that it cannot drive the reader's terminal
+    title = (f"sweep {diagram.id}: {terminal_safe(diagram.name)} "
+             f"({diagram.n_done}/{diagram.n_points} done)")
     color = use_color(args.color)
     x = spec.x
     xs = [r.x for r in runs]

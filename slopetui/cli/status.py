@@ -11,7 +11,9 @@ from __future__ import annotations
 import argparse
 import json
 
-from slopetui.cli.options import add_db_option, open_db
+from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.display_text import terminal_safe
+from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.progress import (
     SweepProgress,
     format_eta,
@@ -19,12 +21,34 @@ from slopetui.sweeps.progress import (
     sweep_progress,
 )
 
+#: The largest id or count a SQL INTEGER holds (SQLite and PostgreSQL BIGINT): a larger
+#: number cannot match anything, and the drivers refuse it with an OverflowError.
+MAX_SQL_INT = 2**63 - 1
+
+
+def int_arg(flag: str, text: str, low: int, high: int = MAX_SQL_INT, note: str = "") -> int:
+    """An integer argument, or a one-line UsageError naming it and its range. The options
+    are read as text for this: argparse's own type errors print the usage too."""
+    allowed = f"an integer from {low} to {high}{note}"
+    try:
+        value = int(text)
+    except ValueError:
+        raise UsageError(f"{flag} = {text!r} is out of range: allowed {allowed}") from None
+    if not low <= value <= high:
+        raise UsageError(f"{flag} = {value} is out of range: allowed {allowed}")
+    return value
+
+
+def sweep_arg(text: str, flag: str = "SWEEP") -> int:
+    """A sweep id argument (see int_arg)."""
+    return int_arg(flag, text, 1, note=" (a sweep id)")
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("status", help="progress of the sweeps and the live workers",
                        description="Progress per sweep (done/total, runs per minute over the "
                                    "last 10 minutes, ETA, failures) and the live workers.")
-    p.add_argument("sweeps", nargs="*", type=int, metavar="SWEEP", help="only these sweeps")
+    p.add_argument("sweeps", nargs="*", metavar="SWEEP", help="only these sweeps (ids)")
     p.add_argument("--all", action="store_true", help="also finished and cancelled sweeps")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     add_db_option(p)
@@ -32,12 +56,16 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def handle(args: argparse.Namespace) -> int:
+    ids = [sweep_arg(text) for text in args.sweeps]  # before the database opens
     db = open_db(args)
-    sweeps = sweep_progress(db, args.sweeps or None)
-    if not (args.all or args.sweeps):
+    sweeps = sweep_progress(db, ids or None)
+    missing = sorted(set(ids) - {p.id for p in sweeps})
+    if missing:  # not "no sweeps yet": the store has sweeps, just not these
+        raise UnknownSweep(missing[0])
+    if not (args.all or ids):
         sweeps = [p for p in sweeps if p.status in ("active", "paused")] or sweeps[:5]
     workers = live_workers(db)
-    if args.json:
+    if args.json:  # json.dumps escapes control and non-ASCII characters: safe as it is
         print(json.dumps({
             "sweeps": [{"id": p.id, "name": p.name, "axes": p.axes, "status": p.status,
                         "total": p.total, "counts": p.counts, "cached": p.cached,
@@ -53,17 +81,19 @@ def handle(args: argparse.Namespace) -> int:
     else:
         print(f"{'id':>4}  {'status':9} {'axes':9} {'done/total':>13} {'%':>4} {'run':>3} "
               f"{'fail':>4} {'runs/min':>8} {'eta':>7}  name")
-        for p in sweeps:
+        for p in sweeps:  # stored text (names, statuses, worker ids) through terminal_safe
             pct = 100 * (p.done + p.failed) // max(p.total, 1)
-            print(f"{p.id:>4}  {p.status:9} {p.axes:9} {p.done:>6}/{p.total:<6} {pct:>4} "
+            print(f"{p.id:>4}  {terminal_safe(p.status):9} {terminal_safe(p.axes):9} "
+                  f"{p.done:>6}/{p.total:<6} {pct:>4} "
                   f"{p.counts.get('running', 0):>3} {p.failed:>4} {p.runs_per_min:>8.1f} "
-                  f"{format_eta(p.eta_s if workers else None):>7}  {adaptive_stage(p)}{p.name}")
+                  f"{format_eta(p.eta_s if workers else None):>7}  {adaptive_stage(p)}"
+                  f"{terminal_safe(p.name)}")
     print()
     if not workers:
         print("no live workers: start a pool with `slopetui worker --detach`")
     for w in workers:
         doing = f"run {w.run_id}" if w.run_id else "idle"
-        print(f"worker {w.id:28} {doing:12} {w.jobs_done:>6} done  "
+        print(f"worker {terminal_safe(w.id):28} {doing:12} {w.jobs_done:>6} done  "
               f"heartbeat {w.heartbeat_age_s:.0f} s ago")
     return 0
 

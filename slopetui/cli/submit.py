@@ -5,18 +5,21 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import tomllib
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from core import METHODS, PARAM_NAMES
+from slopetui import examples
 from slopetui.cli.options import add_db_option, open_db
-from slopetui.cli.run import PARAM_HELP
+from slopetui.cli.run import PARAM_HELP, accept_negative_numbers
 from slopetui.sweeps.spec import (
     CONFIRM_ABOVE_RUNS,
     SpecError,
     parse_axis_flag,
     parse_spec,
+    read_toml,
+    toml_tables,
 )
 from slopetui.sweeps.submit import submit
 
@@ -26,18 +29,24 @@ def register(sub: argparse._SubParsersAction) -> None:
         "submit", help="queue a 1-D or 2-D sweep",
         description="Queue a sweep: a TOML spec file (see README), flags, or a file with "
                     "flags that override it. Axes take PARAM=START:STOP:NUM[:log].",
-        epilog="example: slopetui submit --x k=3:24:43 --tau 10 --delta 0.1 --t-end 1e4")
-    p.add_argument("spec", nargs="?", metavar="SPEC.toml", help="a TOML sweep spec")
+        epilog="examples: slopetui submit fig4a; "
+               "slopetui submit --x k=3:24:43 --tau 10 --delta 0.1 --t-end 1e4")
+    accept_negative_numbers(p)
+    p.add_argument("spec", nargs="?", metavar="SPEC.toml",
+                   help="a TOML sweep spec file; or, when no such file exists, the name of a "
+                        "shipped example (`slopetui example` lists them, e.g. fig4a)")
     p.add_argument("--x", metavar="AXIS", help="x axis, e.g. k=3:24:43 or tau=0.1:60:40:log")
     p.add_argument("--y", metavar="AXIS", help="y axis (makes a phase diagram)")
     for name in PARAM_NAMES:
         p.add_argument(f"--{name}", dest=f"fixed_{name}", metavar="X",
                        help=f"fixed {PARAM_HELP[name]}")
-    p.add_argument("--name", help="a name for the sweep")
+    p.add_argument("--name", help="a name for the sweep (at most 200 characters; control "
+                                  "characters such as ESC or bidi overrides are refused)")
     p.add_argument("--method", choices=METHODS, help="euler (default) or rk4")
     p.add_argument("--dt", metavar="X", help="time step (default 1e-3 euler, 1e-2 rk4)")
     p.add_argument("--t-end", dest="t_end", metavar="X", help="end time (default 1e5)")
-    p.add_argument("--window", metavar="X", help="analysis window (default 1000)")
+    p.add_argument("--window", metavar="X",
+                   help="analysis window (default min(1000, t_end / 2))")
     p.add_argument("--no-lyap", dest="lyap", action="store_false", default=None,
                    help="skip lambda_max (about 1.5x faster with Euler)")
     p.add_argument("--adaptive", metavar="LEVELS",
@@ -54,18 +63,32 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(handler=handle)
 
 
-def _read_file(path: str) -> dict[str, Any]:
-    try:
-        return tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise SpecError(path, f"cannot read the spec file: {exc.strerror}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise SpecError(path, f"not valid TOML: {exc}") from None
+def read_spec(spec: str) -> dict[str, Any]:
+    """The tables of SPEC: the file at that path, else the shipped example of that name (a
+    file always wins, so a local fig4a.toml is never shadowed)."""
+    if not Path(spec).exists():
+        try:
+            return toml_tables(examples.text(spec), f"example {spec}")
+        except KeyError:
+            raise SpecError(spec, "no such file, and no shipped example of that name "
+                                  f"(examples: {', '.join(examples.names())})") from None
+    return read_toml(spec)
+
+
+def _merge(data: dict[str, Any], key: str, flags: Mapping[str, Any]) -> None:
+    """Put the flags' values over the file's table ``key``. A file whose ``key`` is not a
+    table (``solver = [1]``) is left as it is, for parse_spec to name."""
+    table = data.get(key)
+    if table is not None and not isinstance(table, Mapping):
+        return
+    merged = {**(table or {}), **flags}
+    if merged:
+        data[key] = merged
 
 
 def spec_data(args: argparse.Namespace) -> dict[str, Any]:
     """The spec as a mapping: the file's tables, then the flags on top."""
-    data = _read_file(args.spec) if args.spec else {}
+    data = read_spec(args.spec) if args.spec else {}
     if args.x:
         data["x"] = parse_axis_flag("--x", args.x)
     if args.y:
@@ -74,23 +97,19 @@ def spec_data(args: argparse.Namespace) -> dict[str, Any]:
         data["name"] = args.name
     if args.adaptive is not None:
         data["adaptive"] = {"levels": args.adaptive}
-    fixed = dict(data.get("fixed") or {})
-    fixed.update({n: getattr(args, f"fixed_{n}") for n in PARAM_NAMES
-                  if getattr(args, f"fixed_{n}") is not None})
-    if fixed:
-        data["fixed"] = fixed
-    solver = dict(data.get("solver") or {})
-    solver.update({k: getattr(args, k) for k in ("method", "dt", "t_end", "window", "lyap")
-                   if getattr(args, k) is not None})
-    if solver:
-        data["solver"] = solver
+    _merge(data, "fixed", {n: getattr(args, f"fixed_{n}") for n in PARAM_NAMES
+                           if getattr(args, f"fixed_{n}") is not None})
+    _merge(data, "solver", {k: getattr(args, k) for k in ("method", "dt", "t_end", "window", "lyap")
+                            if getattr(args, k) is not None})
     if "x" not in data:
         raise SpecError("x", "missing: give a SPEC.toml file or --x PARAM=START:STOP:NUM")
     return data
 
 
 def handle(args: argparse.Namespace) -> int:
-    spec = parse_spec(spec_data(args))  # every check happens before the database opens
+    # every check happens before the database opens, the admission checks of a new sweep
+    # (the engine's limits, the name's characters) included
+    spec = parse_spec(spec_data(args), submitting=True)
     if spec.first_runs > CONFIRM_ABOVE_RUNS and not args.yes:
         what = (f"{spec.first_runs} coarse runs (of a {spec.n_runs}-point lattice)"
                 if spec.adaptive_levels is not None else f"{spec.n_runs} runs")

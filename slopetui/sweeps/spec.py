@@ -18,7 +18,7 @@ The TOML form (``slopetui submit spec.toml``)::
     method = "euler"
     dt = 1e-3
     t_end = 1e5
-    window = 1000
+    window = 1000            # default min(1000, t_end / 2); stored explicitly
     lyap = true
     [adaptive]               # optional, 2-D only: refine the phase diagram adaptively
     levels = 3               # coarse spacing 2**levels lattice steps (1..8)
@@ -28,7 +28,12 @@ only a coarse lattice is computed first, then only where regimes change (see
 ``slopetui.sweeps.adaptive``); the rest of the lattice is filled by inference.
 
 Every error names the field (``x.num``, ``fixed.tau``...) and what is allowed, and is
-raised before anything is written.
+raised before anything is written. A new sweep (``parse_spec(..., submitting=True)``) must
+also pass the admission checks: the engine's limits on steps and memory per run and on
+the window (core.solve.validate_run, at the smallest and the largest tau of the sweep),
+and a name without control characters (slopetui.display_text). Specs read back from the
+store skip them: they were admitted when they were stored, and a sweep that no longer
+loads would stop ``show``, the application and the adaptive refinement.
 """
 
 from __future__ import annotations
@@ -43,7 +48,8 @@ from typing import Any
 import numpy as np
 
 from core import PARAM_NAMES, ParameterError, Params, SolverSettings
-from core.solve import DEFAULT_DT, make_grid
+from core.solve import DEFAULT_DT, LimitError, validate_run
+from slopetui.display_text import unsafe_characters
 
 SPACINGS = ("linear", "log")
 #: A sweep with more runs than this asks for --yes (a 50 x 50 diagram at the paper's
@@ -51,6 +57,8 @@ SPACINGS = ("linear", "log")
 CONFIRM_ABOVE_RUNS = 2500
 #: Hard limit: one sweep is one transaction of inserts.
 MAX_RUNS = 1_000_000
+#: Longest sweep name (characters): it is one line of `status` and of the application.
+MAX_NAME = 200
 
 TOP_KEYS = {"name", "x", "y", "fixed", "solver", "adaptive"}
 AXIS_KEYS = {"param", "start", "stop", "num", "spacing"}
@@ -75,10 +83,18 @@ def _number(field: str, value: object) -> float:
     try:
         x = float(value)
     except ValueError:
-        raise SpecError(field, f"expected a number, got {value!r}") from None
+        raise SpecError(field, f"expected a number, got {_short(value)}") from None
+    except OverflowError:  # a TOML integer beyond any float
+        raise SpecError(field, f"expected a finite number, got {_short(value)}") from None
     if not math.isfinite(x):
         raise SpecError(field, f"expected a finite number, got {value!r}")
     return x
+
+
+def _short(value: object) -> str:
+    """repr of a value for a message, cut to one readable line."""
+    shown = repr(value)
+    return shown if len(shown) <= 40 else shown[:37] + "..."
 
 
 def _count(field: str, value: object) -> int:
@@ -132,6 +148,10 @@ class Axis:
         if spacing == "log" and (start <= 0 or stop <= 0):
             raise SpecError(f"{field}.start", "log spacing needs start > 0 and stop > 0, "
                                               f"got {start:g} to {stop:g}")
+        if not math.isfinite(stop - start):  # linspace would step by infinity: NaN values
+            raise SpecError(f"{field}.stop", f"the range {start:g} to {stop:g} is wider than the "
+                                             "largest float: allowed |stop - start| <= "
+                                             f"{np.finfo(float).max:.4g}")
         return cls(param, start, stop, num, spacing)
 
     def values(self) -> np.ndarray:
@@ -277,14 +297,18 @@ def _corners(spec: SweepSpec) -> list[dict[str, float]]:
     return corners
 
 
-def _check_points(spec: SweepSpec) -> None:
-    """Every grid point must be a valid Params, and dt must fit every tau.
+def _check_points(spec: SweepSpec, submitting: bool) -> None:
+    """Every grid point must be a valid Params, and dt must fit every tau; when
+    submitting, every run must also be within the engine's limits (validate_run).
 
     Checking the corners of the grid is enough, and costs O(1) instead of O(points) (a
     100 x 100 sweep took 76 ms point by point, too slow for a form that re-validates on
     every keystroke): Params's constraints are bounds on single parameters (tau, d,
-    k >= 0, finite), and dt only has to fit the smallest tau. A new constraint that is not
-    monotone along an axis would need the full loop back.
+    k >= 0, finite), and dt only has to fit the smallest tau. The grid of a run depends on
+    tau alone: its delay ring grows with tau, its steps and lambda_max logs are largest at
+    the smallest tau, so both ends are checked. (A tau between them may round to a
+    slightly finer effective step, dt' = tau / ceil(tau / dt) >= dt / 2: a run that then
+    crosses a limit fails at its worker with the same message, before it allocates.)
     """
     try:
         base = spec.base
@@ -297,14 +321,36 @@ def _check_points(spec: SweepSpec) -> None:
         axis = next((name for name, a in (("x", spec.x), ("y", spec.y))
                      if a is not None and a.param == exc.field), "fixed")
         raise SpecError(f"{axis}.{exc.field}", str(exc)) from None
-    try:
-        make_grid(min(corners, key=lambda p: p.tau), spec.solver)
-    except ParameterError as exc:
-        raise SpecError(f"solver.{exc.field}", str(exc)) from None
+    by_tau = sorted(corners, key=lambda p: p.tau)
+    for point in dict.fromkeys((by_tau[0], by_tau[-1])):
+        try:
+            validate_run(point, spec.solver)
+        except LimitError as exc:
+            if submitting:
+                raise SpecError(_grid_field(spec, exc.field, point.tau), str(exc)) from None
+        except ParameterError as exc:
+            raise SpecError(_grid_field(spec, exc.field, point.tau), str(exc)) from None
 
 
-def parse_spec(data: Mapping[str, Any]) -> SweepSpec:
-    """Validate a spec given as a mapping (a parsed TOML file, or sweeps.spec)."""
+def _grid_field(spec: SweepSpec, field: str, tau: float) -> str:
+    """Where in the spec a grid error's field is: tau on its axis end or in [fixed], the
+    rest in [solver]."""
+    if field != "tau":
+        return f"solver.{field}"
+    for name, axis in (("x", spec.x), ("y", spec.y)):
+        if axis is not None and axis.param == "tau":
+            return f"{name}.start" if axis.start == tau else f"{name}.stop"
+    return "fixed.tau"
+
+
+def parse_spec(data: Mapping[str, Any], *, submitting: bool = False) -> SweepSpec:
+    """Validate a spec given as a mapping (a parsed TOML file, or sweeps.spec).
+
+    ``submitting``: a new sweep, which must also pass the admission checks (module doc);
+    False reads back a stored spec, or checks a draft.
+    """
+    if not isinstance(data, Mapping):
+        raise SpecError("spec", f"expected a table of keys, got {_short(data)}")
     _unknown_keys("", data, TOP_KEYS)
     if "x" not in data:
         raise SpecError("x", "missing: a sweep needs at least the [x] axis")
@@ -313,17 +359,29 @@ def parse_spec(data: Mapping[str, Any]) -> SweepSpec:
     if y is not None and y.param == x.param:
         raise SpecError("y.param", f"{y.param} is already swept on x")
     axes = [x] + ([y] if y else [])
-    name = data.get("name") or _default_name(x, y)
-    if not isinstance(name, str) or len(name) > 200:
-        raise SpecError("name", "expected a string of at most 200 characters")
+    name = _parse_name(data.get("name"), submitting) or _default_name(x, y)
     adaptive = data.get("adaptive")
     spec = SweepSpec(name=name, x=x, y=y, fixed=_parse_fixed(data.get("fixed", {}), axes),
                      solver=_parse_solver(data.get("solver", {})),
                      adaptive_levels=None if adaptive is None else _parse_adaptive(adaptive, x, y))
     if spec.n_runs > MAX_RUNS:
         raise SpecError("x.num", f"{spec.n_runs} runs; at most {MAX_RUNS} per sweep")
-    _check_points(spec)
+    _check_points(spec, submitting)
     return spec
+
+
+def _parse_name(name: object, submitting: bool) -> str:
+    """The name given, or "" for none (blank: the default name is made from the axes)."""
+    if name is None:
+        return ""
+    if not isinstance(name, str) or len(name) > MAX_NAME:
+        got = f"{len(name)} characters" if isinstance(name, str) else _short(name)
+        raise SpecError("name", f"expected a string of at most {MAX_NAME} characters, got {got}")
+    bad = unsafe_characters(name)
+    if submitting and bad:  # shown on other users' terminals: see slopetui.display_text
+        raise SpecError("name", f"control characters are not allowed ({', '.join(bad)}): "
+                                "allowed printable text, as it is shown on terminals")
+    return name if name.strip() else ""
 
 
 def _default_name(x: Axis, y: Axis | None) -> str:
@@ -332,18 +390,33 @@ def _default_name(x: Axis, y: Axis | None) -> str:
     return f"{x.param} {x.start:g}..{x.stop:g} x {y.param} {y.start:g}..{y.stop:g}"
 
 
-def load_toml(path: str | Path) -> SweepSpec:
-    """Read and validate a TOML spec file."""
+def read_toml(path: str | Path) -> dict[str, Any]:
+    """The tables of a TOML spec file; SpecError (field: the path) if it cannot be read
+    or is not UTF-8 TOML (a binary file, a directory)."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
+    except IsADirectoryError:
+        raise SpecError(str(path), "is a directory: expected a TOML spec file") from None
     except OSError as exc:
         raise SpecError(str(path), f"cannot read the spec file: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise SpecError(str(path), f"not a text file: byte {exc.start} is not UTF-8 (expected "
+                                   "a TOML spec file)") from None
+    return toml_tables(text, str(path))
+
+
+def toml_tables(text: str, where: str) -> dict[str, Any]:
+    """Parse a spec's TOML text; ``where`` names it in the error."""
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise SpecError(str(path), f"not valid TOML: {exc}") from None
-    return parse_spec(data)
+        raise SpecError(where, f"not valid TOML: {exc}") from None
+
+
+def load_toml(path: str | Path, *, submitting: bool = False) -> SweepSpec:
+    """Read and validate a TOML spec file."""
+    return parse_spec(read_toml(path), submitting=submitting)
 
 
 def parse_axis_flag(field: str, text: str) -> dict[str, Any]:

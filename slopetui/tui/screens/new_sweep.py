@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from rich.text import Text
 from textual import on, work
 from textual.app import ComposeResult
 from textual.binding import Binding
@@ -166,10 +167,11 @@ class NewSweepScreen(Screen[int | None]):
                 self._value("x-param"), self._value("y-param"))
         error = self.query_one("#form-error", Static)
         try:
-            spec = parse_spec(self.form_data())
+            # the admission checks of `slopetui submit` too (limits, characters of the name)
+            spec = parse_spec(self.form_data(), submitting=True)
         except SpecError as exc:
             self.spec = None
-            error.update(f"✗ {exc}")
+            error.update(Text(f"✗ {exc}"))  # Text: a bracket in the input is not markup
             self._mark_invalid(exc.field)
             self.query_one("#estimate", Static).update("")
             self.query_one("#form-warnings", Static).update("")
@@ -261,7 +263,7 @@ class NewSweepScreen(Screen[int | None]):
         self.app.call_from_thread(self.dismiss, out.sweep_id)
 
     def _submit_failed(self, error: str) -> None:
-        self.query_one("#form-error", Static).update(f"✗ could not submit: {error}")
+        self.query_one("#form-error", Static).update(Text(f"✗ could not submit: {error}"))
         self.query_one("#submit", Button).disabled = False
 
     @on(Button.Pressed, "#cancel")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from rich.text import Text
 from textual import on, work
 from textual.app import ComposeResult
 from textual.binding import Binding
@@ -11,6 +12,7 @@ from textual.message import Message
 from textual.screen import Screen
 from textual.widgets import DataTable, Footer, Header, Static
 
+from slopetui.display_text import terminal_safe
 from slopetui.sweeps.progress import (
     SweepProgress,
     WorkerInfo,
@@ -66,8 +68,10 @@ class QueueScreen(Screen[None]):
     def on_queue_screen_loaded(self, message: Loaded) -> None:
         workers = self.query_one("#worker-table", DataTable)
         workers.clear()
+        # stored text (worker ids, statuses, names) as escaped Text: a str cell is markup
         for w in message.workers:
-            workers.add_row(w.id, f"run {w.run_id}" if w.run_id else "idle", str(w.jobs_done),
+            workers.add_row(Text(terminal_safe(w.id)),
+                            f"run {w.run_id}" if w.run_id else "idle", str(w.jobs_done),
                             f"{w.heartbeat_age_s:.0f} s ago", f"{w.started_at:%H:%M:%S}")
         if not message.workers:
             workers.add_row("no live workers", "start them: slopetui worker --detach", "", "", "")
@@ -76,8 +80,9 @@ class QueueScreen(Screen[None]):
         table.clear()
         for p in message.sweeps:
             c = p.counts
-            table.add_row(str(p.id), p.status, str(c.get("queued", 0)), str(c.get("running", 0)),
-                          str(p.done), str(p.failed), str(c.get("cancelled", 0)), p.name,
+            table.add_row(str(p.id), Text(terminal_safe(p.status)), str(c.get("queued", 0)),
+                          str(c.get("running", 0)), str(p.done), str(p.failed),
+                          str(c.get("cancelled", 0)), Text(terminal_safe(p.name)),
                           key=str(p.id))
         if message.sweeps:
             table.move_cursor(row=min(row, len(message.sweeps) - 1), animate=False)

@@ -13,6 +13,7 @@ from textual.message import Message
 from textual.screen import Screen
 from textual.widgets import ContentSwitcher, DataTable, Footer, Header, Static
 
+from slopetui.display_text import terminal_safe
 from slopetui.plots.hopf import Curve
 from slopetui.sweeps.diagram import SweepDiagram, load_diagram, plane_hopf
 from slopetui.sweeps.progress import SweepProgress, format_eta, sweep_progress
@@ -115,13 +116,17 @@ class SweepsScreen(Screen[None]):
         keep = table.cursor_row
         table.clear()
         for p in sweeps:
-            name = p.name if len(p.name) <= NAME_WIDTH else p.name[:NAME_WIDTH - 1] + "…"
-            status = f"{p.status}, {p.failed} failed" if p.failed else p.status
+            # stored text: escaped (control characters) and a Text (a str cell would be read
+            # as markup: "[bold red]x" styled, "[/x]" a MarkupError that stops the screen)
+            name = terminal_safe(p.name)
+            name = name if len(name) <= NAME_WIDTH else name[:NAME_WIDTH - 1] + "…"
+            status = terminal_safe(p.status)
+            status = f"{status}, {p.failed} failed" if p.failed else status
             if p.adaptive_levels is not None and not p.refined:  # short: fits 80 columns
                 status += f", L{p.level}/{p.adaptive_levels}"
-            table.add_row(str(p.id), name, progress_bar(p.done + p.failed, p.total),
+            table.add_row(str(p.id), Text(name), progress_bar(p.done + p.failed, p.total),
                           f"{p.done}/{p.total}", f"{p.runs_per_min:.0f}", format_eta(p.eta_s),
-                          status, key=str(p.id))
+                          Text(status), key=str(p.id))
         if sweeps:
             if self.selected is None:
                 self.selected = sweeps[0].id

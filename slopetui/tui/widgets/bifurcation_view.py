@@ -5,6 +5,7 @@ from __future__ import annotations
 from textual.binding import Binding
 from textual.reactive import reactive
 
+from slopetui.display_text import terminal_safe
 from slopetui.plots import render_bifurcation
 from slopetui.sweeps.diagram import SweepDiagram
 from slopetui.tui.messages import RunChosen
@@ -37,7 +38,9 @@ class BifurcationView(PlotView, can_focus=True):
         assert d is not None
         x = d.spec.x
         run = d.runs[min(self.index, len(d.runs) - 1)]
-        title = (f"{x.param} = {run.x:.5g}: {run.regime or run.status} (run {run.id}) "
+        # the regime is stored text, and the plot is read back as ANSI (PlotView): escaped
+        label = terminal_safe(run.regime or run.status)
+        title = (f"{x.param} = {run.x:.5g}: {label} (run {run.id}) "
                  f"- {d.n_done}/{len(d.runs)} done")
         return render_bifurcation(x.param, [r.x for r in d.runs], [r.peaks for r in d.runs],
                                   [r.regime for r in d.runs], log=x.spacing == "log",

@@ -24,6 +24,7 @@ from textual.binding import Binding
 from textual.reactive import reactive
 from textual.widget import Widget
 
+from slopetui.display_text import terminal_safe
 from slopetui.plots.regime_colors import LEGEND_ORDER, PENDING, REGIME_STYLES
 from slopetui.tui.messages import RunChosen
 
@@ -250,8 +251,9 @@ class PhaseGrid(Widget, can_focus=True):
         if found is not None:
             run_id, x, y, regime = found
             how = ", inferred" if self._center_run(*cursor, sx, sy) in d.inferred else ""
+            label = terminal_safe(regime or "pending")  # stored text
             out.append(f"{d.x_param} = {x:.5g}, {d.y_param} = {y:.5g}: "
-                       f"{regime or 'pending'}{how} (run {run_id}; enter opens it)",
+                       f"{label}{how} (run {run_id}; enter opens it)",
                        Style(bold=True))
         return out
 

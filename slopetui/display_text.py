@@ -1,0 +1,64 @@
+"""Stored text made safe to show on a terminal, and the characters a new name may not hold.
+
+Sweep names, statuses, regimes and worker ids are text from a shared store: another
+user, an older slopetui or another tool may have written anything there. Printed raw, an
+ESC (``\\x1b[...``) or a C1 CSI (``\\x9b``) drives the reader's terminal (colours, cursor,
+window title, on some terminals clipboard writes), and a bidi override (U+202E) makes
+text read backwards. So every place that shows stored text shows it through
+``terminal_safe``, and submissions are refused when ``unsafe_characters`` finds any.
+
+Both use one definition, ``is_unsafe``: the control characters of Unicode category Cc
+(C0, DEL, C1; tab and newline included, since names are one line), the bidi embedding,
+override and isolate controls (U+202A-U+202E, U+2066-U+2069), the directional marks
+U+200E, U+200F and U+061C, and the line and paragraph separators U+2028, U+2029 (some
+terminals and Textual break lines on them). An unsafe character is shown as a visible
+escape, ``\\x1b`` or ``\\u202e``, so that the reader sees it is there.
+"""
+
+from __future__ import annotations
+
+import unicodedata
+
+#: Bidi controls that reorder the text after them (embeddings, overrides, isolates, marks).
+BIDI_CONTROLS = frozenset(
+    [chr(c) for c in range(0x202A, 0x202F)] + [chr(c) for c in range(0x2066, 0x206A)]
+    + ["\u200e", "\u200f", "\u061c"])
+#: Line and paragraph separators: a line break to some renderers.
+LINE_SEPARATORS = frozenset("\u2028\u2029")
+
+
+def is_unsafe(ch: str) -> bool:
+    """True for a character that must not reach a terminal raw (see the module doc)."""
+    return unicodedata.category(ch) == "Cc" or ch in BIDI_CONTROLS or ch in LINE_SEPARATORS
+
+
+def escape_char(ch: str) -> str:
+    """The visible escape of one character: ``\\x1b``, ``\\u202e``."""
+    code = ord(ch)
+    return f"\\x{code:02x}" if code < 0x100 else f"\\u{code:04x}"
+
+
+def terminal_safe(text: object) -> str:
+    """``text`` (any object; None gives "") with every unsafe character escaped.
+
+    Plain text stays as it is, so a name reads the same as before; the cost is a scan of
+    the string (names are at most a few hundred characters).
+    """
+    s = "" if text is None else str(text)
+    if not any(is_unsafe(ch) for ch in s):
+        return s
+    return "".join(escape_char(ch) if is_unsafe(ch) else ch for ch in s)
+
+
+def unsafe_characters(text: str) -> list[str]:
+    """The distinct unsafe characters of ``text``, escaped, in order of appearance."""
+    seen: list[str] = []
+    for ch in text:
+        if is_unsafe(ch) and escape_char(ch) not in seen:
+            seen.append(escape_char(ch))
+    return seen
+
+
+def terminal_safe_lines(text: str) -> str:
+    """``text`` of several lines (a CSV for a terminal) made safe, its newlines kept."""
+    return "\n".join(terminal_safe(line) for line in text.split("\n"))
