@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 #: Public name -> the module that defines it.
 _EXPORTS = {
-    "REGIMES": "core.classify", "Summary": "core.classify", "classify": "core.classify",
+    "REGIMES": "core.regimes", "Summary": "core.classify", "classify": "core.classify",
     "LyapunovEstimate": "core.lyapunov",
     "PARAM_NAMES": "core.params", "ParameterError": "core.params", "Params": "core.params",
     "friction_warnings": "core.params",
@@ -58,8 +58,9 @@ sys.modules[__name__].__class__ = _Engine
 
 
 if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
-    from core.classify import REGIMES, Summary, classify
+    from core.classify import Summary, classify
     from core.lyapunov import LyapunovEstimate
     from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
     from core.point import PointResult, run_batch, run_point
+    from core.regimes import REGIMES
     from core.solve import METHODS, SolverSettings, Trajectory, simulate

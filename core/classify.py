@@ -23,8 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from core.lyapunov import LyapunovEstimate
-
-REGIMES: tuple[str, ...] = ("sliding", "oscillatory", "complex", "mixed", "unstable")
+from core.regimes import REGIMES
 
 #: Peak-to-peak amplitude of m_y below which the window counts as at rest. A settled
 #: sliding run leaves round-off only: we measured 0 to 1.5e-10 on the (b, tau) plane at

@@ -7,9 +7,6 @@ import os
 import sys
 from collections.abc import Sequence
 
-from sqlalchemy.exc import SQLAlchemyError
-
-from core import ParameterError
 from slopetui import __version__
 from slopetui.cli import (
     control,
@@ -25,13 +22,22 @@ from slopetui.cli import (
     submit,
     worker,
 )
-from slopetui.cli.options import UsageError
-from slopetui.store.database import StoreError, explain
-from slopetui.sweeps.control import UnknownSweep
-from slopetui.sweeps.spec import SpecError
 
-#: Errors that are the user's input or environment, not a bug: one line, no traceback.
-USER_ERRORS = (ParameterError, SpecError, StoreError, UnknownSweep, UsageError)
+#: Errors that are the user's input or environment, not a bug: one line, no traceback,
+#: exit 2. Named by module rather than imported: a class whose module was never loaded
+#: cannot have raised, and importing them all (SQLAlchemy, numpy) would cost every
+#: command, `--help` included, the imports only some need (slopetui.cli.options).
+USER_ERRORS = (("core.params", "ParameterError"), ("slopetui.sweeps.spec", "SpecError"),
+               ("slopetui.store.failures", "StoreError"),
+               ("slopetui.sweeps.control", "UnknownSweep"), ("slopetui.cli.options", "UsageError"))
+#: The database failed (disk full, damaged file...): one line naming the file, exit 1.
+DATABASE_ERRORS = (("sqlalchemy.exc", "SQLAlchemyError"),)
+
+
+def loaded(names: tuple[tuple[str, str], ...]) -> tuple[type[BaseException], ...]:
+    """The classes of ``names`` whose modules are loaded."""
+    return tuple(getattr(sys.modules[module], name) for module, name in names
+                 if module in sys.modules)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -60,16 +66,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         return run_app(args.tui_db, start_workers=not args.no_workers)
     try:
         return int(args.handler(args))
-    except USER_ERRORS as exc:
-        print(f"slopetui {args.command}: error: {exc}", file=sys.stderr)
-        return 2
-    except SQLAlchemyError as exc:
-        print(f"slopetui {args.command}: database error: "
-              f"{explain(exc, getattr(args, 'db', None))}", file=sys.stderr)
-        return 1
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:  # `slopetui ... | head`: the reader left, nothing is wrong
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except Exception as exc:
+        if isinstance(exc, loaded(USER_ERRORS)):
+            print(f"slopetui {args.command}: error: {exc}", file=sys.stderr)
+            return 2
+        if isinstance(exc, loaded(DATABASE_ERRORS)):
+            from slopetui.store.database import explain
+            print(f"slopetui {args.command}: database error: "
+                  f"{explain(exc, getattr(args, 'db', None))}", file=sys.stderr)
+            return 1
+        raise

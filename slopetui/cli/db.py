@@ -6,16 +6,12 @@ from __future__ import annotations
 import argparse
 import sys
 
+from typing import TYPE_CHECKING
+
 from slopetui.cli.options import UsageError, add_db_option
-from slopetui.store.database import Database, StoreError
-from slopetui.store.integrity import integrity_problems
-from slopetui.store.migrate import (
-    alembic_config,
-    current_revision,
-    downgrade,
-    head_revision,
-    upgrade,
-)
+
+if TYPE_CHECKING:
+    from slopetui.store.database import Database
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -62,6 +58,8 @@ def _confirm(db: Database, revision: str, assume_yes: bool) -> None:
 
 
 def _check(db: Database) -> int:
+    from slopetui.store.integrity import integrity_problems
+
     problems = integrity_problems(db)
     if db.path is None:
         print(f"{db.display_url}: not a SQLite file; PostgreSQL checks its own pages")
@@ -78,6 +76,16 @@ def _check(db: Database) -> int:
 
 
 def handle(args: argparse.Namespace) -> int:
+    # Alembic here, not at the top: it costs ~0.2 s that `slopetui --help` should not pay
+    from slopetui.store.database import Database, StoreError
+    from slopetui.store.migrate import (
+        alembic_config,
+        current_revision,
+        downgrade,
+        head_revision,
+        upgrade,
+    )
+
     if args.db_action == "upgrade":
         db = Database(args.db, upgrade=False)
         before, after = upgrade(db)

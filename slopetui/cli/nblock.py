@@ -4,13 +4,15 @@ from __future__ import annotations
 
 import argparse
 import shutil
+from typing import TYPE_CHECKING
 
-from core import PARAM_NAMES, Params
-from core.nblock import VARIABLES, Comparison, compare_with_mean_field
+from core.params import PARAM_NAMES, Params
 from slopetui.cli.options import UsageError
 from slopetui.cli.run import PARAM_HELP
 from slopetui.cli.show import use_color
-from slopetui.plots.nblock_plots import render_side_by_side
+
+if TYPE_CHECKING:
+    from core.nblock import Comparison
 
 #: The Gaussian closure "holds" when the ensemble's m_y stays within this relative RMS
 #: distance of the mean-field m_y. Measured (tau = 10, k = 10, delta = 0.1, t_end = 50):
@@ -68,6 +70,9 @@ def _check(args: argparse.Namespace) -> tuple[list[int], list[float]]:
 
 
 def handle(args: argparse.Namespace) -> int:
+    from core.nblock import VARIABLES, compare_with_mean_field
+    from slopetui.plots.nblock_plots import render_side_by_side
+
     ns, ds = _check(args)
     given = {n: getattr(args, n) for n in PARAM_NAMES if n != "d" and getattr(args, n) is not None}
     base = Params(**given)  # ParameterError names the field

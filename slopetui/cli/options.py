@@ -1,10 +1,23 @@
-"""Options and errors shared by the subcommands that use the store."""
+"""Options, argument types and errors shared by the subcommands.
+
+Light on purpose: every subcommand module imports this one to build the parser, and
+``slopetui --help`` builds them all. Anything heavy (SQLAlchemy, numba, numpy's engine,
+Textual) is imported inside the handlers that use it.
+"""
 
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
-from slopetui.store.database import DB_ENV, Database
+from slopetui.store.location import DB_ENV
+
+if TYPE_CHECKING:
+    from slopetui.store.database import Database
+
+#: The largest id or count a SQL INTEGER holds (SQLite and PostgreSQL BIGINT): a larger
+#: number cannot match anything, and the drivers refuse it with an OverflowError.
+MAX_SQL_INT = 2**63 - 1
 
 
 class UsageError(Exception):
@@ -18,16 +31,23 @@ def add_db_option(parser: argparse.ArgumentParser) -> None:
 
 
 def open_db(args: argparse.Namespace) -> Database:
+    from slopetui.store.database import Database
     return Database(args.db)
 
 
-def sweep_id(text: str) -> int:
-    """argparse type for SWEEP arguments."""
+def int_arg(flag: str, text: str, low: int, high: int = MAX_SQL_INT, note: str = "") -> int:
+    """An integer argument, or a one-line UsageError naming it and its range. The options
+    are read as text for this: argparse's own type errors print the usage too."""
+    allowed = f"an integer from {low} to {high}{note}"
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"SWEEP must be a sweep id (an integer >= 1), "
-                                         f"got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"SWEEP must be >= 1, got {value}")
+        raise UsageError(f"{flag} = {text!r} is out of range: allowed {allowed}") from None
+    if not low <= value <= high:
+        raise UsageError(f"{flag} = {value} is out of range: allowed {allowed}")
     return value
+
+
+def sweep_arg(text: str, flag: str = "SWEEP") -> int:
+    """A sweep id argument (see int_arg)."""
+    return int_arg(flag, text, 1, note=" (a sweep id)")

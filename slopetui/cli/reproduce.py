@@ -8,7 +8,6 @@ from pathlib import Path
 from slopetui.cli.options import UsageError, add_db_option, open_db
 from slopetui.sweeps.presets import BY_KEY, PRESETS
 from slopetui.sweeps.spec import CONFIRM_ABOVE_RUNS, parse_spec
-from slopetui.sweeps.submit import submit
 
 #: The report's default: every phase diagram at 20 x 20 at the paper's t_end, about
 #: 5300 runs, ~40 min on 2 cores (see docs/reproduction.md for the measured time).
@@ -84,6 +83,8 @@ def handle(args: argparse.Namespace) -> int:
     if total > CONFIRM_ABOVE_RUNS and not args.yes:
         raise UsageError(f"this would queue {total} runs (more than {CONFIRM_ABOVE_RUNS}); add "
                          "--yes, or lower --resolution")
+    from slopetui.sweeps.submit import submit
+
     db = open_db(args)
     for key, spec in zip(keys, specs):
         out = submit(db, spec)

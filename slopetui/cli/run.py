@@ -7,18 +7,13 @@ import json
 import math
 import re
 import sys
+from typing import TYPE_CHECKING
 
-from core import (
-    METHODS,
-    PARAM_NAMES,
-    ParameterError,
-    Params,
-    SolverSettings,
-    friction_warnings,
-    run_point,
-)
-from core.point import PointResult
-from core.solve import validate_run
+from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
+from core.solve import METHODS, SolverSettings, validate_run
+
+if TYPE_CHECKING:  # core.point loads numba and the kernels: only `run` itself needs them
+    from core.point import PointResult
 
 #: The keys of ``--json``, in order (the issue's contract), plus a few extras after them.
 JSON_KEYS = ("regime", "lambda_max", "lambda_err", "amplitude", "period", "peaks", "drift",
@@ -135,6 +130,8 @@ def handle(args: argparse.Namespace) -> int:
         return 2
     for w in friction_warnings(params):
         print(f"slopetui run: warning: {w}", file=sys.stderr)
+    from core.point import run_point
+
     result = run_point(params, settings)
     if args.json:
         rec = result.as_record()

@@ -8,15 +8,15 @@ import sys
 from collections.abc import Iterable
 from pathlib import Path
 
-from sqlalchemy import select
+from typing import TYPE_CHECKING
 
-from core import REGIMES
-from slopetui.cli.options import UsageError, add_db_option, open_db
-from slopetui.cli.status import int_arg, sweep_arg
+from core.regimes import REGIMES
+from slopetui.cli.options import UsageError, add_db_option, int_arg, open_db, sweep_arg
 from slopetui.display_text import terminal_safe, terminal_safe_lines
-from slopetui.store.models import RUN_STATUSES, Run, Sweep
-from slopetui.sweeps.control import UnknownSweep
-from slopetui.sweeps.export import write_csv
+from slopetui.store.statuses import RUN_STATUSES
+
+if TYPE_CHECKING:
+    from slopetui.store.models import Run
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -52,6 +52,8 @@ def csv_to_stdout(runs: Iterable[Run]) -> int:
     stored (it is data: a reader must get what the store holds); on a terminal, where a
     stored escape sequence would drive the reader's terminal, it goes through
     terminal_safe, newlines kept."""
+    from slopetui.sweeps.export import write_csv
+
     if not sys.stdout.isatty():
         return write_csv(runs, sys.stdout)
     buf = io.StringIO()
@@ -63,6 +65,10 @@ def csv_to_stdout(runs: Iterable[Run]) -> int:
 def handle_runs(args: argparse.Namespace) -> int:
     limit = int_arg("--limit", args.limit, 0, note=" (0 for all)")
     sweep = None if args.sweep is None else sweep_arg(args.sweep, "--sweep")
+    from sqlalchemy import select
+
+    from slopetui.store.models import Run
+
     db = open_db(args)
     q = select(Run).order_by(Run.id.desc())
     for column, value in (("sweep_id", sweep), ("regime", args.regime),
@@ -93,6 +99,11 @@ def handle_runs(args: argparse.Namespace) -> int:
 
 
 def handle_export(args: argparse.Namespace) -> int:
+    from sqlalchemy import select
+
+    from slopetui.store.models import Run, Sweep
+    from slopetui.sweeps.control import UnknownSweep
+
     sweep = sweep_arg(args.sweep)
     db = open_db(args)
     with db.sessions() as s:
@@ -111,6 +122,8 @@ def handle_export(args: argparse.Namespace) -> int:
 def _write_file(path: str, runs: Iterable[Run]) -> int:
     """Write the CSV to ``path``; a UsageError naming it and the cause if it cannot be
     written (a missing folder, no permission, a directory, a full disk)."""
+    from slopetui.sweeps.export import write_csv
+
     try:
         with Path(path).open("w", encoding="utf-8", newline="") as out:
             return write_csv(runs, out)

@@ -15,16 +15,14 @@ import argparse
 import os
 import shutil
 import sys
+from typing import TYPE_CHECKING
 
-from sqlalchemy import func, select
-
-from slopetui.cli.options import UsageError, add_db_option, open_db
-from slopetui.cli.status import int_arg, sweep_arg
+from slopetui.cli.options import UsageError, add_db_option, int_arg, open_db, sweep_arg
 from slopetui.display_text import terminal_safe
-from slopetui.plots import render_bifurcation, render_phase_diagram
-from slopetui.store.database import Database
-from slopetui.store.models import Sweep
-from slopetui.sweeps.diagram import SweepDiagram, load_diagram, plane_hopf
+
+if TYPE_CHECKING:
+    from slopetui.store.database import Database
+    from slopetui.sweeps.diagram import SweepDiagram
 
 
 #: The smallest diagram that still has room for its axes, ticks and legend.
@@ -60,6 +58,9 @@ def use_color(choice: str) -> bool:
 
 
 def handle(args: argparse.Namespace) -> int:
+    from slopetui.plots import render_bifurcation, render_phase_diagram
+    from slopetui.sweeps.diagram import load_diagram, plane_hopf
+
     size = shutil.get_terminal_size((100, 30))
     width = (int_arg("--width", args.width, MIN_WIDTH, MAX_SIZE) if args.width is not None
              else min(size.columns, MAX_SIZE))
@@ -110,6 +111,10 @@ def adaptive_notes(diagram: SweepDiagram) -> list[str]:
 
 
 def newest_sweep(db: Database) -> int:
+    from sqlalchemy import func, select
+
+    from slopetui.store.models import Sweep
+
     with db.sessions() as s:
         newest = s.scalar(select(func.max(Sweep.id)))
     if newest is None:

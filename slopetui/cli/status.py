@@ -11,38 +11,13 @@ from __future__ import annotations
 import argparse
 import json
 
-from slopetui.cli.options import UsageError, add_db_option, open_db
+from typing import TYPE_CHECKING
+
+from slopetui.cli.options import add_db_option, open_db, sweep_arg
 from slopetui.display_text import terminal_safe
-from slopetui.sweeps.control import UnknownSweep
-from slopetui.sweeps.progress import (
-    SweepProgress,
-    format_eta,
-    live_workers,
-    sweep_progress,
-)
 
-#: The largest id or count a SQL INTEGER holds (SQLite and PostgreSQL BIGINT): a larger
-#: number cannot match anything, and the drivers refuse it with an OverflowError.
-MAX_SQL_INT = 2**63 - 1
-
-
-def int_arg(flag: str, text: str, low: int, high: int = MAX_SQL_INT, note: str = "") -> int:
-    """An integer argument, or a one-line UsageError naming it and its range. The options
-    are read as text for this: argparse's own type errors print the usage too."""
-    allowed = f"an integer from {low} to {high}{note}"
-    try:
-        value = int(text)
-    except ValueError:
-        raise UsageError(f"{flag} = {text!r} is out of range: allowed {allowed}") from None
-    if not low <= value <= high:
-        raise UsageError(f"{flag} = {value} is out of range: allowed {allowed}")
-    return value
-
-
-def sweep_arg(text: str, flag: str = "SWEEP") -> int:
-    """A sweep id argument (see int_arg)."""
-    return int_arg(flag, text, 1, note=" (a sweep id)")
-
+if TYPE_CHECKING:
+    from slopetui.sweeps.progress import SweepProgress
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("status", help="progress of the sweeps and the live workers",
@@ -56,6 +31,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def handle(args: argparse.Namespace) -> int:
+    from slopetui.sweeps.control import UnknownSweep
+    from slopetui.sweeps.progress import format_eta, live_workers, sweep_progress
+
     ids = [sweep_arg(text) for text in args.sweeps]  # before the database opens
     db = open_db(args)
     sweeps = sweep_progress(db, ids or None)

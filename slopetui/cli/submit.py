@@ -9,7 +9,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from core import METHODS, PARAM_NAMES
+from core.params import PARAM_NAMES
+from core.solve import METHODS
 from slopetui import examples
 from slopetui.cli.options import add_db_option, open_db
 from slopetui.cli.run import PARAM_HELP, accept_negative_numbers
@@ -21,7 +22,6 @@ from slopetui.sweeps.spec import (
     read_toml,
     toml_tables,
 )
-from slopetui.sweeps.submit import submit
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -117,6 +117,8 @@ def handle(args: argparse.Namespace) -> int:
               f"{CONFIRM_ABOVE_RUNS}); add --yes to queue it", file=sys.stderr)
         return 2
     db = open_db(args)
+    from slopetui.sweeps.submit import submit
+
     out = submit(db, spec)
     if args.json:
         data = {"sweep_id": out.sweep_id, "n_runs": out.n_runs, "n_cached": out.n_cached}

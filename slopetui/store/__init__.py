@@ -1,8 +1,36 @@
 """The experiment store: SQLAlchemy models of sweeps, runs and workers, the one module
-that owns engines, sessions and transactions, and the Alembic migrations applied on open."""
+that owns engines, sessions and transactions, and the Alembic migrations applied on open.
 
-from slopetui.store.database import Database, default_url
-from slopetui.store.models import RUN_STATUSES, SWEEP_STATUSES, Base, Run, Sweep, Worker
+The names below are imported on first use (PEP 562), so that a light submodule
+(``slopetui.store.location``) can be imported without SQLAlchemy.
+"""
 
-__all__ = ["RUN_STATUSES", "SWEEP_STATUSES", "Base", "Database", "Run", "Sweep", "Worker",
-           "default_url"]
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+_EXPORTS = {
+    "Database": "slopetui.store.database", "default_url": "slopetui.store.location",
+    "RUN_STATUSES": "slopetui.store.statuses", "SWEEP_STATUSES": "slopetui.store.statuses",
+    "Base": "slopetui.store.models", "Run": "slopetui.store.models",
+    "Sweep": "slopetui.store.models", "Worker": "slopetui.store.models",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'slopetui.store' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+if TYPE_CHECKING:
+    from slopetui.store.database import Database
+    from slopetui.store.location import default_url
+    from slopetui.store.models import Base, Run, Sweep, Worker
+    from slopetui.store.statuses import RUN_STATUSES, SWEEP_STATUSES

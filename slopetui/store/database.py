@@ -17,7 +17,6 @@ from pathlib import Path
 from typing import Any
 from urllib.parse import quote
 
-from platformdirs import user_data_path
 from sqlalchemy import Connection, Engine, create_engine, event, inspect, select
 from sqlalchemy.engine import URL, make_url
 from sqlalchemy.exc import ArgumentError, DBAPIError, SQLAlchemyError
@@ -26,9 +25,8 @@ from sqlalchemy.orm import Session, sessionmaker
 import migrations
 from slopetui.store.db_time import db_now
 from slopetui.store.failures import StoreError, describe, os_failure
+from slopetui.store.location import DB_ENV, default_url
 
-#: Environment variable that selects the database (any SQLAlchemy URL).
-DB_ENV = "SLOPETUI_DB"
 #: How long a SQLite connection waits for another writer before "database is locked" (ms).
 #: A write transaction here lasts well under 10 ms; a minute covers a checkpoint on a
 #: loaded disk with a wide margin.
@@ -45,14 +43,6 @@ REFUSAL_WORDS = ("readonly", "read-only", "authoriz")
 def is_refusal(message: str) -> bool:
     """Did the read-only connection refuse the statement (rather than fail on it)?"""
     return any(word in message for word in REFUSAL_WORDS)
-
-
-def default_url() -> str:
-    """$SLOPETUI_DB, or SQLite in the user data folder (~/.local/share/slopetui on Linux)."""
-    env = os.environ.get(DB_ENV)
-    if env:
-        return env
-    return f"sqlite:///{user_data_path('slopetui') / 'slopetui.db'}"
 
 
 def parse_url(url: str) -> URL:
@@ -129,11 +119,24 @@ READ_PRAGMAS = frozenset({"table_info", "table_xinfo", "index_list", "index_info
 
 
 def _read_only_authorizer(action: int, arg1: str | None, arg2: str | None, *_: Any) -> int:
-    """mode=ro still lets ATTACH create a new file and PRAGMA turn query_only off."""
+    """mode=ro still lets ATTACH create a new file and PRAGMA turn query_only off, and
+    a few SQL functions leak or act rather than compute (checked when a statement is
+    prepared, so also inside views)."""
     if action in (sqlite3.SQLITE_ATTACH, sqlite3.SQLITE_DETACH):
         return sqlite3.SQLITE_DENY
     if action == sqlite3.SQLITE_PRAGMA and arg2 is not None and arg1 not in READ_PRAGMAS:
         return sqlite3.SQLITE_DENY  # setting a pragma, not reading one
+    # SQLITE_FUNCTION: arg2 is the function's name (Python >= 3.11), as typed.
+    # fts3_tokenizer(name) returns a tokenizer's memory address (defeats ASLR) and with
+    # two arguments installs one (code execution where enabled); load_extension loads a
+    # shared library (Python's sqlite3 disables it by default: refused here as well);
+    # sqlite_log writes to the process's SQLite error log; rtreenode and rtreedepth are
+    # rtree's debugging functions that decode arbitrary blobs (CVE-2019-8457). The rest
+    # of SQLite's built-ins compute values only; zeroblob/randomblob/printf can ask for
+    # up to SQLITE_LIMIT_LENGTH (1e9) bytes, which no authorizer can see.
+    if action == sqlite3.SQLITE_FUNCTION and arg2 is not None and arg2.lower() in {
+            "fts3_tokenizer", "load_extension", "sqlite_log", "rtreenode", "rtreedepth"}:
+        return sqlite3.SQLITE_DENY
     return sqlite3.SQLITE_OK
 
 

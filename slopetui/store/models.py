@@ -24,6 +24,7 @@ from sqlalchemy import (
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column, relationship
 
 from slopetui.store.column_types import Measure
+from slopetui.store.statuses import RUN_STATUSES, SWEEP_STATUSES
 
 #: Constraint names that batch migrations on SQLite can find again (unnamed CHECK
 #: constraints are silently dropped when Alembic rebuilds a table).
@@ -35,12 +36,6 @@ NAMING_CONVENTION = {
     "pk": "pk_%(table_name)s",
 }
 
-#: active: its runs are handed to workers; paused: kept queued but not handed out;
-#: cancelled: its queued runs were cancelled (runs already running finish).
-SWEEP_STATUSES = ("active", "paused", "cancelled")
-#: The life of a run: queued -> running -> done | failed, or queued -> cancelled. A running
-#: run whose worker dies goes back to queued when its lease expires.
-RUN_STATUSES = ("queued", "running", "done", "failed", "cancelled")
 
 
 def _one_of(column: str, values: tuple[str, ...]) -> str:

@@ -1,0 +1,9 @@
+"""The names of the dynamical regimes of Section 3 (what each means: core.classify).
+
+Its own module, without numpy, so that a command line can offer the names as choices
+without loading the classifier.
+"""
+
+from __future__ import annotations
+
+REGIMES: tuple[str, ...] = ("sliding", "oscillatory", "complex", "mixed", "unstable")

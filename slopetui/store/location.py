@@ -1,0 +1,19 @@
+"""Where the store is when no ``--db`` is given. Light on purpose (no SQLAlchemy), so that
+``slopetui --help`` can name the default without loading a database driver."""
+
+from __future__ import annotations
+
+import os
+
+from platformdirs import user_data_path
+
+#: Environment variable that selects the database (any SQLAlchemy URL).
+DB_ENV = "SLOPETUI_DB"
+
+
+def default_url() -> str:
+    """$SLOPETUI_DB, or SQLite in the user data folder (~/.local/share/slopetui on Linux)."""
+    env = os.environ.get(DB_ENV)
+    if env:
+        return env
+    return f"sqlite:///{user_data_path('slopetui') / 'slopetui.db'}"
