@@ -155,19 +155,74 @@ def test_a_batch_claims_the_oldest_runs_with_the_same_solver_settings(db):
     with db.sessions() as s:
         held = s.scalars(select(Run).where(Run.worker_id == "w")).all()
     assert {r.id for r in held} == {j.run_id for j in batch}
-    assert all(r.status == "running" and r.attempts == 1 for r in held)
+    # claimed, not started: no attempt charged yet (jobs.begin charges them)
+    assert all(r.status == "running" and r.attempts == 0 and r.started_at is None
+               for r in held)
+    assert not any(j.started for j in batch)
     # the next claim starts from the oldest queued run: the other sweep's settings
     assert {j.sweep_id for j in jobs.claim_batch(db, "v", 7)} == {other.sweep_id}
 
 
-def test_a_dead_workers_whole_batch_goes_back_to_the_queue(db):
+def test_a_dead_workers_whole_batch_goes_back_to_the_queue_charging_only_started_runs(db):
     sub = submit_quick(db, 6)
     batch = jobs.claim_batch(db, "dead", 4)
-    assert jobs.requeue_worker(db, "dead", "worker died") == (4, 0)
-    assert statuses(db, sub.sweep_id) == {"queued": 6}
-    again = jobs.claim_batch(db, "alive", 6)
-    assert {j.run_id for j in batch} <= {j.run_id for j in again}
-    assert all(j.attempts == (2 if j.run_id in {b.run_id for b in batch} else 1) for j in again)
+    done, computing = jobs.begin(db, batch[:1], "dead")[0], batch[1]
+    jobs.complete(db, done, "dead", run_point(done.params, done.settings).as_record())
+    assert jobs.begin(db, [computing], "dead")[0].attempts == 1
+    # the worker dies in the kernel on batch[1]: batch[2:] were never started
+    assert jobs.requeue_worker(db, "dead", "worker died") == (3, 0)
+    assert statuses(db, sub.sweep_id) == {"done": 1, "queued": 5}
+    with db.sessions() as s:
+        runs = {r.id: r for r in s.scalars(select(Run))}
+    assert runs[computing.run_id].attempts == 1 and runs[computing.run_id].error == "worker died"
+    for job in batch[2:]:  # back as they came: no attempt used, no error
+        assert runs[job.run_id].attempts == 0 and runs[job.run_id].error is None
+    again = jobs.begin(db, jobs.claim_batch(db, "alive", 6), "alive")
+    assert {j.run_id for j in again} == set(runs) - {done.run_id}
+    assert all(j.attempts == (2 if j.run_id == computing.run_id else 1) for j in again)
+
+
+def test_begin_charges_an_attempt_once_and_only_to_the_lease_holder(db):
+    submit_quick(db, 3)
+    batch = jobs.claim_batch(db, "w", 3)
+    assert jobs.begin(db, batch, "other") == []                  # not the holder
+    started = jobs.begin(db, batch[:2], "w")
+    assert [(j.attempts, j.started) for j in started] == [(1, True), (1, True)]
+    assert jobs.begin(db, started, "w") == started               # already charged: no-op
+    with db.sessions() as s:
+        assert [r.attempts for r in s.scalars(select(Run).order_by(Run.id))] == [1, 1, 0]
+
+
+def test_release_gives_back_a_started_runs_attempt_and_leaves_an_unstarted_one(db):
+    submit_quick(db, 2)
+    first, second = jobs.claim_batch(db, "w", 2)
+    first = jobs.begin(db, [first], "w")[0]
+    assert jobs.release(db, first, "w") and jobs.release(db, second, "w")
+    with db.sessions() as s:
+        assert [(r.status, r.attempts) for r in s.scalars(select(Run).order_by(Run.id))] \
+            == [("queued", 0), ("queued", 0)]
+
+
+def test_an_unstarted_run_is_never_failed_by_a_requeue(db):
+    """A run held but not started has not used an attempt, whatever max_attempts says."""
+    submit_quick(db, 2)
+    started, waiting = jobs.claim_batch(db, "dead", 2)
+    jobs.begin(db, [started], "dead")
+    assert jobs.requeue_worker(db, "dead", "died", max_attempts=1) == (1, 1)
+    with db.sessions() as s:
+        assert s.get(Run, started.run_id).status == "failed"
+        assert s.get(Run, waiting.run_id).status == "queued"
+
+
+def test_a_run_served_from_the_cache_gets_a_start_time(db):
+    submit_quick(db, 1)
+    finish_all(db)
+    submit_quick(db, 1, t_end=300.0)
+    job = jobs.claim_batch(db, "w", 1)[0]
+    jobs.complete(db, job, "w", run_point(job.params, job.settings).as_record(), cached_from=1)
+    with db.sessions() as s:
+        run = s.get(Run, job.run_id)
+        assert run.status == "done" and run.started_at is not None and run.attempts == 0
 
 
 def test_a_heartbeat_keeps_every_lease_of_a_batch(db):
@@ -197,3 +252,12 @@ def test_an_inferred_label_never_serves_as_a_cached_result(db):
     job = jobs.claim(db, "w")
     assert job.sweep_id == again.sweep_id
     assert jobs.cached_result(db, job) is None
+
+
+def test_runs_computed_one_by_one_are_claimed_one_at_a_time(db):
+    """RK4 is computed run by run: a worker holding 32 of them kept idle workers idle."""
+    submit_quick(db, 5)  # RK4
+    first = jobs.claim_batch(db, "w1", 32, batched={"euler"})
+    second = jobs.claim_batch(db, "w2", 32, batched={"euler"})
+    assert len(first) == len(second) == 1 and first[0].run_id != second[0].run_id
+    assert len(jobs.claim_batch(db, "w3", 32, batched={"rk4"})) == 3  # batched: the rest

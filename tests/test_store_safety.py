@@ -181,3 +181,21 @@ def test_a_full_disk_is_named_and_nothing_is_half_written(tmpfs, capsys):
     assert len(err.splitlines()) == 1 and "the disk is full" in err and "x.db" in err
     with Database(url).sessions() as s:
         assert s.scalars(select(Run)).first() is None  # the submit was rolled back whole
+
+
+def test_a_pool_does_not_start_on_a_damaged_file(db_url, tmp_path, caplog):
+    from slopetui.queue.pool import Pool
+    from slopetui.queue.worker_process import WorkerOptions
+
+    db = Database(db_url)
+    sub = submit_quick(db, 2)
+    with db.transaction() as s:
+        for i in range(3000):
+            s.add(Run(sweep_id=sub.sweep_id, ix=i + 10, iy=0, a=1, b=1, c=1, d=0, k=i, v=1,
+                      tau=1, delta=0.1, method="rk4", dt=0.01, t_end=1, window=1,
+                      engine="x", cache_key=f"{i:064d}"))
+    db.dispose()
+    _damage(db.path)
+    opts = WorkerOptions(db_url=db_url, exit_when_idle=True)
+    assert Pool(opts, 1).run() == 1
+    assert "is damaged" in caplog.text

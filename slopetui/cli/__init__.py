@@ -21,6 +21,7 @@ from slopetui.cli import (
     status,
     submit,
     worker,
+    workers,
 )
 
 #: Errors that are the user's input or environment, not a bug: one line, no traceback,
@@ -52,8 +53,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-workers", action="store_true",
                         help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for module in (run, submit, example, status, show, runs, control, sql, worker, db, nblock,
-                   reproduce):
+    for module in (run, submit, example, status, show, runs, control, sql, worker, workers, db,
+                   nblock, reproduce):
         module.register(sub)
     return parser
 

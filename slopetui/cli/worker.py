@@ -1,90 +1,156 @@
-"""``slopetui worker``: run the worker pool (in the foreground, or detached)."""
+"""``slopetui worker``: run the worker pool (in the foreground, or detached), or stop it.
+
+The pool and its kernels are imported in the handler, not here: ``slopetui --help`` must
+not pay for numba.
+"""
 
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from slopetui.cli.options import UsageError, add_db_option
-from slopetui.queue import jobs
-from slopetui.queue.local_pool import default_log, start_detached_pool
-from slopetui.queue.pool import default_jobs, run_pool
-from slopetui.queue.worker_process import WorkerOptions
-from slopetui.store.database import Database
+from slopetui.queue import defaults
+from slopetui.queue.local_pool import default_jobs, default_log
+
+if TYPE_CHECKING:
+    from slopetui.queue.local_pool import LocalPool
+    from slopetui.store.database import Database
 
 #: A batch is held in memory whole: the paper's window (1000 time units at 0.01) is 4 MB a
 #: run, so 256 runs take 1 GB per worker. Beyond the kernel's 16 slots, a larger batch only
 #: keeps the slots full when some runs end early.
 MAX_BATCH = 256
+#: More processes than this is a typo, not a machine (each one holds a database connection).
+MAX_JOBS = 512
+#: Heartbeats faster than this load the database for nothing; slower ones than this make
+#: dead workers' runs wait (s).
+HEARTBEAT_RANGE = (0.1, 600.0)
+#: A lease covers at least two heartbeats, and at most a day (s).
+MAX_LEASE_S = 86_400.0
+MAX_ATTEMPTS_RANGE = (1, 100)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
-        "worker", help="run the worker pool that computes queued runs",
+        "worker", help="run (or stop) the worker pool that computes queued runs",
         description="Run N worker processes that claim queued runs, compute them and store "
-                    "the results. Ctrl-C or SIGTERM: running jobs finish, then the pool "
-                    "exits; a second signal gives them back to the queue at once.")
+                    "the results. Ctrl-C, SIGTERM or SIGHUP to the pool: the runs being "
+                    "computed finish, then the pool exits; a second signal gives them back "
+                    "to the queue at once. SIGTERM to one worker stops that worker alone. "
+                    "Progress goes to stderr (and the log). Exit status: 0 after a stop, 1 "
+                    "if the pool gave up because workers kept dying, 2 for bad options or "
+                    "a pool of the store already running on this host.")
     p.add_argument("-j", "--jobs", type=int, default=default_jobs(), metavar="N",
-                   help=f"worker processes (default: the cores available, {default_jobs()})")
-    p.add_argument("--log", metavar="FILE", help=f"log file (default {default_log()}; "
-                                                 "the foreground pool also logs to stderr)")
+                   help=f"worker processes, 1 to {MAX_JOBS} (default: the cores available, "
+                        f"{default_jobs()})")
+    p.add_argument("--log", metavar="FILE", help=f"log file, created 0600 (default "
+                                                 f"{default_log()}; the foreground pool's "
+                                                 "own messages also go to stderr)")
     p.add_argument("--detach", action="store_true",
                    help="run in the background, in its own session: it survives the end of "
                         "the SSH session (prints its pid)")
+    p.add_argument("--another-pool", action="store_true",
+                   help="start even though a pool of this store already runs on this host "
+                        "(by default that is refused: its workers would share the cores)")
+    p.add_argument("--stop", action="store_true",
+                   help="stop the pools of this store on this host (SIGTERM: the runs being "
+                        "computed finish) and wait until they have exited")
+    p.add_argument("--now", action="store_true",
+                   help="with --stop: give the running runs back to the queue and exit at "
+                        "once (a second SIGTERM)")
     p.add_argument("--exit-when-idle", action="store_true",
                    help="exit once no queued or running run is left")
-    p.add_argument("--lease", type=float, default=jobs.LEASE_S, metavar="S",
-                   help=f"seconds without heartbeat before a run is requeued "
-                        f"(default {jobs.LEASE_S:g})")
-    p.add_argument("--heartbeat", type=float, default=jobs.HEARTBEAT_S, metavar="S",
-                   help=f"seconds between heartbeats (default {jobs.HEARTBEAT_S:g})")
-    p.add_argument("--max-attempts", type=int, default=jobs.MAX_ATTEMPTS, metavar="N",
-                   help=f"attempts before a run is marked failed (default {jobs.MAX_ATTEMPTS})")
-    p.add_argument("--batch", type=int, default=WorkerOptions.batch, metavar="N",
-                   help="runs with the same solver settings claimed and computed together by "
-                        f"the batched kernels (default {WorkerOptions.batch}; 1 computes one "
-                        f"run at a time; at most {MAX_BATCH})")
+    p.add_argument("--lease", type=float, default=defaults.LEASE_S, metavar="S",
+                   help=f"seconds without heartbeat before a run is requeued, from 2 x "
+                        f"--heartbeat to {MAX_LEASE_S:g} (default {defaults.LEASE_S:g})")
+    p.add_argument("--heartbeat", type=float, default=defaults.HEARTBEAT_S, metavar="S",
+                   help=f"seconds between heartbeats, {HEARTBEAT_RANGE[0]:g} to "
+                        f"{HEARTBEAT_RANGE[1]:g} (default {defaults.HEARTBEAT_S:g})")
+    p.add_argument("--max-attempts", type=int, default=defaults.MAX_ATTEMPTS, metavar="N",
+                   help=f"attempts before a run is marked failed, {MAX_ATTEMPTS_RANGE[0]} to "
+                        f"{MAX_ATTEMPTS_RANGE[1]} (default {defaults.MAX_ATTEMPTS})")
+    p.add_argument("--batch", type=int, default=defaults.DEFAULT_BATCH, metavar="N",
+                   help="runs with the same solver settings claimed together, 1 to "
+                        f"{MAX_BATCH} (default {defaults.DEFAULT_BATCH}); Euler batches go "
+                        "through the batched kernel, RK4 runs are computed and stored one "
+                        "by one")
     add_db_option(p)
     p.set_defaults(handler=handle)
 
 
+def _in_range(option: str, value: float, low: float, high: float, unit: str = "") -> None:
+    """One line naming the option and its range; inf and nan are refused too."""
+    if not (math.isfinite(value) and low <= value <= high):
+        raise UsageError(f"{option} must be a finite number{unit} from {low:g} to {high:g}, "
+                         f"got {value:g}")
+
+
 def _check(args: argparse.Namespace) -> None:
-    if args.jobs < 1:
-        raise UsageError(f"--jobs must be >= 1, got {args.jobs}")
-    if not 1 <= args.batch <= MAX_BATCH:
-        raise UsageError(f"--batch must be between 1 and {MAX_BATCH}, got {args.batch}")
-    if args.max_attempts < 1:
-        raise UsageError(f"--max-attempts must be >= 1, got {args.max_attempts}")
-    if not args.heartbeat > 0:
-        raise UsageError(f"--heartbeat must be > 0 seconds, got {args.heartbeat}")
-    if not args.lease >= 2 * args.heartbeat:
-        raise UsageError(f"--lease must be >= 2 x --heartbeat = {2 * args.heartbeat:g} s, "
-                         f"got {args.lease}")
+    if args.now and not args.stop:
+        raise UsageError("--now goes with --stop (slopetui worker --stop --now)")
+    if args.stop and args.detach:
+        raise UsageError("--stop and --detach exclude each other")
+    _in_range("--jobs", args.jobs, 1, MAX_JOBS)
+    _in_range("--batch", args.batch, 1, MAX_BATCH)
+    _in_range("--max-attempts", args.max_attempts, *MAX_ATTEMPTS_RANGE)
+    _in_range("--heartbeat", args.heartbeat, *HEARTBEAT_RANGE, unit=" of seconds")
+    if math.isfinite(args.heartbeat):
+        _in_range("--lease", args.lease, 2 * args.heartbeat, MAX_LEASE_S,
+                  unit=" of seconds (at least 2 x --heartbeat)")
+
+
+def _already_running(pools: list[LocalPool]) -> UsageError:
+    pool = pools[0]
+    state = f"{len(pool.workers)} workers" if pool.workers else "starting"
+    more = f" (and {len(pools) - 1} more)" if len(pools) > 1 else ""
+    return UsageError(f"a worker pool of this store already runs on this host: pid "
+                      f"{pool.pid} ({state}){more}; stop it with `slopetui worker --stop`, "
+                      "or pass --another-pool to start a second one")
 
 
 def _detach(args: argparse.Namespace, db: Database, log: Path) -> int:
+    from slopetui.queue.local_pool import PoolRunning, start_detached_pool
     extra = ["--lease", str(args.lease), "--heartbeat", str(args.heartbeat),
              "--max-attempts", str(args.max_attempts), "--batch", str(args.batch)]
     if args.exit_when_idle:
         extra.append("--exit-when-idle")
-    pid, log = start_detached_pool(db, jobs=args.jobs, log=log, extra=tuple(extra))
+    try:
+        pid, log = start_detached_pool(db, jobs=args.jobs, log=log, extra=tuple(extra),
+                                       another_pool=args.another_pool)
+    except PoolRunning as exc:
+        raise _already_running(exc.pools) from None
     print(f"worker pool started in the background: pid {pid}, {args.jobs} workers")
     print(f"log: {log}")
-    print(f"stop it: kill {pid}   (running jobs finish; kill it twice to requeue them)")
+    print("see it: slopetui workers    stop it: slopetui worker --stop   (running jobs "
+          "finish; --stop --now gives them back to the queue)")
     return 0
 
 
 def handle(args: argparse.Namespace) -> int:
     _check(args)
+    from slopetui.store.database import Database
     db = Database(args.db)  # open (and migrate) now: a bad URL fails here, in the foreground
+    if args.stop:
+        from slopetui.cli.workers import stop_pools
+        return stop_pools(db, now=args.now)
     url = db.url.render_as_string(hide_password=False)
-    db.dispose()
     log = Path(args.log) if args.log else default_log()
     log.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
     if args.detach:
         return _detach(args, db, log)
+    if not args.another_pool:
+        from slopetui.queue.local_pool import local_pools
+        pools, _ = local_pools(db)
+        if pools:
+            raise _already_running(pools)
+    db.dispose()
+    from slopetui.queue.pool import run_pool
+    from slopetui.queue.worker_process import WorkerOptions
     if sys.stderr.isatty():
         print(f"worker pool: {args.jobs} workers on {db.display_url}; log {log}; Ctrl-C stops",
               file=sys.stderr)

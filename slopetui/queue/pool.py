@@ -2,9 +2,25 @@
 
 The pool migrates the database and warms numba's kernel cache once, serially, before it
 spawns anyone (several processes compiling into one cache at once can corrupt it,
-numba#10128). It restarts a worker that dies and hands the dead worker's run back to the
-queue at once. SIGINT, SIGTERM or SIGHUP: the workers finish their running jobs and exit;
-a second signal makes them give their jobs back to the queue and exit now.
+numba#10128). It restarts a worker that dies and hands the dead worker's runs back to the
+queue at once.
+
+Signals. SIGINT, SIGTERM or SIGHUP: the workers finish the runs in their kernels and exit;
+a second signal makes them give their runs back to the queue and exit now. The handlers do
+nothing (worker_process.SignalPipe): the main loop, which waits on the workers' sentinels
+and on the signal pipe together, counts the signals and sets the workers' ``stop`` or
+``abort`` Event itself. A signal handler that set an Event could deadlock on the Event's
+lock (the handler runs in the main thread, between two bytecodes of whatever it does).
+The workers only ever read the Events (is_set), never wait on them: multiprocessing's
+Event.set() waits until every process sleeping in Event.wait() has woken, so one worker
+stuck in a handler used to hang the pool's set(), and with it the whole pool.
+
+A worker that exits with status 0 left on purpose (a SIGTERM sent to it alone, an idle
+queue with exit_when_idle): it is not replaced and not counted as a death. The pool exits
+when its last worker has.
+
+Exit status: 0 after a stop, 1 when it gave up because workers kept dying (DEATH_WINDOW_S),
+so that a supervisor such as systemd's Restart=on-failure starts it again.
 """
 
 from __future__ import annotations
@@ -14,95 +30,253 @@ import multiprocessing as mp
 import os
 import signal
 import sys
+import time
+from collections import deque
+from collections.abc import Callable
 from multiprocessing.connection import wait
 from multiprocessing.process import BaseProcess
-from typing import Any
 
 from slopetui.queue import jobs
+from slopetui.queue.local_pool import default_jobs, remove_pool_file, write_pool_file
 from slopetui.queue.worker_process import (
+    STOP_SIGNALS,
+    SignalPipe,
     WorkerOptions,
+    block_stop_signals,
     configure_logging,
-    warm_up,
+    watched_warm_up,
     worker_id_for,
     worker_main,
 )
 from slopetui.store.database import Database
+from slopetui.store.integrity import integrity_problems
+
+__all__ = ["DeathWindow", "Pool", "default_jobs", "run_pool"]
 
 log = logging.getLogger("slopetui.pool")
 
-#: After this many deaths per worker slot the pool stops restarting workers: that is a
-#: broken installation or database, not one bad run (those fail after MAX_ATTEMPTS).
-MAX_QUICK_DEATHS = 5
+#: The pool gives up when more than MAX_DEATHS_PER_WORKER x N workers died within the last
+#: DEATH_WINDOW_S seconds. A broken installation or database kills every worker within
+#: seconds of its start (a warm-up from numba's cache takes 1-3 s), so a crash loop passes
+#: that bound in about 15 s whatever N is. A run that crashes its worker kills at most
+#: max_attempts (3) workers before it is marked failed, and deaths spread over hours (the
+#: OOM killer, an admin's kill -9) drop out of the window, so neither makes it give up.
+DEATH_WINDOW_S = 60.0
+MAX_DEATHS_PER_WORKER = 5
+#: After an abort (second signal), a worker that has not exited after this long is killed
+#: (its runs are handed back by the pool): the abort must end, even on a stuck worker (s).
+ABORT_GRACE_S = 10.0
+#: A progress line ("12/240 runs done, ...") at most this often, when something changed (s).
+PROGRESS_S = 10.0
 
 
-def default_jobs() -> int:
-    """The cores this process may use."""
+class DeathWindow:
+    """Worker deaths within the last ``window_s`` seconds."""
+
+    def __init__(self, limit: int, window_s: float = DEATH_WINDOW_S) -> None:
+        self.limit, self.window_s = limit, window_s
+        self.times: deque[float] = deque()
+
+    def add(self, now: float) -> bool:
+        """Record a death at ``now`` (monotonic seconds); True if there were more than
+        ``limit`` within the window."""
+        self.times.append(now)
+        while self.times[0] <= now - self.window_s:
+            self.times.popleft()
+        return len(self.times) > self.limit
+
+
+class Progress:
+    """Logs "12/240 runs done, 30.1 runs/min, ETA 7m48s" for the sweeps that were active
+    while the pool ran, when the count changed, at most every PROGRESS_S seconds."""
+
+    def __init__(self, db: Database, every_s: float = PROGRESS_S) -> None:
+        self.db, self.every_s = db, every_s
+        self.sweeps: set[int] = set()
+        self.last: tuple[int, int] | None = None
+        self.next_at = 0.0
+
+    def line(self) -> str | None:
+        from sqlalchemy import select
+
+        from slopetui.store.models import Sweep
+        from slopetui.sweeps.progress import format_eta, sweep_progress
+        with self.db.sessions() as s:
+            self.sweeps |= set(s.scalars(select(Sweep.id).where(Sweep.status == "active")))
+        if not self.sweeps:
+            return None
+        mine = sweep_progress(self.db, sorted(self.sweeps))
+        total = sum(p.total for p in mine)
+        finished = sum(p.done + p.failed for p in mine)
+        if (finished, total) == self.last:
+            return None
+        self.last = (finished, total)
+        # the workers' recent throughput, finished sweeps included
+        rate = sum(p.runs_per_min for p in mine)
+        left = sum(p.left for p in mine if p.status == "active")
+        failed = sum(p.failed for p in mine)
+        text = f"{finished}/{total} runs done" + (f" ({failed} failed)" if failed else "")
+        if not left:
+            return text + "; nothing queued"
+        eta = left / rate * 60.0 if rate > 0 else None
+        return f"{text}, {rate:.1f} runs/min, ETA {format_eta(eta)}"
+
+    def tick(self, force: bool = False) -> None:
+        now = time.monotonic()
+        if now < self.next_at and not force:
+            return
+        self.next_at = now + self.every_s
+        try:
+            text = self.line()
+        except Exception as exc:  # progress is a courtesy: never stop the pool for it
+            log.warning("progress: %s", exc)
+            return
+        if text:
+            log.info("%s", text)
+
+
+def _start_resource_tracker() -> None:
+    """Start multiprocessing's resource tracker (a child that cleans up the Events'
+    semaphores) with SIGHUP ignored: it ignores SIGINT and SIGTERM itself but not SIGHUP,
+    so a hang-up sent to the pool's process group killed it, and the pool's exit then
+    printed a screenful of KeyError tracebacks from its replacement. An ignored signal
+    stays ignored across exec."""
+    if not hasattr(signal, "SIGHUP"):
+        return
+    from multiprocessing import resource_tracker
     try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        return os.cpu_count() or 1
+        old = signal.signal(signal.SIGHUP, signal.SIG_IGN)
+    except ValueError:  # not the main thread: signals are not ours to set
+        return
+    try:
+        resource_tracker.ensure_running()
+    finally:
+        signal.signal(signal.SIGHUP, old)
 
 
 class Pool:
-    def __init__(self, opts: WorkerOptions, n_workers: int) -> None:
+    def __init__(self, opts: WorkerOptions, n_workers: int,
+                 target: Callable[..., None] | None = None) -> None:
+        # target(opts, stop, abort, pool_pid) runs in each worker process (tests swap it)
         self.opts, self.n_workers = opts, n_workers
+        self.target = target or worker_main
         self.ctx = mp.get_context("spawn")
+        _start_resource_tracker()
         self.stop, self.abort = self.ctx.Event(), self.ctx.Event()
         self.procs: dict[int, BaseProcess] = {}  # sentinel -> process
-        self.deaths = 0
+        self.deaths = DeathWindow(MAX_DEATHS_PER_WORKER * n_workers)
+        self.gave_up = False
+        self.abort_at: float | None = None
 
     def _spawn(self) -> None:
-        proc = self.ctx.Process(target=worker_main, args=(self.opts, self.stop, self.abort),
+        proc = self.ctx.Process(target=self.target,
+                                args=(self.opts, self.stop, self.abort, os.getpid()),
                                 name=f"slopetui-worker-{len(self.procs)}")
-        proc.start()
+        restore = block_stop_signals()  # the worker unblocks them (block_stop_signals)
+        try:
+            proc.start()
+        finally:
+            restore()
         self.procs[proc.sentinel] = proc
 
-    def _on_signal(self, signum: int, _frame: Any) -> None:
-        if self.stop.is_set():
-            log.info("%s again: workers give their runs back and exit",
-                     signal.Signals(signum).name)
-            self.abort.set()
-        else:
-            log.info("%s: workers finish their running jobs, then exit (again: give them "
-                     "back now)", signal.Signals(signum).name)
+    def _act_on(self, signals: SignalPipe) -> None:
+        """Turn the signals counted so far into the workers' Events (here, never in a
+        handler)."""
+        n = signals.poll()
+        if n >= 1 and not self.stop.is_set():
+            log.info("%s: workers finish the runs they are computing, then exit (again: "
+                     "give them back now)", signals.name())
             self.stop.set()
+        if n >= 2 and not self.abort.is_set():
+            log.info("%s again: workers give their runs back and exit", signals.name())
+            self.abort.set()
+            self.abort_at = time.monotonic()
 
     def _reap(self, db: Database, proc: BaseProcess) -> None:
         proc.join()
-        if proc.exitcode == 0:
-            return
         wid = worker_id_for(proc.pid or 0)
+        if proc.exitcode == 0:
+            if not (self.stop.is_set() or self.opts.exit_when_idle):
+                log.info("worker %s left (exit status 0: it was sent SIGTERM); not "
+                         "replaced, %d workers left", wid, len(self.procs))
+            return
         requeued, failed = jobs.requeue_worker(
             db, wid, f"worker {wid} died (exit code {proc.exitcode})", self.opts.max_attempts)
         log.error("worker %s died (exit code %s): %d runs requeued, %d failed", wid,
                   proc.exitcode, requeued, failed)
-        self.deaths += 1
         if self.stop.is_set():
             return
-        if self.deaths > MAX_QUICK_DEATHS * self.n_workers:
-            log.error("workers keep dying; not restarting (see the errors above)")
+        if self.deaths.add(time.monotonic()):
+            log.error("giving up: more than %d workers died within %g s (see the errors "
+                      "above); the pool exits with status 1", self.deaths.limit,
+                      self.deaths.window_s)
+            self.gave_up = True
             self.stop.set()
             return
         self._spawn()
 
+    def _kill_stuck(self) -> None:
+        """After an abort, kill the workers that did not leave within ABORT_GRACE_S."""
+        if self.abort_at is None or time.monotonic() - self.abort_at < ABORT_GRACE_S:
+            return
+        for proc in self.procs.values():
+            if proc.is_alive():
+                log.warning("worker %s did not stop within %g s: killed",
+                            worker_id_for(proc.pid or 0), ABORT_GRACE_S)
+                proc.kill()
+        self.abort_at = None
+
     def run(self) -> int:
-        """Run until stopped (or, with exit_when_idle, until the queue is drained)."""
+        """Run until stopped (or, with exit_when_idle, until the queue is drained).
+        Returns the exit status: 0, or 1 if it gave up (see the module docstring)."""
         db = Database(self.opts.db_url)  # migrates a new or old database, under a lock
-        log.info("pool of %d workers on %s (pid %d)", self.n_workers, db.display_url,
-                 os.getpid())
-        warm_up()
-        for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
-            signal.signal(signum, self._on_signal)
-        for _ in range(self.n_workers):
-            self._spawn()
-        while self.procs:
-            for sentinel in wait(list(self.procs), timeout=1.0):
-                self._reap(db, self.procs.pop(sentinel))  # type: ignore[arg-type]
-        log.info("pool stopped")
-        return 0
+        damage = integrity_problems(db, quick=True)
+        if damage:  # results written into a damaged file could be lost with it
+            log.error("the database file %s is damaged (%s): the pool does not start; "
+                      "`slopetui db check` lists what is broken", db.path, damage[0])
+            return 1
+        url = db.url.render_as_string(hide_password=False)
+        signals = SignalPipe(STOP_SIGNALS)
+        try:
+            write_pool_file(url, os.getpid(), self.opts.log_path)
+            log.info("pool of %d workers on %s (pid %d)", self.n_workers, db.display_url,
+                     os.getpid())
+            if watched_warm_up(lambda: signals.poll() > 0) is None:
+                log.info("%s during the warm-up: pool stopped before its workers started",
+                         signals.name())
+                return 0
+            for _ in range(self.n_workers):
+                self._spawn()
+            progress = Progress(db)
+            while self.procs:
+                ready = wait([*self.procs, signals.fileno()], timeout=1.0)
+                self._act_on(signals)
+                for sentinel in ready:
+                    if sentinel in self.procs:
+                        self._reap(db, self.procs.pop(sentinel))  # type: ignore[arg-type]
+                self._kill_stuck()
+                progress.tick()
+            progress.tick(force=True)  # where the pool left the sweeps
+        finally:
+            signals.close()
+            remove_pool_file(url, os.getpid())
+        log.info("pool stopped%s", " (gave up)" if self.gave_up else "")
+        return 1 if self.gave_up else 0
+
+
+def _stderr_is(path: str | None) -> bool:
+    """Is stderr that file (a detached pool writes its stderr into its own log)?"""
+    if not path:
+        return False
+    try:
+        a, b = os.fstat(sys.stderr.fileno()), os.stat(path)
+    except (OSError, ValueError, AttributeError):
+        return False
+    return (a.st_dev, a.st_ino) == (b.st_dev, b.st_ino)
 
 
 def run_pool(opts: WorkerOptions, n_workers: int) -> int:
-    """Run a pool in this process; the pool's own messages also go to a terminal."""
-    configure_logging(opts.log_path, echo=sys.stderr.isatty())
+    """Run a pool in this process; its own messages (start, progress, stop, errors) also go
+    to stderr, unless stderr is the log file itself (a detached pool)."""
+    configure_logging(opts.log_path, echo=not _stderr_is(opts.log_path))
     return Pool(opts, n_workers).run()

@@ -1,37 +1,70 @@
-"""One worker process of the pool: claim a batch of runs, compute it, write the results,
-repeat.
+"""One worker process of the pool: claim a batch of runs, compute it, write each result as
+soon as it is known, repeat.
 
-A batch is up to ``batch`` queued runs with the same solver settings, computed together by
-the batched Euler kernel (core.batch: ~2x the single kernel's throughput; see
-BATCHED_METHODS for RK4); ``batch = 1`` uses the single-run kernels. The computation runs in a thread of this process (the numba kernels
-release the GIL), so the main thread stays free to notice a shutdown; a heartbeat thread
-extends the leases of every run of the batch.
-Shutdown: the pool sets ``stop`` (finish the running job, then exit) or ``abort`` (give
-the running job back to the queue now, then exit). SIGTERM sent to this process directly
-(systemd stops the whole control group) acts as ``stop``, a second SIGTERM as ``abort``.
+A batch is up to ``batch`` queued runs with the same solver settings. Euler batches go
+through the batched kernel (core.batch: ~2x the single kernel's throughput) in one call,
+which reports nothing until every lane is done (core.run_batch has no per-lane callback),
+so their results are written when it returns, and every run of the batch, being in the
+kernel, is charged an attempt. RK4 (see BATCHED_METHODS), or a batch of 1, is computed run by run, and each run
+is charged its attempt when it starts and written when it ends (jobs.begin, jobs.complete):
+a worker killed mid-batch loses only the run it was computing. The computation runs in a
+thread (the numba kernels release the GIL), so the main thread stays free to notice a
+shutdown; a heartbeat thread extends the leases of every run the worker holds.
+
+Shutdown. The main loop reads three sources, and nothing else acts on them:
+
+* the pool's ``stop`` and ``abort`` Events (the pool sets them from its main loop). They
+  are only read (is_set), never waited on: a process sleeping in Event.wait() makes the
+  pool's Event.set() wait until it wakes (see slopetui.queue.pool);
+* SIGTERM sent to this process (systemd stops the whole control group; the kernel sends
+  it when the pool dies, PR_SET_PDEATHSIG). The handler does nothing: CPython's C-level
+  handler writes a byte to the wakeup pipe (signal.set_wakeup_fd), and the loop counts
+  the bytes. A handler must not touch a multiprocessing Event or lock: it runs in the
+  main thread, possibly while that thread is inside the same Event's wait, and deadlocks;
+* the pool's pid against getppid(): a worker whose pool is gone stops.
+
+Stop (first SIGTERM, ``stop``, pool gone): finish the run in the kernel, give the runs not
+started back, exit 0. Abort (second SIGTERM, ``abort``): give every held run back now and
+exit 0 at once; not for an orphan, whose SIGTERMs are its pool's death (Control.aborting).
+SIGINT and SIGHUP are ignored: Ctrl-C and a hang-up reach every process of
+the terminal's group, and the pool decides for all.
 """
 
 from __future__ import annotations
 
 import logging
+import math
 import os
+import select
 import signal
 import socket
+import sys
 import threading
+import time
 import traceback
+from collections.abc import Callable, Iterable
 from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import wait as wait_futures
 from dataclasses import dataclass
 from typing import Any
 
-from sqlalchemy import func, select
+from sqlalchemy import func, select as sql_select
 
-from slopetui.queue import jobs
+from slopetui.queue import defaults, jobs
 from slopetui.store.database import Database
 from slopetui.store.db_time import db_now
 from slopetui.store.models import Run, Sweep, Worker
 from slopetui.sweeps import adaptive
 
 log = logging.getLogger("slopetui.worker")
+
+#: The signals a pool acts on; its workers act on SIGTERM only.
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+#: How often the main thread looks at the stop sources while it waits (s).
+TICK_S = 0.2
+#: A warm-up longer than this is a compilation (~30 s), not a load from numba's cache
+#: (~1 s, 2-3 s on a loaded machine) (s).
+COMPILING_AFTER_S = 5.0
 
 
 @dataclass(frozen=True)
@@ -41,12 +74,25 @@ class WorkerOptions:
     db_url: str
     log_path: str | None = None
     poll_s: float = 1.0
-    heartbeat_s: float = jobs.HEARTBEAT_S
-    lease_s: float = jobs.LEASE_S
-    max_attempts: int = jobs.MAX_ATTEMPTS
+    heartbeat_s: float = defaults.HEARTBEAT_S
+    lease_s: float = defaults.LEASE_S
+    max_attempts: int = defaults.MAX_ATTEMPTS
     exit_when_idle: bool = False
     #: Runs claimed and computed together (see the module docstring); 1: one at a time.
-    batch: int = 32
+    batch: int = defaults.DEFAULT_BATCH
+
+    def __post_init__(self) -> None:
+        # `slopetui worker` checks its options with friendlier words; this guards the other
+        # callers: an infinite heartbeat would kill the heartbeat thread (Event.wait(inf)
+        # raises OverflowError), and leases would then expire under a live worker.
+        for name in ("poll_s", "heartbeat_s", "lease_s"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ValueError(f"WorkerOptions.{name} must be finite and > 0, got {value}")
+        if self.lease_s < 2 * self.heartbeat_s:
+            raise ValueError("WorkerOptions.lease_s must be >= 2 x heartbeat_s")
+        if self.max_attempts < 1 or self.batch < 1:
+            raise ValueError("WorkerOptions.max_attempts and batch must be >= 1")
 
 
 def worker_id_for(pid: int) -> str:
@@ -54,9 +100,13 @@ def worker_id_for(pid: int) -> str:
 
 
 def configure_logging(log_path: str | None, echo: bool = False) -> None:
-    """Log to the file (every process of the pool appends to it); ``echo`` also to stderr."""
+    """Log to the file (every process of the pool appends to it; created 0600: it holds
+    runs' errors and tracebacks); ``echo`` also to stderr."""
+    from slopetui.queue.local_pool import open_private_log
     handlers: list[logging.Handler] = []
     if log_path:
+        from pathlib import Path
+        os.close(open_private_log(Path(log_path)))  # FileHandler would create it 0644
         handlers.append(logging.FileHandler(log_path, encoding="utf-8"))
     if echo or not log_path:
         handlers.append(logging.StreamHandler())
@@ -76,6 +126,178 @@ def warm_up() -> None:
         settings = SolverSettings(method=method, t_end=20.0, window=10.0)
         run_point(Params(tau=1.0), settings)
         run_batch([Params(tau=1.0), Params(tau=2.0)], settings)
+
+
+def watched_warm_up(stopped: Callable[[], bool], announce: bool = True) -> float | None:
+    """warm_up() in a daemon thread, so that this (main) thread can still act on a stop.
+    ``announce``: log how long it took, and say so when it turns out to be a compilation
+    (the pool; its workers then load what it compiled). Returns the seconds it took, or
+    None if ``stopped()`` came first (the caller then exits; the thread dies with the
+    process)."""
+    errors: list[BaseException] = []
+
+    def target() -> None:
+        try:
+            warm_up()
+        except BaseException as exc:  # re-raised in the main thread
+            errors.append(exc)
+
+    t0 = time.monotonic()
+    thread = threading.Thread(target=target, name="warm-up", daemon=True)
+    thread.start()
+    said = False
+    while thread.is_alive():
+        thread.join(TICK_S)
+        if stopped():
+            return None
+        if announce and not said and time.monotonic() - t0 > COMPILING_AFTER_S:
+            log.info("compiling the numba kernels (first run after install or an engine "
+                     "change; ~30 s)")
+            said = True
+    if errors:
+        raise errors[0]
+    took = time.monotonic() - t0
+    if said:
+        log.info("numba kernels compiled in %.1f s", took)
+    elif announce:
+        log.info("numba kernels loaded from numba's cache in %.1f s", took)
+    return took
+
+
+class SignalPipe:
+    """Counts signals without doing anything in a handler that could block.
+
+    The Python handlers are empty on purpose: for each signal, CPython's C-level handler
+    writes its number to the wakeup pipe (``signal.set_wakeup_fd``); ``poll()``, called by
+    the loop, reads and counts those bytes (two signals are two bytes, even when the
+    Python-level handler would run once for both). ``fileno()`` can be select()ed on to
+    wake up at once. Main thread only, as signal handlers are."""
+
+    def __init__(self, signums: Iterable[int]) -> None:
+        self.signums = frozenset(int(s) for s in signums)
+        self.count = 0
+        self.last: int | None = None
+        self._read, self._write = os.pipe()
+        os.set_blocking(self._read, False)
+        os.set_blocking(self._write, False)  # a full pipe drops the byte, never blocks
+        self._old_fd = signal.set_wakeup_fd(self._write, warn_on_full_buffer=False)
+        self._old = {s: signal.signal(s, self._handler) for s in self.signums}
+
+    @staticmethod
+    def _handler(_signum: int, _frame: Any) -> None:
+        """Nothing: the byte in the wakeup pipe is the signal (see the class docstring)."""
+
+    def fileno(self) -> int:
+        return self._read
+
+    def poll(self) -> int:
+        """Count the signals received since the last poll; returns the total."""
+        while True:
+            try:
+                data = os.read(self._read, 512)
+            except BlockingIOError:
+                break
+            if not data:
+                break
+            for signum in data:
+                if signum in self.signums:
+                    self.count += 1
+                    self.last = signum
+        return self.count
+
+    def name(self) -> str:
+        return signal.Signals(self.last).name if self.last else "a signal"
+
+    def close(self) -> None:
+        """Put back the previous handlers and wakeup fd (a pool may run inside another
+        program, e.g. `slopetui reproduce`)."""
+        for signum, old in self._old.items():
+            signal.signal(signum, old)
+        signal.set_wakeup_fd(self._old_fd)
+        os.close(self._read)
+        os.close(self._write)
+
+
+def block_stop_signals() -> Callable[[], None]:
+    """Block INT/TERM/HUP in this thread; returns the function that restores the mask.
+
+    A spawned child inherits the mask through fork and exec: the pool spawns its workers
+    with these signals blocked, and each worker unblocks them once its own handlers are in,
+    so a signal that comes while it is still starting waits instead of killing it half
+    made (a KeyboardInterrupt traceback, or a death that the pool would count)."""
+    if not hasattr(signal, "pthread_sigmask"):
+        return lambda: None
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
+    return lambda: signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def die_with_parent() -> None:
+    """Ask Linux to send SIGTERM to this process when its parent (the pool) dies, even a
+    kill -9 of it: an orphan worker must not claim runs and pose as live (prctl
+    PR_SET_PDEATHSIG). Elsewhere a no-op: the getppid() check in the loop still works."""
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+        libc = ctypes.CDLL(None, use_errno=True)
+        pr_set_pdeathsig = 1
+        libc.prctl(pr_set_pdeathsig, int(signal.SIGTERM), 0, 0, 0)
+    except (OSError, AttributeError):  # no libc prctl (e.g. musl without it)
+        pass
+
+
+class Control:
+    """What the worker should do now, read from the stop sources of the module docstring.
+    Only the main loop calls it; nothing here runs in a signal handler."""
+
+    def __init__(self, signals: SignalPipe, stop: Any, abort: Any, pool_pid: int) -> None:
+        self.signals, self.stop, self.abort, self.pool_pid = signals, stop, abort, pool_pid
+        self._said: str | None = None
+
+    def orphaned(self) -> bool:
+        """The pool is gone, or going: this worker was re-parented, or the pool's main
+        thread has exited (a zombie leader while its other threads die)."""
+        from slopetui.queue.local_pool import process_state
+        return (os.getppid() != self.pool_pid
+                or process_state(self.pool_pid) in ("Z", "X"))
+
+    def aborting(self) -> bool:
+        # A pool killed with kill -9 sends PR_SET_PDEATHSIG's SIGTERM once per thread of
+        # it that the worker is re-parented through on the way to init (two or more): those
+        # SIGTERMs are the pool's death, a stop, not a second SIGTERM asking for an abort.
+        return self.abort.is_set() or (self.signals.poll() >= 2 and not self.orphaned())
+
+    def stopping(self) -> bool:
+        return (self.aborting() or self.signals.count >= 1 or self.stop.is_set()
+                or self.orphaned())
+
+    def reason(self) -> str:
+        if self.abort.is_set():
+            return "the pool asks for an immediate stop: giving the held runs back now"
+        if self.orphaned():  # its SIGTERMs (PR_SET_PDEATHSIG) say less
+            return f"the pool (pid {self.pool_pid}) is gone: finishing the run in " \
+                   "progress, then exiting"
+        if self.signals.count >= 2:
+            return "SIGTERM again: giving the held runs back now"
+        if self.signals.count:
+            return "SIGTERM: finishing the run in progress, then exiting"
+        return "the pool asks for a stop: finishing the run in progress, then exiting"
+
+    def say(self, wid: str) -> None:
+        """Log why the worker stops (once per reason)."""
+        reason = self.reason()
+        if reason != self._said:
+            log.info("worker %s: %s", wid, reason)
+            self._said = reason
+
+    def sleep(self, seconds: float) -> None:
+        """Wait up to ``seconds``; a signal wakes it at once, a stop within TICK_S."""
+        deadline = time.monotonic() + seconds
+        while not self.stopping():
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return
+            select.select([self.signals.fileno()], [], [], min(left, TICK_S))
 
 
 def _register(db: Database, worker_id: str) -> None:
@@ -99,15 +321,15 @@ def queue_drained(db: Database) -> bool:
     """Nothing left that a worker could still have to do: no queued run of an active
     sweep and no running run (a running run may come back if its worker dies)."""
     with db.sessions() as s:
-        waiting = s.scalar(select(func.count()).select_from(Run).join(Sweep)
+        waiting = s.scalar(sql_select(func.count()).select_from(Run).join(Sweep)
                            .where(Run.status == "queued", Sweep.status == "active"))
-        running = s.scalar(select(func.count()).select_from(Run)
+        running = s.scalar(sql_select(func.count()).select_from(Run)
                            .where(Run.status == "running"))
     return waiting == 0 and running == 0
 
 
 class _Heartbeat(threading.Thread):
-    """Extends the lease of the current run, and requeues the runs of dead workers."""
+    """Extends the leases of the held runs, and requeues the runs of dead workers."""
 
     def __init__(self, db: Database, worker_id: str, opts: WorkerOptions) -> None:
         super().__init__(name="heartbeat", daemon=True)
@@ -131,115 +353,173 @@ class _Heartbeat(threading.Thread):
 #: batches are computed run by run.
 BATCHED_METHODS = frozenset({"euler"})
 
+Records = list[dict[str, Any]]
 
-def _compute(batch: list[jobs.Job]) -> list[dict[str, Any]]:
-    from core import run_batch, run_point
-    settings = batch[0].settings
-    if len(batch) == 1 or settings.method not in BATCHED_METHODS:
-        return [run_point(job.params, job.settings).as_record() for job in batch]
+
+def _compute_one(job: jobs.Job) -> Records:
+    from core import run_point
+    return [run_point(job.params, job.settings).as_record()]
+
+
+def _compute_together(batch: list[jobs.Job]) -> Records:
+    # core.run_batch has no per-lane callback (one numba call integrates every lane), so
+    # its results are all known, and written, when it returns.
+    from core import run_batch
     return [result.as_record() for result in run_batch([job.params for job in batch],
-                                                       settings)]
+                                                       batch[0].settings)]
 
 
-def _wait(future: Future[list[dict[str, Any]]], abort: Any) -> bool:
-    """Wait for the computation; False if abort was set first."""
-    while True:
-        try:
-            future.result(timeout=0.2)
-            return True
-        except TimeoutError:
-            if abort.is_set():
-                return False
-        except Exception:  # the computation raised: the caller reads it from the future
-            return True
+def _wait(future: Future[Records], control: Control) -> bool:
+    """Wait for the computation; False if an abort came first (it is left running)."""
+    while not wait_futures([future], timeout=TICK_S).done:
+        if control.aborting():
+            return False
+    return True
 
 
-def _serve_from_cache(db: Database, wid: str, batch: list[jobs.Job]) -> list[jobs.Job]:
-    """Complete the runs an identical finished run already answers; return the others."""
-    left = []
-    for job in batch:
-        hit = jobs.cached_result(db, job)
-        if hit is None:
-            left.append(job)
-        else:
-            jobs.complete(db, job, wid, hit[1], cached_from=hit[0])
-            log.info("run %d done (cached from run %d)", job.run_id, hit[0])
-    return left
-
-
-def _process(db: Database, wid: str, batch: list[jobs.Job], pool: ThreadPoolExecutor,
-             abort: Any, opts: WorkerOptions) -> bool:
-    """Run one claimed batch to its end; False if it was given back on abort."""
-    batch = _serve_from_cache(db, wid, batch)
-    if not batch:
-        return True
-    future = pool.submit(_compute, batch)
-    if not _wait(future, abort):
-        for job in batch:
-            released = jobs.release(db, job, wid)
+def _give_back(db: Database, wid: str, held: list[jobs.Job]) -> None:
+    """Release held runs: a started run's attempt is returned, an unstarted run was never
+    charged."""
+    unstarted = 0
+    for job in held:
+        released = jobs.release(db, job, wid)
+        if job.started:
             log.info("run %d given back to the queue (shutdown)%s", job.run_id,
                      "" if released else "; its lease had already been taken over")
-        return False
+        else:
+            unstarted += released
+    if unstarted:
+        log.info("%d claimed runs not started given back to the queue", unstarted)
+
+
+def _write(db: Database, wid: str, batch: list[jobs.Job], future: Future[Records],
+           opts: WorkerOptions, size: int) -> None:
+    """Write the results of a finished computation (guarded by the lease), or its error."""
     error = future.exception()
     if error is None:
         for job, record in zip(batch, future.result(), strict=True):
             if jobs.complete(db, job, wid, record):
                 log.info("run %d done: %s in %.2f s (attempt %d, batch of %d)", job.run_id,
-                         record["regime"], record["runtime_s"], job.attempts, len(batch))
+                         record["regime"], record["runtime_s"], job.attempts, size)
             else:
                 log.warning("run %d finished after its lease was lost; result discarded",
                             job.run_id)
-    else:
-        text = "".join(traceback.format_exception(error)).strip()
-        for job in batch:
-            status = jobs.fail(db, job, wid, text, opts.max_attempts)
-            log.error("run %d raised (attempt %d, now %s): %s", job.run_id, job.attempts,
-                      status, error)
+        return
+    text = "".join(traceback.format_exception(error)).strip()
+    for job in batch:
+        status = jobs.fail(db, job, wid, text, opts.max_attempts)
+        log.error("run %d raised (attempt %d, now %s): %s", job.run_id, job.attempts,
+                  status, error)
+
+
+def _from_cache(db: Database, wid: str, job: jobs.Job) -> bool:
+    """Complete the run if an identical finished run already answers it."""
+    hit = jobs.cached_result(db, job)
+    if hit is None:
+        return False
+    jobs.complete(db, job, wid, hit[1], cached_from=hit[0])
+    log.info("run %d done (cached from run %d)", job.run_id, hit[0])
     return True
 
 
-def worker_main(opts: WorkerOptions, stop: Any, abort: Any) -> None:
-    """Entry point of a spawned worker process (stop and abort are multiprocessing Events)."""
-    configure_logging(opts.log_path)
-    # Ctrl-C reaches every process of the terminal's group; the pool decides for all.
+def _one_by_one(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadPoolExecutor,
+                control: Control, opts: WorkerOptions) -> None:
+    """Each run: charge it, compute it, write it. A stop between two runs gives the runs
+    not started back; an abort also gives back the run in the kernel."""
+    for i, job in enumerate(batch):
+        if control.stopping():
+            _give_back(db, wid, batch[i:])
+            return
+        if _from_cache(db, wid, job):
+            continue
+        started = jobs.begin(db, [job], wid)
+        if not started:
+            log.warning("run %d: lease lost before it started; skipped", job.run_id)
+            continue
+        future = executor.submit(_compute_one, started[0])
+        if not _wait(future, control):
+            _give_back(db, wid, started + batch[i + 1:])
+            return
+        _write(db, wid, started, future, opts, len(batch))
+
+
+def _together(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadPoolExecutor,
+              control: Control, opts: WorkerOptions) -> None:
+    """The whole batch in one call of the batched kernel: every run of it is in the kernel,
+    so every one is charged; an abort gives them all back."""
+    batch = [job for job in batch if not _from_cache(db, wid, job)]
+    if control.stopping():
+        _give_back(db, wid, batch)
+        return
+    started = jobs.begin(db, batch, wid)
+    if not started:
+        return
+    future = executor.submit(_compute_together, started)
+    if not _wait(future, control):
+        _give_back(db, wid, started)
+        return
+    _write(db, wid, started, future, opts, len(started))
+
+
+def _process(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadPoolExecutor,
+             control: Control, opts: WorkerOptions) -> None:
+    if len(batch) > 1 and batch[0].settings.method in BATCHED_METHODS:
+        _together(db, wid, batch, executor, control, opts)
+    else:
+        _one_by_one(db, wid, batch, executor, control, opts)
+
+
+def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> None:
+    """Entry point of a spawned worker process (stop and abort are multiprocessing Events,
+    set by the pool's main loop; pool_pid is the pool, given rather than read with
+    getppid(), which would already say 1 if the pool died while this process started)."""
+    # First, before anything slow: die with the pool, and catch a pool already gone.
+    die_with_parent()
+    if os.getppid() != pool_pid:
+        os._exit(0)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGHUP, signal.SIG_IGN)
-
-    def on_term(_sig: int, _frame: Any) -> None:
-        (abort if stop.is_set() else stop).set()
-    signal.signal(signal.SIGTERM, on_term)
-
+    signals = SignalPipe([signal.SIGTERM])
+    if hasattr(signal, "pthread_sigmask"):  # the pool spawned us with them blocked
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS)
+    control = Control(signals, stop, abort, pool_pid)
+    configure_logging(opts.log_path)
     wid = worker_id_for(os.getpid())
+    if watched_warm_up(control.stopping, announce=False) is None:
+        control.say(wid)  # nothing claimed, nothing registered: just leave
+        logging.shutdown()
+        os._exit(0)
     db = Database(opts.db_url, upgrade=False)  # the pool migrated it before spawning us
-    warm_up()
     _register(db, wid)
     hb = _Heartbeat(db, wid, opts)
     hb.start()
     log.info("worker %s started", wid)
-    parent = os.getppid()
-    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="compute") as pool:
-        try:
-            while not stop.is_set():
-                if os.getppid() != parent:  # the pool was killed: do not linger as orphans
-                    log.warning("the pool process is gone; worker %s exits", wid)
-                    break
-                batch = jobs.claim_batch(db, wid, opts.batch)
-                if not batch:
-                    # an adaptive sweep whose level is complete queues its next level
-                    if adaptive.advance_all(db):
-                        continue
-                    if opts.exit_when_idle and queue_drained(db):
-                        break
-                    stop.wait(opts.poll_s)
-                elif not _process(db, wid, batch, pool, abort, opts):
-                    break
-                else:
+    executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="compute")
+    try:
+        while not control.stopping():
+            batch = jobs.claim_batch(db, wid, opts.batch, BATCHED_METHODS)
+            if batch:
+                _process(db, wid, batch, executor, control, opts)
+                if not control.aborting():
                     adaptive.advance_all(db)
-        finally:
-            hb.halt.set()
-            _unregister(db, wid)
-            log.info("worker %s stopped", wid)
-        if abort.is_set():
-            # A computation may still run in the thread: do not wait for it.
-            logging.shutdown()
-            os._exit(0)
+                continue
+            # an adaptive sweep whose level is complete queues its next level
+            if adaptive.advance_all(db):
+                continue
+            if opts.exit_when_idle and queue_drained(db):
+                break
+            control.sleep(opts.poll_s)
+        if control.stopping():
+            control.say(wid)
+    finally:
+        hb.halt.set()
+        _unregister(db, wid)
+        log.info("worker %s stopped", wid)
+    # os._exit, not a return: the interpreter's finalisation puts SIGTERM's default action
+    # back, and a late SIGTERM (the second of a stop) would then kill the worker with -15,
+    # which the pool must count as a death. On an abort, a computation may also still run
+    # in the thread: it is not waited for.
+    executor.shutdown(wait=not control.aborting())
+    db.dispose()
+    logging.shutdown()
+    os._exit(0)

@@ -14,7 +14,7 @@ from datetime import datetime, timedelta
 
 from sqlalchemy import func, select
 
-from slopetui.queue.jobs import LEASE_S
+from slopetui.queue.defaults import LEASE_S
 from slopetui.store.database import Database
 from slopetui.store.models import Run, Sweep, Worker
 

@@ -63,11 +63,13 @@ class SlopeApp(App[None]):
             self.attach_pool(db)
 
     def attach_pool(self, db: Database) -> None:
-        from slopetui.queue.local_pool import local_workers, start_detached_pool
+        from slopetui.queue.local_pool import local_pools, start_detached_pool
         try:
-            found = local_workers(db)
-            if found:
-                message = f"attached to the {len(found)} workers running on this host"
+            pools, _ = local_pools(db)  # a pool still warming up has no workers yet
+            if pools:
+                n = sum(len(p.workers) for p in pools)
+                message = (f"attached to the worker pool of this host (pid "
+                           f"{', '.join(str(p.pid) for p in pools)}, {n} workers)")
             else:
                 pid, log = start_detached_pool(db)
                 message = f"worker pool started (pid {pid}, log {log}); it keeps running after you quit"
