@@ -41,3 +41,10 @@ def configure() -> None:
     import numba  # here, not at the top: source_digest() alone must not load numba
 
     numba.config.CACHE_DIR = str(cache_dir())
+
+
+def compiled(module: str) -> bool:
+    """Whether numba's cache holds a compiled kernel of ``core.<module>`` (an index file
+    ``<module>.<function>-<line>.py<version>.nbi``): if not, the next call compiles it."""
+    folder = Path(os.environ.get("NUMBA_CACHE_DIR") or cache_dir())
+    return any(folder.rglob(f"{module}.*.nbi"))

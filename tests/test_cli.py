@@ -123,3 +123,18 @@ def test_negative_numbers_in_scientific_notation_are_values():
 def test_lambda_max_says_why_it_is_missing(capsys):
     assert main(["run", "--t-end", "5", "--window", "2", "--method", "rk4"]) == 0
     assert "lambda_max not estimated (the run is too short" in capsys.readouterr().out
+
+
+def test_run_says_when_it_compiles(tmp_path, monkeypatch, capsys):
+    """The first run after an install compiles its kernel for seconds, silently before."""
+    from core import jit_cache
+
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    assert not jit_cache.compiled("euler")
+    index = tmp_path / "core_0123" / "euler.euler-20.py311.nbi"
+    index.parent.mkdir()
+    index.touch()
+    assert jit_cache.compiled("euler") and not jit_cache.compiled("rk4")
+    monkeypatch.setattr(jit_cache, "compiled", lambda module: False)
+    assert main(["run", "--tau", "2", "--t-end", "20"]) == 0
+    assert "compiling the euler kernel" in capsys.readouterr().err

@@ -130,8 +130,12 @@ def handle(args: argparse.Namespace) -> int:
         return 2
     for w in friction_warnings(params):
         print(f"slopetui run: warning: {w}", file=sys.stderr)
+    from core.jit_cache import compiled
     from core.point import run_point
 
+    if not compiled(settings.method):  # a silent pause of seconds looks like a hang
+        print(f"slopetui run: compiling the {settings.method} kernel (first use after an "
+              "install or a change of the engine; about 4 s, cached after)", file=sys.stderr)
     result = run_point(params, settings)
     if args.json:
         rec = result.as_record()
