@@ -4,13 +4,17 @@ from __future__ import annotations
 
 import asyncio
 import json
+import logging
 import math
 import sqlite3
+import stat
+import time
 from collections.abc import Awaitable, Callable
 from pathlib import Path
 
 import pytest
 from textual.pilot import Pilot
+from textual.screen import Screen
 from textual.widgets import DataTable, OptionList, Static, TextArea, Tree
 
 from slopetui.store import Database
@@ -256,3 +260,166 @@ def test_history_file(tmp_path: Path) -> None:
     assert read_history(path) == queries
     path.write_text(path.read_text() + "not json\n" + json.dumps(7) + "\n")
     assert read_history(path) == queries
+
+
+# -- time limit and cancellation --------------------------------------------------------
+
+#: About a minute of SQLite on a 2-core box: a broken cancel fails the test, not hangs it.
+SLOW = ("WITH RECURSIVE c(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM c "
+        "WHERE x < 300000000) SELECT count(*) FROM c")
+RUNNING = "running… (ctrl+g cancels)"
+
+
+async def start_sql(pilot: Pilot, sql: str) -> None:
+    """Type sql and start it; do not wait for it."""
+    editor = pilot.app.screen.query_one("#sql-editor", TextArea)
+    editor.text = sql
+    editor.focus()
+    await pilot.press("ctrl+r")
+    await pilot.pause()
+
+
+def test_a_query_times_out(store: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    assert SqlScreen.QUERY_TIMEOUT_S == 30
+    monkeypatch.setattr(SqlScreen, "QUERY_TIMEOUT_S", 0.5)
+
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        start = time.monotonic()
+        message = await run_sql(pilot, SLOW)
+        assert time.monotonic() - start < 10
+        assert message == "timed out after 0.5 s; nothing shown"
+        assert app.screen.query_one("#sql-results", DataTable).row_count == 0
+        assert (await run_sql(pilot, "SELECT 1")).startswith("1 row in")
+
+    in_console(store, scenario)
+
+
+def test_counting_stopped_by_the_limit_keeps_the_rows(store: str,
+                                                       monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(SqlScreen, "QUERY_TIMEOUT_S", 0.5)
+    endless = "WITH RECURSIVE c(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM c) SELECT x FROM c"
+
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        message = await run_sql(pilot, endless)
+        assert message.startswith("at least ") and message.endswith(
+            f" rows (first {sql_screen.DISPLAY_LIMIT} shown); counting timed out after "
+            "0.5 s"), message
+        assert app.screen.query_one("#sql-results", DataTable).row_count == \
+            sql_screen.DISPLAY_LIMIT
+
+    in_console(store, scenario)
+
+
+def test_a_new_query_cancels_the_running_one(store: str,
+                                             monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(SqlScreen, "QUERY_TIMEOUT_S", None)  # only a cancel stops it
+
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        await start_sql(pilot, SLOW)
+        assert status(pilot) == RUNNING
+        first = app.screen._query
+        assert first is not None
+        start = time.monotonic()
+        message = await run_sql(pilot, "SELECT 7 AS seven")  # waits for both workers
+        assert time.monotonic() - start < 10
+        assert first.cancel_requested
+        assert message.startswith("1 row in") and table_rows(pilot) == (["seven"], [["7"]])
+
+    in_console(store, scenario)
+
+
+def test_ctrl_g_cancels(store: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(SqlScreen, "QUERY_TIMEOUT_S", None)
+
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        await start_sql(pilot, SLOW)
+        await pilot.press("ctrl+g")
+        start = time.monotonic()
+        await settle(pilot)
+        assert time.monotonic() - start < 10
+        assert status(pilot) == "cancelled"
+        await pilot.press("ctrl+g")
+        assert status(pilot) == "no query is running"
+
+    in_console(store, scenario)
+
+
+def test_leaving_the_console_cancels(store: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(SqlScreen, "QUERY_TIMEOUT_S", None)
+
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        console = app.screen
+        await start_sql(pilot, SLOW)
+        query = console._query
+        await app.switch_mode("sweeps")
+        start = time.monotonic()
+        await settle(pilot)
+        assert time.monotonic() - start < 10
+        assert query is not None and query.cancel_requested
+        await app.switch_mode("sql")
+        await settle(pilot)
+        assert status(pilot) == "cancelled"
+
+    in_console(store, scenario)
+
+
+def test_a_screen_on_top_does_not_cancel(store: str) -> None:
+    """The command palette or an error screen over the console is not leaving it."""
+
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        console = app.screen
+        await start_sql(pilot, SLOW)
+        query = console._query
+        await app.push_screen(Screen())
+        await pilot.pause()
+        assert query is not None and not query.cancel_requested
+        app.pop_screen()
+        await pilot.pause()
+        await pilot.press("ctrl+g")
+        await settle(pilot)
+        assert status(pilot) == "cancelled"
+
+    in_console(store, scenario)
+
+
+def test_closing_the_app_cancels(store: str, monkeypatch: pytest.MonkeyPatch,
+                                 caplog: pytest.LogCaptureFixture) -> None:
+    """Leaving the app waits for its worker threads: the query must stop, not run on;
+    and its engine is disposed after the query let go of it, not under it."""
+    monkeypatch.setattr(SqlScreen, "QUERY_TIMEOUT_S", None)
+    queries = []
+
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        await start_sql(pilot, SLOW)
+        queries.append(app.screen._query)
+
+    for _ in range(3):  # the dispose race showed about one time in four
+        start = time.monotonic()
+        in_console(store, scenario)
+        assert time.monotonic() - start < 20
+        assert queries[-1].cancel_requested
+    assert not [r for r in caplog.records if r.levelno >= logging.WARNING], caplog.text
+
+
+# -- the history file's permissions ---------------------------------------------------------
+
+def test_the_history_file_is_private(tmp_path: Path) -> None:
+    path = tmp_path / "new" / "sql_history"
+    write_history(path, ["SELECT 1"])
+    assert stat.S_IMODE(path.stat().st_mode) == 0o600
+    old = tmp_path / "old_history"
+    old.write_text(json.dumps("SELECT 2") + "\n")
+    old.chmod(0o644)
+    write_history(old, ["SELECT 3"])  # a rewrite replaces it with a private file
+    assert stat.S_IMODE(old.stat().st_mode) == 0o600
+
+
+def test_the_console_tightens_an_old_history(store: str, history_path: Path) -> None:
+    history_path.write_text(json.dumps("SELECT 2") + "\n")
+    history_path.chmod(0o644)
+
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        assert app.screen.query_one("#sql-history", OptionList).option_count == 1
+
+    in_console(store, scenario)
+    assert stat.S_IMODE(history_path.stat().st_mode) == 0o600

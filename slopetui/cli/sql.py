@@ -2,6 +2,14 @@
 
 The database refuses writes itself (SQLite opened with mode=ro, query_only and an
 authorizer; PostgreSQL in READ ONLY transactions); the text is not parsed here.
+
+The query runs through ``slopetui.store.read_query`` with a time limit (--timeout) and
+Ctrl-C cancels it. Rows are written as they are fetched, a chunk at a time, so that
+``--limit 0`` over a huge result holds one chunk in memory, not the result.
+
+Exit status: 0 done; 1 the time limit stopped the query (the statement may be fine: give
+it more time); 2 bad options, or the database rejected or refused the statement (change
+the statement); 130 interrupted (Ctrl-C).
 """
 
 from __future__ import annotations
@@ -10,18 +18,43 @@ import argparse
 import csv
 import json
 import math
+import signal
 import sys
-
-from sqlalchemy.exc import DBAPIError
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from types import FrameType
+from typing import TextIO
 
 from slopetui.cli.options import UsageError, add_db_option, open_db
-from slopetui.store.database import is_refusal
+from slopetui.store.read_query import (
+    DEFAULT_TIMEOUT_S,
+    FETCH_CHUNK,
+    QueryCancelled,
+    QueryError,
+    QueryTimedOut,
+    ReadQuery,
+    Row,
+    Rows,
+    parse_timeout,
+)
+
+#: Rows over which the aligned table measures its column widths before it prints; later
+#: rows are streamed with those widths (a wider cell shifts the rest of its line, data is
+#: never cut). The default --limit fits, so a default table is aligned throughout.
+TABLE_WIDTH_ROWS = 1000
+
+EXIT_TIMED_OUT = 1
+EXIT_REJECTED = 2
+EXIT_INTERRUPTED = 130
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("sql", help="run a read-only SQL query over the store",
                        description="Run one read-only SQL statement. The schema is in the "
-                                   "README (tables sweeps, runs, workers).",
+                                   "README (tables sweeps, runs, workers). Exit status: 0 "
+                                   "done, 1 stopped by --timeout, 2 refused or invalid, "
+                                   "130 interrupted.",
                        epilog="example: slopetui sql \"SELECT regime, count(*) FROM runs "
                               "WHERE sweep_id = 3 GROUP BY regime\"")
     p.add_argument("query", metavar="SQL", help="one SQL statement")
@@ -30,9 +63,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     fmt.add_argument("--json", action="store_true", help="one JSON object per row")
     p.add_argument("--limit", type=int, default=1000, metavar="N",
                    help="print at most N rows (default 1000; 0 for all)")
+    # A string: parse_timeout's one-line error beats argparse's usage dump.
+    p.add_argument("--timeout", metavar="S", default=None,
+                   help=f"stop the query after S seconds of database time (default "
+                        f"{DEFAULT_TIMEOUT_S:g}; 0 for no limit)")
     add_db_option(p)
     p.set_defaults(handler=handle)
 
+
+# -- output ------------------------------------------------------------------------------
 
 def _text(value: object) -> str:
     if value is None:
@@ -42,50 +81,178 @@ def _text(value: object) -> str:
     return str(value)
 
 
-def _table(columns: list[str], rows: list[tuple[object, ...]]) -> str:
-    cells = [[_text(v) for v in row] for row in rows]
-    widths = [max([len(c), *(len(r[i]) for r in cells)]) for i, c in enumerate(columns)]
-    line = lambda values: "  ".join(v.ljust(w) for v, w in zip(values, widths)).rstrip()
-    return "\n".join([line(columns), line(["-" * w for w in widths]), *map(line, cells)])
-
-
 def _json_value(value: object) -> object:
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
+class Writer:
+    """Rows out as they come: start(columns), write(chunk)..., finish(count, more) when
+    every row asked for was read, else stop()."""
+
+    def __init__(self, out: TextIO) -> None:
+        self.out = out
+
+    def start(self, columns: list[str]) -> None:
+        self.columns = columns
+
+    def write(self, rows: list[Row]) -> None:
+        raise NotImplementedError
+
+    def finish(self, count: int, more: bool) -> None:
+        self.stop()
+
+    def stop(self) -> None:
+        self.out.flush()
+
+
+class CsvWriter(Writer):
+    def start(self, columns: list[str]) -> None:
+        super().start(columns)
+        self.csv = csv.writer(self.out, lineterminator="\n")
+        self.csv.writerow(columns)
+
+    def write(self, rows: list[Row]) -> None:
+        self.csv.writerows(rows)
+        self.out.flush()  # a reader downstream sees rows as they arrive
+
+
+class JsonWriter(Writer):
+    def write(self, rows: list[Row]) -> None:
+        for row in rows:
+            self.out.write(json.dumps({c: _json_value(v) for c, v in zip(self.columns, row)},
+                                      default=str) + "\n")
+        self.out.flush()
+
+
+class TableWriter(Writer):
+    """Aligned columns: holds the first TABLE_WIDTH_ROWS rows to measure them, then
+    streams."""
+
+    def start(self, columns: list[str]) -> None:
+        super().start(columns)
+        self.held: list[list[str]] | None = []
+        self.widths: list[int] = []
+
+    def write(self, rows: list[Row]) -> None:
+        cells = [[_text(v) for v in row] for row in rows]
+        if self.held is None:
+            self._lines(cells)
+            return
+        self.held.extend(cells)
+        if len(self.held) >= TABLE_WIDTH_ROWS:
+            self._release()
+
+    def _release(self) -> None:
+        held, self.held = self.held or [], None
+        self.widths = [max([len(c), *(len(r[i]) for r in held)])
+                       for i, c in enumerate(self.columns)]
+        self._lines([self.columns, ["-" * w for w in self.widths], *held])
+
+    def _lines(self, cells: list[list[str]]) -> None:
+        self.out.write("".join(
+            "  ".join(v.ljust(w) for v, w in zip(row, self.widths)).rstrip() + "\n"
+            for row in cells))
+
+    def stop(self) -> None:
+        if self.held is not None:
+            self._release()
+        super().stop()
+
+    def finish(self, count: int, more: bool) -> None:
+        if self.held is not None:
+            self._release()
+        self.out.write(f"({count} row{'s' if count != 1 else ''}"
+                       f"{'; more not shown, see --limit' if more else ''})\n")
+        super().finish(count, more)
+
+
+def copy_rows(rows: Rows, writer: Writer, limit: int) -> None:
+    """Fetch and write at most limit rows (0: all), a chunk at a time; one row past the
+    limit is fetched to tell whether there are more."""
+    count, more = 0, False
+    while True:
+        want = FETCH_CHUNK if not limit else min(FETCH_CHUNK, limit - count + 1)
+        chunk = rows.fetch(want)
+        if not chunk:
+            break
+        if limit and count + len(chunk) > limit:
+            chunk, more = chunk[:limit - count], True
+        writer.write(chunk)
+        count += len(chunk)
+        if more:
+            break
+    writer.finish(count, more)
+
+
+# -- Ctrl-C -----------------------------------------------------------------------------
+
+@contextmanager
+def cancel_on_sigint(query: ReadQuery) -> Iterator[None]:
+    """While the query runs, SIGINT cancels it instead of raising KeyboardInterrupt.
+
+    The handler only sets the query's flag: a handler runs between two bytecodes of the
+    main thread, maybe while it holds a lock, so taking one could deadlock. The flag is
+    read by SQLite's progress handler (or the PostgreSQL watcher thread), which aborts
+    the statement; the interrupted fetch then raises QueryCancelled.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield  # signal handlers can only be set from the main thread
+        return
+
+    def handler(_signum: int, _frame: FrameType | None) -> None:
+        query.cancel()
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+# -- the command --------------------------------------------------------------------------
+
 def handle(args: argparse.Namespace) -> int:
     if args.limit < 0:
         raise UsageError(f"--limit must be >= 0, got {args.limit}")
-    engine = open_db(args).read_only_engine()
     try:
-        with engine.connect() as conn:
-            result = conn.exec_driver_sql(args.query)
-            if not result.returns_rows:
+        timeout_s = (DEFAULT_TIMEOUT_S if args.timeout is None
+                     else parse_timeout(args.timeout))
+    except ValueError as exc:
+        raise UsageError(f"--timeout {exc}") from None
+    query = ReadQuery(args.query, timeout_s)
+    writer: Writer = (CsvWriter if args.csv else JsonWriter if args.json
+                      else TableWriter)(sys.stdout)
+    engine = open_db(args).read_only_engine()
+    started = False
+    try:
+        with cancel_on_sigint(query), query.execute(engine) as rows:
+            if rows.columns is None:
                 print("(no rows: the statement returns nothing)")
                 return 0
-            columns = list(result.keys())
-            rows = [tuple(r) for r in (result.fetchmany(args.limit) if args.limit
-                                       else result.fetchall())]
-            more = args.limit and result.fetchone() is not None
-    except DBAPIError as exc:
-        message = str(exc.orig).strip()
-        if is_refusal(message):
-            print(f"slopetui sql: refused: the store is opened read-only ({message})",
-                  file=sys.stderr)
-        else:
-            print(f"slopetui sql: error: {message}", file=sys.stderr)
-        return 2
+            writer.start(rows.columns)
+            started = True
+            copy_rows(rows, writer, args.limit)
+    except (QueryCancelled, QueryTimedOut, QueryError) as exc:
+        if started:
+            writer.stop()  # the rows read so far stay printed
+        return _report(exc)
     finally:
         engine.dispose()
-    if args.csv:
-        writer = csv.writer(sys.stdout, lineterminator="\n")
-        writer.writerow(columns)
-        writer.writerows(rows)
-    elif args.json:
-        for row in rows:
-            print(json.dumps({c: _json_value(v) for c, v in zip(columns, row)}, default=str))
-    else:
-        print(_table(columns, rows))
-        print(f"({len(rows)} row{'s' if len(rows) != 1 else ''}"
-              f"{'; more not shown, see --limit' if more else ''})")
     return 0
+
+
+def _report(exc: QueryCancelled | QueryTimedOut | QueryError) -> int:
+    """One line on stderr; the exit status."""
+    if isinstance(exc, QueryCancelled):
+        print("slopetui sql: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    if isinstance(exc, QueryTimedOut):
+        hint = " (--timeout S sets the limit; 0 for none)" if exc.timeout_s else ""
+        print(f"slopetui sql: {exc}{hint}", file=sys.stderr)
+        return EXIT_TIMED_OUT
+    if exc.refused:
+        print(f"slopetui sql: refused: the store is opened read-only ({exc.message})",
+              file=sys.stderr)
+    else:
+        print(f"slopetui sql: error: {exc.message}", file=sys.stderr)
+    return EXIT_REJECTED

@@ -31,6 +31,10 @@ from slopetui.store.location import DB_ENV, default_url
 #: A write transaction here lasts well under 10 ms; a minute covers a checkpoint on a
 #: loaded disk with a wide margin.
 BUSY_TIMEOUT_MS = 60_000
+#: The largest value a read-only query may build (bytes). The largest stored value is a
+#: sweep's spec or a run's peaks, a few kB; 16 MiB leaves room for group_concat over a
+#: whole sweep of 100 000 runs.
+MAX_READ_VALUE_BYTES = 16 * 1024**2
 #: Execution option that marks a connection as a reader (a deferred BEGIN on SQLite).
 READ_OPTION = "slopetui_read"
 
@@ -147,6 +151,9 @@ def _sqlite_read_only_connect(dbapi_connection: Any, _record: Any) -> None:
     cur.execute("PRAGMA query_only = ON")  # second guard behind mode=ro
     cur.close()
     dbapi_connection.set_authorizer(_read_only_authorizer)
+    # zeroblob(1e9), randomblob(), printf('%.*c', ...) build values of up to SQLite's
+    # default 1 GB in one step, which neither the authorizer nor the time limit sees
+    dbapi_connection.setlimit(sqlite3.SQLITE_LIMIT_LENGTH, MAX_READ_VALUE_BYTES)
 
 
 def _postgres_read_only_begin(conn: Any) -> None:
