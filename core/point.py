@@ -11,6 +11,7 @@ from core.batch import simulate_batch
 from core.classify import Summary, classify
 from core.lyapunov import LyapunovEstimate, estimate
 from core.params import Params
+from core.result_fields import RECORD_KEYS
 from core.solve import SolverSettings, Trajectory, simulate
 
 
@@ -27,9 +28,11 @@ class PointResult:
     trajectory: Trajectory
 
     def as_record(self) -> dict[str, object]:
-        """The flat record the CLI prints with --json and the store keeps."""
+        """The flat record the CLI prints with --json and the store keeps: the result
+        fields of core.result_fields (their one definition), then the solver's dt and
+        t_end, in RECORD_KEYS order. A field listed there must be computed here."""
         s = self.summary
-        return {
+        values = {
             "regime": s.regime,
             "detail": s.detail,
             "lambda_max": self.lyap.value if self.lyap else math.nan,
@@ -46,6 +49,7 @@ class PointResult:
             "dt": self.trajectory.grid.dt,
             "t_end": self.trajectory.grid.t_end,
         }
+        return {name: values[name] for name in RECORD_KEYS}
 
 
 def run_point(p: Params, s: SolverSettings | None = None) -> PointResult:

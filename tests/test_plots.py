@@ -13,12 +13,12 @@ from core.classify import REGIMES
 from core.stability import hopf_curve_friction, hopf_k
 from slopetui.plots import (
     REGIME_STYLES,
-    hopf_boundary,
     regime_style,
     render_bifurcation,
     render_phase_diagram,
 )
 from slopetui.plots.regime_colors import HOPF_COLOR, HOPF_MARKER, PENDING
+from slopetui.sweeps.hopf_plane import hopf_boundary
 
 ANSI = re.compile(r"\x1b\[[0-9;]*m")
 BRAILLE = re.compile("[\u2801-\u28ff]")

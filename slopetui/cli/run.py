@@ -10,14 +10,16 @@ import sys
 from typing import TYPE_CHECKING
 
 from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
+from core.result_fields import JSON_KEYS as RECORD_JSON_KEYS
 from core.solve import METHODS, SolverSettings, validate_run
 
 if TYPE_CHECKING:  # core.point loads numba and the kernels: only `run` itself needs them
     from core.point import PointResult
 
-#: The keys of ``--json``, in order (the issue's contract), plus a few extras after them.
-JSON_KEYS = ("regime", "lambda_max", "lambda_err", "amplitude", "period", "peaks", "drift",
-             "t_blowup", "runtime_s")
+#: The keys of ``--json``, in order: the documented contract (regime, lambda_max,
+#: lambda_err, amplitude, period, peaks, drift, t_blowup, runtime_s), then the rest of the
+#: record (derived from core.result_fields, which defines the result once).
+JSON_KEYS = RECORD_JSON_KEYS
 
 PARAM_HELP = {
     "a": "friction coefficient a (default 3.2)",
@@ -84,6 +86,11 @@ def json_safe(value: object) -> object:
     return value
 
 
+def json_text(record: dict[str, object]) -> str:
+    """The record of ``--json``: one JSON object, its keys in JSON_KEYS order."""
+    return json.dumps({k: json_safe(record[k]) for k in JSON_KEYS})
+
+
 def render_text(r: PointResult) -> str:
     s, rec = r.summary, r.as_record()
     p = r.params
@@ -138,9 +145,7 @@ def handle(args: argparse.Namespace) -> int:
               "install or a change of the engine; about 4 s, cached after)", file=sys.stderr)
     result = run_point(params, settings)
     if args.json:
-        rec = result.as_record()
-        ordered = {k: rec[k] for k in JSON_KEYS} | {k: v for k, v in rec.items() if k not in JSON_KEYS}
-        print(json.dumps({k: json_safe(v) for k, v in ordered.items()}))
+        print(json_text(result.as_record()))
     else:
         print(render_text(result))
     return 0

@@ -1,12 +1,8 @@
 """``slopetui show SWEEP``: the sweep's diagram on stdout.
 
-A 2-D sweep draws its phase diagram (one colour and marker per regime, the exact Hopf
-curve of ``core.stability`` over it where the plane has one); a 1-D sweep draws its
-bifurcation diagram (the peak clusters of m_y against the parameter, as in Fig. 4A).
-Runs that are not finished yet are drawn as pending; sliding runs of a bifurcation
-diagram at their mean m_y (near the fixed point m_y = 0). An adaptive phase diagram is
-drawn like any other: inferred runs in their regime's style, lattice points of levels
-not queued yet as pending, and "N computed, M inferred" in the legend.
+A 2-D sweep draws its phase diagram, a 1-D sweep its bifurcation diagram, through the
+one render path of every face (``slopetui.plots.sweep_diagram.render_sweep``, which says
+what is drawn: pending runs, an adaptive sweep's points to come and its legend line).
 """
 
 from __future__ import annotations
@@ -18,11 +14,9 @@ import sys
 from typing import TYPE_CHECKING
 
 from slopetui.cli.options import UsageError, add_db_option, int_arg, open_db, sweep_arg
-from slopetui.display_text import terminal_safe
 
 if TYPE_CHECKING:
     from slopetui.store.database import Database
-    from slopetui.sweeps.diagram import SweepDiagram
 
 
 #: The smallest diagram that still has room for its axes, ticks and legend.
@@ -58,8 +52,8 @@ def use_color(choice: str) -> bool:
 
 
 def handle(args: argparse.Namespace) -> int:
-    from slopetui.plots import render_bifurcation, render_phase_diagram
-    from slopetui.sweeps.diagram import load_diagram, plane_hopf
+    from slopetui.plots import render_sweep
+    from slopetui.sweeps.diagram import load_diagram
 
     size = shutil.get_terminal_size((100, 30))
     width = (int_arg("--width", args.width, MIN_WIDTH, MAX_SIZE) if args.width is not None
@@ -74,40 +68,9 @@ def handle(args: argparse.Namespace) -> int:
     if sweep is None:
         sweep = newest_sweep(db)
     diagram = load_diagram(db, sweep)
-    spec, runs = diagram.spec, diagram.runs
-    # the name is stored text: escaped, so that it cannot drive the reader's terminal
-    title = (f"sweep {diagram.id}: {terminal_safe(diagram.name)} "
-             f"({diagram.n_done}/{diagram.n_points} done)")
-    color = use_color(args.color)
-    x = spec.x
-    xs = [r.x for r in runs]
-    regimes = [r.regime for r in runs]
-    if spec.y is None:
-        print(render_bifurcation(x.param, xs, [r.peaks for r in runs], regimes,
-                                 log=x.spacing == "log", title=title, width=width,
-                                 height=height, color=color))
-        return 0
-    y = spec.y
-    ys = [r.y for r in runs]
-    for _, _, px, py in diagram.unqueued():  # an adaptive sweep's levels still to come
-        xs.append(px)
-        ys.append(py)
-        regimes.append(None)
-    hopf = plane_hopf(spec) if args.hopf else None
-    print(render_phase_diagram(x.param, y.param, xs, ys, regimes,
-                               x_log=x.spacing == "log", y_log=y.spacing == "log", hopf=hopf,
-                               title=title, width=width, height=height, color=color,
-                               notes=adaptive_notes(diagram)))
+    print(render_sweep(diagram, width=width, height=height, color=use_color(args.color),
+                       hopf=args.hopf))
     return 0
-
-
-def adaptive_notes(diagram: SweepDiagram) -> list[str]:
-    """The legend's line on an adaptive sweep: how much of it was computed."""
-    levels = diagram.spec.adaptive_levels
-    if levels is None:
-        return []
-    counts = f"{diagram.n_computed} computed, {diagram.n_inferred} inferred"
-    return [f"{counts} (adaptive, {levels} levels)"]
 
 
 def newest_sweep(db: Database) -> int:

@@ -32,7 +32,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     from slopetui.sweeps.control import UnknownSweep
-    from slopetui.sweeps.progress import format_eta, live_workers, sweep_progress
+    from slopetui.queue.workers_table import live_workers
+    from slopetui.sweeps.progress import format_eta, sweep_progress
 
     ids = [sweep_arg(text) for text in args.sweeps]  # before the database opens
     db = open_db(args)

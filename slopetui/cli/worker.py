@@ -151,11 +151,14 @@ def handle(args: argparse.Namespace) -> int:
     db.dispose()
     from slopetui.queue.pool import run_pool
     from slopetui.queue.worker_process import WorkerOptions
+    from slopetui.sweeps.adaptive import advance_all
+    from slopetui.sweeps.progress import PoolProgress
     if sys.stderr.isatty():
         print(f"worker pool: {args.jobs} workers on {db.display_url}; log {log}; Ctrl-C stops",
               file=sys.stderr)
     opts = WorkerOptions(db_url=url, log_path=str(log), heartbeat_s=args.heartbeat,
                          lease_s=args.lease, max_attempts=args.max_attempts,
-                         exit_when_idle=args.exit_when_idle, batch=args.batch)
+                         exit_when_idle=args.exit_when_idle, batch=args.batch,
+                         idle_hook=advance_all, progress=PoolProgress)
     os.environ.setdefault("PYTHONUNBUFFERED", "1")
     return run_pool(opts, args.jobs)

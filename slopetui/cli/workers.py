@@ -23,7 +23,7 @@ from slopetui.cli.options import add_db_option, open_db
 if TYPE_CHECKING:
     from slopetui.queue.local_pool import LocalPool
     from slopetui.store.database import Database
-    from slopetui.sweeps.progress import WorkerInfo
+    from slopetui.queue.workers_table import WorkerInfo
 
 #: While `worker --stop` waits, it says what it waits for at once, then this often (s).
 SAY_EVERY_S = 10.0
@@ -54,7 +54,7 @@ def _worker_line(w: WorkerInfo) -> str:
 
 def _remote(db: Database) -> dict[str, list[WorkerInfo]]:
     """Live workers of other hosts, by host."""
-    from slopetui.sweeps.progress import live_workers
+    from slopetui.queue.workers_table import live_workers
     here = socket.gethostname()
     hosts: dict[str, list[WorkerInfo]] = {}
     for w in live_workers(db):

@@ -16,12 +16,11 @@ from sqlalchemy import select
 from sqlalchemy.orm import Session
 
 from core import PARAM_NAMES
+from core.result_fields import RESULT_NAMES
 from slopetui.store.models import Run
 
-#: The columns of Run that hold a result (core.point.PointResult.as_record).
-RESULT_FIELDS = ("regime", "detail", "lambda_max", "lambda_err", "amplitude", "period",
-                 "period_count", "peaks", "frequency", "drift", "zero_one_k", "t_blowup",
-                 "runtime_s")
+#: The columns of Run that hold a result, in order (defined once in core.result_fields).
+RESULT_FIELDS = RESULT_NAMES
 #: The columns that decide a result.
 KEY_FIELDS = (*PARAM_NAMES, "method", "dt", "t_end", "window", "lyap", "engine")
 

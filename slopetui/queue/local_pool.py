@@ -36,7 +36,7 @@ from platformdirs import user_log_path, user_state_path
 
 if TYPE_CHECKING:  # the modules below import sqlalchemy; callers of default_jobs need not
     from slopetui.store.database import Database
-    from slopetui.sweeps.progress import WorkerInfo
+    from slopetui.queue.workers_table import WorkerInfo
 
 
 def default_jobs() -> int:
@@ -60,7 +60,7 @@ def open_private_log(path: Path) -> int:
 
 def local_workers(db: Database) -> list[WorkerInfo]:
     """Live workers on this host."""
-    from slopetui.sweeps.progress import live_workers
+    from slopetui.queue.workers_table import live_workers
     host = socket.gethostname()
     return [w for w in live_workers(db) if w.host == host]
 

@@ -87,39 +87,12 @@ class DeathWindow:
 
 
 class Progress:
-    """Logs "12/240 runs done, 30.1 runs/min, ETA 7m48s" for the sweeps that were active
-    while the pool ran, when the count changed, at most every PROGRESS_S seconds."""
+    """Logs the line of ``line()`` (see worker_process.ProgressSource: WorkerOptions.progress)
+    when there is one, at most every PROGRESS_S seconds."""
 
-    def __init__(self, db: Database, every_s: float = PROGRESS_S) -> None:
-        self.db, self.every_s = db, every_s
-        self.sweeps: set[int] = set()
-        self.last: tuple[int, int] | None = None
+    def __init__(self, line: Callable[[], str | None], every_s: float = PROGRESS_S) -> None:
+        self.line, self.every_s = line, every_s
         self.next_at = 0.0
-
-    def line(self) -> str | None:
-        from sqlalchemy import select
-
-        from slopetui.store.models import Sweep
-        from slopetui.sweeps.progress import format_eta, sweep_progress
-        with self.db.sessions() as s:
-            self.sweeps |= set(s.scalars(select(Sweep.id).where(Sweep.status == "active")))
-        if not self.sweeps:
-            return None
-        mine = sweep_progress(self.db, sorted(self.sweeps))
-        total = sum(p.total for p in mine)
-        finished = sum(p.done + p.failed for p in mine)
-        if (finished, total) == self.last:
-            return None
-        self.last = (finished, total)
-        # the workers' recent throughput, finished sweeps included
-        rate = sum(p.runs_per_min for p in mine)
-        left = sum(p.left for p in mine if p.status == "active")
-        failed = sum(p.failed for p in mine)
-        text = f"{finished}/{total} runs done" + (f" ({failed} failed)" if failed else "")
-        if not left:
-            return text + "; nothing queued"
-        eta = left / rate * 60.0 if rate > 0 else None
-        return f"{text}, {rate:.1f} runs/min, ETA {format_eta(eta)}"
 
     def tick(self, force: bool = False) -> None:
         now = time.monotonic()
@@ -247,7 +220,8 @@ class Pool:
                 return 0
             for _ in range(self.n_workers):
                 self._spawn()
-            progress = Progress(db)
+            source = self.opts.progress
+            progress = Progress(source(db) if source is not None else lambda: None)
             while self.procs:
                 ready = wait([*self.procs, signals.fileno()], timeout=1.0)
                 self._act_on(signals)

@@ -54,7 +54,6 @@ from slopetui.queue import defaults, jobs
 from slopetui.store.database import Database
 from slopetui.store.db_time import db_now
 from slopetui.store.models import Run, Sweep, Worker
-from slopetui.sweeps import adaptive
 
 log = logging.getLogger("slopetui.worker")
 
@@ -65,6 +64,19 @@ TICK_S = 0.2
 #: A warm-up longer than this is a compilation (~30 s), not a load from numba's cache
 #: (~1 s, 2-3 s on a loaded machine) (s).
 COMPILING_AFTER_S = 5.0
+
+
+#: A step a worker takes after each batch (unless it is aborting) and whenever it finds
+#: nothing to claim; returns how much work it queued (0: none, the worker may then sleep).
+#: The faces pass slopetui.sweeps.adaptive.advance_all (an adaptive sweep whose level is
+#: complete queues its next level): the queue knows no sweeps. It travels to the spawned
+#: workers inside WorkerOptions, so it must pickle by reference: a module-level function.
+IdleHook = Callable[[Database], int]
+#: Where the pool's progress line comes from (the pool's own process only): called once
+#: with the pool's Database, it returns the function that gives the line ("12/240 runs
+#: done, ...") or None when nothing changed. The faces pass
+#: slopetui.sweeps.progress.PoolProgress; a class or module-level function, as IdleHook.
+ProgressSource = Callable[[Database], Callable[[], str | None]]
 
 
 @dataclass(frozen=True)
@@ -80,6 +92,10 @@ class WorkerOptions:
     exit_when_idle: bool = False
     #: Runs claimed and computed together (see the module docstring); 1: one at a time.
     batch: int = defaults.DEFAULT_BATCH
+    #: See IdleHook; None: no step.
+    idle_hook: IdleHook | None = None
+    #: See ProgressSource; None: the pool logs no progress line.
+    progress: ProgressSource | None = None
 
     def __post_init__(self) -> None:
         # `slopetui worker` checks its options with friendlier words; this guards the other
@@ -500,11 +516,11 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
             batch = jobs.claim_batch(db, wid, opts.batch, BATCHED_METHODS)
             if batch:
                 _process(db, wid, batch, executor, control, opts)
-                if not control.aborting():
-                    adaptive.advance_all(db)
+                if not control.aborting() and opts.idle_hook is not None:
+                    opts.idle_hook(db)
                 continue
-            # an adaptive sweep whose level is complete queues its next level
-            if adaptive.advance_all(db):
+            # e.g. an adaptive sweep whose level is complete queues its next level
+            if opts.idle_hook is not None and opts.idle_hook(db):
                 continue
             if opts.exit_when_idle and queue_drained(db):
                 break

@@ -10,13 +10,13 @@ from pathlib import Path
 
 from sqlalchemy import func, select
 
-from slopetui.plots import render_bifurcation, render_phase_diagram
+from slopetui.plots import render_sweep
 from slopetui.queue.pool import default_jobs, run_pool
 from slopetui.queue.worker_process import WorkerOptions
 from slopetui.reproduce.findings import FINDINGS, Diagrams, Finding
 from slopetui.store.database import Database
 from slopetui.store.models import Run
-from slopetui.sweeps.diagram import SweepDiagram, load_diagram, plane_hopf
+from slopetui.sweeps.diagram import SweepDiagram, load_diagram
 from slopetui.sweeps.presets import BY_KEY, PRESETS
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
@@ -36,25 +36,19 @@ def compute(db: Database, resolution: int, t_end: float | None, jobs: int | None
         waiting = s.scalar(select(func.count()).select_from(Run)
                            .where(Run.sweep_id.in_(ids.values()), Run.status != "done"))
     if waiting:
+        from slopetui.sweeps.adaptive import advance_all
+        from slopetui.sweeps.progress import PoolProgress
         opts = WorkerOptions(db_url=db.url.render_as_string(hide_password=False),
-                             log_path=str(log), exit_when_idle=True)
+                             log_path=str(log), exit_when_idle=True, idle_hook=advance_all,
+                             progress=PoolProgress)
         run_pool(opts, jobs or default_jobs())
     return ids, time.perf_counter() - t0
 
 
 def diagram_text(d: SweepDiagram) -> str:
-    spec = d.spec
-    xs = [r.x for r in d.runs]
-    regimes = [r.regime for r in d.runs]
-    title = f"{d.name} ({d.n_done}/{len(d.runs)} runs)"
-    if spec.y is None:
-        return render_bifurcation(spec.x.param, xs, [r.peaks for r in d.runs], regimes,
-                                  log=spec.x.spacing == "log", title=title, width=WIDTH,
-                                  height=HEIGHT, color=False)
-    x, y = spec.x, spec.y
-    return render_phase_diagram(x.param, y.param, xs, [r.y for r in d.runs], regimes,
-                                x_log=x.spacing == "log", y_log=y.spacing == "log",
-                                hopf=plane_hopf(spec), title=title, width=WIDTH, height=HEIGHT, color=False)
+    """The figure's diagram as plain text (the one render path of show and the TUI)."""
+    return render_sweep(d, width=WIDTH, height=HEIGHT, color=False,
+                        title=f"{d.name} ({d.n_done}/{len(d.runs)} runs)")
 
 
 def section(f: Finding, diagrams: Diagrams) -> str:

@@ -11,10 +11,10 @@ from dataclasses import dataclass
 
 from sqlalchemy import select
 
-from slopetui.plots.hopf import Curve, hopf_boundary
 from slopetui.store.database import Database
 from slopetui.store.models import Run, Sweep
 from slopetui.sweeps.control import UnknownSweep
+from slopetui.sweeps.hopf_plane import Curve, hopf_boundary
 from slopetui.sweeps.spec import SweepSpec, parse_spec
 
 

@@ -1,4 +1,5 @@
-"""Runs as flat rows: the columns of `runs --csv` and `export --csv`.
+"""Runs as flat rows: the columns of `runs --csv` and `export --csv`. The result columns
+come from their one definition, core.result_fields, in its order.
 
 An inferred run of an adaptive sweep (``inferred`` True) has its regime and nothing
 else: its measurements are empty cells (never measured), not nan (measured, undefined).
@@ -13,11 +14,11 @@ from collections.abc import Iterable
 from typing import IO, Any
 
 from core import PARAM_NAMES
-from slopetui.queue.cache import RESULT_FIELDS
+from core.result_fields import RESULT_NAMES
 from slopetui.store.models import Run
 
 COLUMNS = ("id", "sweep_id", "ix", "iy", *PARAM_NAMES, "method", "dt", "t_end", "window",
-           "lyap", "status", *RESULT_FIELDS, "attempts", "worker_id", "cached_from",
+           "lyap", "status", *RESULT_NAMES, "attempts", "worker_id", "cached_from",
            "started_at", "finished_at", "error", "inferred", "level")
 
 
@@ -40,7 +41,7 @@ def write_csv(runs: Iterable[Run], out: IO[str]) -> int:
     for run in runs:
         finished = run.status == "done"  # other runs have no result yet: empty, not nan
         measured = finished and not run.inferred
-        writer.writerow(["" if c in RESULT_FIELDS and not (measured or finished and c == "regime")
+        writer.writerow(["" if c in RESULT_NAMES and not (measured or finished and c == "regime")
                          else cell(getattr(run, c)) for c in COLUMNS])
         n += 1
     return n

@@ -1,4 +1,6 @@
-"""Progress of sweeps and the live workers, as plain data (for `status` and the TUI).
+"""Progress of sweeps and the live workers, as plain data (for `status` and the TUI), and
+the pool's progress line (``PoolProgress``, handed to the pool by the faces that start one).
+The live workers are the queue's (``slopetui.queue.workers_table``), re-exported here.
 
 An adaptive sweep's total is its final lattice; its runs exist only for the levels
 queued so far, so done/total grows in steps and reaches the total when the inferred
@@ -14,9 +16,12 @@ from datetime import datetime, timedelta
 
 from sqlalchemy import func, select
 
-from slopetui.queue.defaults import LEASE_S
+from slopetui.queue.workers_table import WorkerInfo, live_workers
 from slopetui.store.database import Database
-from slopetui.store.models import Run, Sweep, Worker
+from slopetui.store.models import Run, Sweep
+
+__all__ = ["RATE_WINDOW_MIN", "PoolProgress", "SweepProgress", "WorkerInfo", "format_eta",
+           "live_workers", "sweep_progress"]
 
 #: Runs per minute are measured over the runs finished in this trailing window (minutes).
 RATE_WINDOW_MIN = 10.0
@@ -62,17 +67,6 @@ class SweepProgress:
         if self.adaptive_levels is None:
             return ""
         return "refined" if self.refined else f"level {self.level}/{self.adaptive_levels}"
-
-
-@dataclass(frozen=True)
-class WorkerInfo:
-    id: str
-    host: str
-    pid: int
-    started_at: datetime
-    heartbeat_age_s: float
-    run_id: int | None
-    jobs_done: int
 
 
 def format_eta(seconds: float | None) -> str:
@@ -128,13 +122,34 @@ def sweep_progress(db: Database, sweep_ids: list[int] | None = None) -> list[Swe
     return out
 
 
-def live_workers(db: Database) -> list[WorkerInfo]:
-    """Workers that have not stopped and sent a heartbeat within the lease."""
-    with db.sessions() as s:
-        now = db.now(s)
-        rows = s.scalars(select(Worker).where(Worker.stopped_at.is_(None),
-                                              Worker.heartbeat_at >= now - timedelta(seconds=LEASE_S))
-                         .order_by(Worker.started_at))
-        return [WorkerInfo(w.id, w.host, w.pid, w.started_at,
-                           (now - w.heartbeat_at).total_seconds(), w.run_id, w.jobs_done)
-                for w in rows]
+class PoolProgress:
+    """The pool's progress line, "12/240 runs done, 30.1 runs/min, ETA 7m48s", over the
+    sweeps that were active while the pool ran; None when the count has not changed.
+    The pool (slopetui.queue.pool) calls ``PoolProgress(db)`` once, then the instance at
+    most every PROGRESS_S seconds."""
+
+    def __init__(self, db: Database) -> None:
+        self.db = db
+        self.sweeps: set[int] = set()
+        self.last: tuple[int, int] | None = None
+
+    def __call__(self) -> str | None:
+        with self.db.sessions() as s:
+            self.sweeps |= set(s.scalars(select(Sweep.id).where(Sweep.status == "active")))
+        if not self.sweeps:
+            return None
+        mine = sweep_progress(self.db, sorted(self.sweeps))
+        total = sum(p.total for p in mine)
+        finished = sum(p.done + p.failed for p in mine)
+        if (finished, total) == self.last:
+            return None
+        self.last = (finished, total)
+        # the workers' recent throughput, finished sweeps included
+        rate = sum(p.runs_per_min for p in mine)
+        left = sum(p.left for p in mine if p.status == "active")
+        failed = sum(p.failed for p in mine)
+        text = f"{finished}/{total} runs done" + (f" ({failed} failed)" if failed else "")
+        if not left:
+            return text + "; nothing queued"
+        eta = left / rate * 60.0 if rate > 0 else None
+        return f"{text}, {rate:.1f} runs/min, ETA {format_eta(eta)}"

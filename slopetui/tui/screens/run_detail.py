@@ -9,7 +9,10 @@ saw (bit for bit with the same engine on the same machine). Storing it would cos
 looked at for a few runs of a sweep; the store keeps the summaries only. Opening a
 finished run recomputes it in a thread worker (as long as the worker took, usually
 well under a second at RK4), then compares the recomputed regime and lambda_max with
-the stored ones, and says when they differ and whether the engine changed since.
+the stored ones, and says when they differ and whether the engine changed since. The
+copy of the run, its recomputation and the tolerance policy are UI-free, in
+``slopetui.sweeps.recompute``; the result lines of the header list the fields of
+``core.result_fields`` marked ``detail``.
 
 Runs that are not done (queued, running, failed, cancelled) show their status and
 stored error; their traces are computed only on request (r), and only when their
@@ -22,130 +25,48 @@ reports back with a message; widgets are touched on the UI thread only.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
-import numpy as np
 from textual import work
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.message import Message
-from textual.screen import Screen
 from textual.widgets import Footer, Header, Static, TabbedContent, TabPane
 from textual.worker import get_current_worker
 
-from core import ParameterError, Params, SolverSettings, run_point
-from core.classify import Summary, power_spectrum
+from core import ParameterError, Params, SolverSettings
 from core.jit_cache import source_digest
-from core.lyapunov import LyapunovEstimate, running
-from core.params import PARAM_NAMES
+from core.result_fields import DETAIL_FIELDS, ResultField
 from slopetui.plots.run_plots import (
     render_lyapunov,
     render_phase_portrait,
     render_spectrum,
     render_time_series,
 )
-from slopetui.store.models import Run
+from slopetui.sweeps.recompute import (
+    MATCH_TEXT,
+    StoredRun,
+    Traces,
+    compare,
+    compute_traces,
+    lambda_text,
+    load_run,
+)
+from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.widgets.plot_view import PlotView, Renderer
+
+__all__ = ["MATCH_TEXT", "RECOMPUTED_NOTE", "RunDetailScreen", "StoredRun", "compare",
+           "compute_traces", "recompute_text", "summary_text"]
 
 #: The one line that says where the plots come from.
 RECOMPUTED_NOTE = "Traces are recomputed on demand (the store keeps summaries only)."
-MATCH_TEXT = "recomputed: matches the stored result"
-#: Two lambda_max values are "the same" within this relative difference (last digits of
-#: a sum over ~1e4 renormalisations, which FMA contraction may reorder across machines).
-LAMBDA_REL_TOL = 1e-6
-#: ... or, failing that, "agree within error" within this many combined standard errors.
-LAMBDA_SIGMAS = 3.0
 #: Peak values shown in the summary; the rest are counted.
 PEAKS_SHOWN = 2
+#: Stored result fields per line of the header (core.result_fields.DETAIL_FIELDS).
+ITEMS_PER_LINE = 4
 
 #: Tab pane ids, in tab order.
 TAB_TIME, TAB_PHASE, TAB_SPECTRUM, TAB_LYAP = "tab-time", "tab-phase", "tab-spectrum", "tab-lyap"
-
-
-@dataclass(frozen=True, slots=True)
-class StoredRun:
-    """The columns of a Run row this screen shows, copied out of the session.
-
-    Field names are the Run attributes. Measurements are NaN where undefined or not
-    computed yet (``Measure``); t_blowup is None when the run did not blow up.
-    """
-
-    id: int
-    sweep_id: int
-    status: str
-    a: float
-    b: float
-    c: float
-    d: float
-    k: float
-    v: float
-    tau: float
-    delta: float
-    method: str
-    dt: float
-    t_end: float
-    window: float
-    lyap: bool
-    engine: str
-    worker_id: str | None
-    attempts: int
-    error: str | None
-    cached_from: int | None
-    regime: str | None
-    detail: str | None
-    lambda_max: float
-    lambda_err: float
-    amplitude: float
-    period: float
-    period_count: int | None
-    peaks: list[float] | None
-    frequency: float
-    drift: float
-    t_blowup: float | None
-    runtime_s: float | None
-    inferred: bool = False
-    level: int | None = None
-
-    @classmethod
-    def of(cls, run: Run) -> StoredRun:
-        return cls(**{f.name: getattr(run, f.name) for f in fields(cls)})
-
-    @property
-    def done(self) -> bool:
-        return self.status == "done"
-
-    def inputs(self) -> tuple[Params, SolverSettings]:
-        """The run's parameters and solver settings, lambda_max always on (its running
-        estimate is one of the plots). Raises ParameterError for invalid inputs."""
-        params = Params(**{n: getattr(self, n) for n in PARAM_NAMES})
-        settings = SolverSettings(method=self.method, dt=self.dt, t_end=self.t_end,
-                                  window=self.window, lyap=True)
-        return params, settings
-
-
-@dataclass(frozen=True, slots=True)
-class Traces:
-    """What a recomputation gives the plots, in model units: the analysis window
-    (t, m_x, m_y), the spectrum of m_y (frequency in 1/time), the running lambda_max
-    (lam_t, lam in 1/time), and the recomputed summary."""
-
-    t: np.ndarray
-    m_x: np.ndarray
-    m_y: np.ndarray
-    freq: np.ndarray
-    power: np.ndarray
-    lam_t: np.ndarray
-    lam: np.ndarray
-    summary: Summary
-    lyap: LyapunovEstimate | None
-
-
-@dataclass(frozen=True, slots=True)
-class Verdict:
-    """The recomputed result against the stored one: ``ok`` False is a warning."""
-
-    ok: bool
-    text: str
 
 
 # -- messages from the workers ------------------------------------------------------------
@@ -187,24 +108,8 @@ def last_line(text: str) -> str:
     return lines[-1].strip() if lines else ""
 
 
-def compute_traces(params: Params, settings: SolverSettings) -> Traces:
-    """Integrate the run again (seconds: as long as the run took) and derive the plots' data."""
-    result = run_point(params, settings)
-    tr = result.trajectory
-    t, m_x, m_y = tr.window_t, tr.window[0], tr.window[1]
-    freq, power = power_spectrum(t, m_y)
-    lam_t, lam = running(tr.lyap_logs, tr.grid.renorm_interval)
-    return Traces(t, m_x, m_y, freq, power, lam_t, lam, result.summary, result.lyap)
-
-
 def _num(x: float | None, fmt: str = ".4g") -> str:
     return "–" if x is None or not math.isfinite(x) else format(x, fmt)
-
-
-def _lambda_text(value: float, error: float) -> str:
-    if not math.isfinite(value):
-        return "–"
-    return f"{value:.3g} ± {error:.2g}" if math.isfinite(error) else f"{value:.3g}"
 
 
 def _peaks_text(peaks: list[float] | None) -> str:
@@ -233,12 +138,28 @@ def summary_text(run: StoredRun) -> str:
     if not run.done:
         error = f"last error: {last_line(run.error)}" if run.error else "no error recorded"
         return "\n".join([who, params, solver, f"no stored result ({run.status})", error])
-    detail = f" ({run.detail})" if run.detail else ""
-    result = (f"{run.regime}{detail} · λmax {_lambda_text(run.lambda_max, run.lambda_err)} · "
-              f"amplitude {_num(run.amplitude, '.3g')} · period {_num(run.period, '.3g')}")
-    more = (f"peaks {_peaks_text(run.peaks)} · drift {_num(run.drift, '.3g')} · "
-            f"t_blowup {_num(run.t_blowup, 'g')}")
-    return "\n".join([who, params, solver, result, more])
+    items = [result_item(run, f) for f in DETAIL_FIELDS]
+    lines = [" · ".join(items[i:i + ITEMS_PER_LINE]) for i in range(0, len(items), ITEMS_PER_LINE)]
+    return "\n".join([who, params, solver, *lines])
+
+
+def result_item(run: StoredRun, field: ResultField) -> str:
+    """One stored result field as the header shows it, by its kind (core.result_fields):
+    the regime with the classifier's detail, lambda_max with its error."""
+    value = getattr(run, field.name)
+    if field.name == "regime":
+        return f"{value}" + (f" ({run.detail})" if run.detail else "")
+    if field.name == "lambda_max":
+        shown = lambda_text(value, run.lambda_err)
+    elif field.kind == "list":
+        shown = _peaks_text(value)
+    elif field.kind == "measure":
+        shown = _num(value, ".3g")
+    elif field.kind == "optional":
+        shown = _num(value, "g")
+    else:
+        shown = "–" if value is None else str(value)
+    return f"{field.shown_as} {shown}"
 
 
 def recompute_text(run: StoredRun) -> str:
@@ -248,56 +169,6 @@ def recompute_text(run: StoredRun) -> str:
         about = "under 1 s" if took < 1.0 else f"about {took:.0f} s"
         return f"recomputing (t_end = {run.t_end:g}, {about})…"
     return f"recomputing (t_end = {run.t_end:g})…"
-
-
-def _same_lambda(a: float, b: float) -> bool:
-    if not (math.isfinite(a) and math.isfinite(b)):
-        return not math.isfinite(a) and not math.isfinite(b)
-    return abs(a - b) <= LAMBDA_REL_TOL * max(abs(a), abs(b), 1e-12)
-
-
-def _within_error(a: float, err_a: float, b: float, err_b: float) -> bool:
-    sigma = math.hypot(err_a, err_b)
-    return math.isfinite(sigma) and abs(a - b) <= LAMBDA_SIGMAS * sigma
-
-
-def compare(run: StoredRun, traces: Traces, engine_now: str) -> Verdict:
-    """The recomputed regime and lambda_max against the stored ones.
-
-    Equal regimes and lambda_max equal to LAMBDA_REL_TOL match; lambda_max within
-    LAMBDA_SIGMAS combined errors "agrees within error"; anything else is a warning that
-    names the likely cause: an engine changed since the run (``run.engine`` against
-    ``engine_now``), or else the machine or library versions.
-    """
-    s, lyap = traces.summary, traces.lyap
-    lam, err = (lyap.value, lyap.error) if lyap else (math.nan, math.nan)
-    engine_changed = run.engine != engine_now
-    engine_note = (f"the engine changed since the run (stored {run.engine}, now {engine_now})"
-                   if engine_changed else "")
-    if run.inferred:
-        computed = f"computed: {s.regime} ({s.detail}), λmax {_lambda_text(lam, err)}"
-        if not run.done:
-            return Verdict(True, f"{computed} · inferred failed, nothing to compare")
-        if s.regime == run.regime:
-            return Verdict(True, f"{computed} · the inferred regime was right")
-        return Verdict(False, f"warning: {computed}; the inferred regime was {run.regime}")
-    if not run.done:
-        return Verdict(True, f"computed: {s.regime} ({s.detail}), λmax {_lambda_text(lam, err)}"
-                             f" · nothing stored to compare ({run.status})")
-    # a run stored without lambda_max (lyap off) has nothing to compare it with
-    lambda_stored = run.lyap or math.isfinite(run.lambda_max)
-    same_regime = s.regime == run.regime
-    same_lambda = not lambda_stored or _same_lambda(lam, run.lambda_max)
-    if same_regime and same_lambda:
-        return Verdict(True, MATCH_TEXT + (f" ({engine_note})" if engine_changed else ""))
-    if same_regime and _within_error(lam, err, run.lambda_max, run.lambda_err):
-        return Verdict(True, f"{MATCH_TEXT} in regime; λmax {_lambda_text(lam, err)} agrees "
-                             f"with the stored one within error"
-                             + (f" ({engine_note})" if engine_changed else ""))
-    why = engine_note or "same engine: another machine or library version?"
-    return Verdict(False, f"warning: recomputed {s.regime}, λmax {_lambda_text(lam, err)}; "
-                          f"stored {run.regime}, λmax "
-                          f"{_lambda_text(run.lambda_max, run.lambda_err)}; {why}")
 
 
 def renderers(traces: Traces) -> dict[str, Renderer]:
@@ -324,7 +195,7 @@ def renderers(traces: Traces) -> dict[str, Renderer]:
 
 # -- the screen -----------------------------------------------------------------------------
 
-class RunDetailScreen(Screen[None]):
+class RunDetailScreen(SlopeScreen[None]):
     """One run: its parameters, stored summary, and recomputed trace plots."""
 
     BINDINGS = [
@@ -368,7 +239,7 @@ class RunDetailScreen(Screen[None]):
         """Load the run once the store is open (the app calls this when it opens)."""
         if self.run is not None:
             return
-        if getattr(self.app, "db", None) is None:
+        if self.db is None:
             self._status("waiting for the database to open…")
             return
         self._status(f"loading run {self.run_id}…")
@@ -378,11 +249,11 @@ class RunDetailScreen(Screen[None]):
 
     @work(thread=True, exclusive=True, group="run-detail-load")
     def load_run(self) -> None:
-        db = getattr(self.app, "db", None)
+        db = self.db
+        if db is None:  # refresh_data waits for it; the app never closes it again
+            return
         try:
-            with db.sessions() as session:
-                row = session.get(Run, self.run_id)
-                run = StoredRun.of(row) if row is not None else None
+            run = load_run(db, self.run_id)
         except Exception as exc:  # any database failure is shown with its cause
             self.post_message(RunLoadFailed(f"the database could not be read: {cause_of(exc)}"))
             return

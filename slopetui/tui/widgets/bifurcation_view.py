@@ -6,7 +6,7 @@ from textual.binding import Binding
 from textual.reactive import reactive
 
 from slopetui.display_text import terminal_safe
-from slopetui.plots import render_bifurcation
+from slopetui.plots import render_sweep
 from slopetui.sweeps.diagram import SweepDiagram
 from slopetui.tui.messages import RunChosen
 from slopetui.tui.widgets.plot_view import PlotView
@@ -42,9 +42,7 @@ class BifurcationView(PlotView, can_focus=True):
         label = terminal_safe(run.regime or run.status)
         title = (f"{x.param} = {run.x:.5g}: {label} (run {run.id}) "
                  f"- {d.n_done}/{len(d.runs)} done")
-        return render_bifurcation(x.param, [r.x for r in d.runs], [r.peaks for r in d.runs],
-                                  [r.regime for r in d.runs], log=x.spacing == "log",
-                                  title=title, width=width, height=height, color=color)
+        return render_sweep(d, width=width, height=height, color=color, title=title)
 
     def action_step(self, delta: int) -> None:
         if self.diagram is not None and self.diagram.runs:

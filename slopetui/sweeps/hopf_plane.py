@@ -2,6 +2,10 @@
 
 Only planes with tau on one axis have the curve: (k, tau) from core.stability's k_H(tau),
 and (a, tau), (b, tau), (c, tau) from its friction-plane curves. Either axis order works.
+
+Plane geometry over a sweep's axes, no drawing (slopetui.plots draws the curve it gets).
+It lives here rather than in core/: core's source digest keys the result cache and
+numba's cache, and a sampling density chosen for the screen must not invalidate either.
 """
 
 from __future__ import annotations
