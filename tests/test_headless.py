@@ -150,9 +150,25 @@ def test_cancel_pause_resume(tmp_path, capsys):
     cli(capsys, "submit", "--x", "k=4:8:3", "--t-end", "100", "--window", "50", "--db", url)
     assert "is paused" in cli(capsys, "pause", "1", "--db", url)[1]
     assert "is active" in cli(capsys, "resume", "1", "--db", url)[1]
-    assert "3 queued runs cancelled" in cli(capsys, "cancel", "1", "--db", url)[1]
+    assert cli(capsys, "cancel", "1", "--db", url)[1] == \
+        "sweep 1 cancelled: 3 queued runs cancelled\n"
     code, _, err = cli(capsys, "cancel", "7", "--db", url)
     assert code == 2 and "no sweep with id 7" in err
+
+
+def test_one_dispatch_of_sweep_actions(tmp_path):
+    """The CLI and the application's keys both call control.apply, by name."""
+    from slopetui.store import Database
+    from slopetui.sweeps import control
+
+    db = Database(f"sqlite:///{tmp_path / 's.db'}")
+    try:
+        with pytest.raises(control.UnknownSweep):
+            control.apply(db, "pause", 1)
+        with pytest.raises(ValueError, match="one of pause, resume, cancel"):
+            control.apply(db, "dispose", 1)  # no name outside ACTIONS is called
+    finally:
+        db.dispose()
 
 
 WRITES = [

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pytest
 
+from slopetui import sql_results
 from slopetui.cli import main
 from slopetui.cli import sql as cli_sql
 from slopetui.store import Database
@@ -220,7 +221,7 @@ def test_a_long_table_is_aligned_by_its_first_rows(store: str,
                                                    capsys: pytest.CaptureFixture[str],
                                                    monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(cli_sql, "TABLE_WIDTH_ROWS", 5)
-    monkeypatch.setattr(cli_sql, "FETCH_CHUNK", 4)  # widths over 2 chunks, 8 rows
+    monkeypatch.setattr(sql_results, "FETCH_CHUNK", 4)  # widths over 2 chunks, 8 rows
     code, out, _ = sql(capsys, numbers(12), "--limit", "0", "--db", store)
     assert code == 0
     lines = out.splitlines()
@@ -255,3 +256,33 @@ def test_a_value_of_a_gigabyte_is_refused_not_built(store, capsys):
     assert code == 2 and "too big" in err
     code, out, _ = sql(capsys, "SELECT length(zeroblob(1000))", "--db", store)
     assert code == 0 and "1000" in out
+
+
+# -- the code shared with the TUI's console (slopetui.sql_results) --------------------------
+
+def test_the_console_reads_rows_as_the_cli_does(store: str) -> None:
+    """Both faces run sql_results.fetch: the CLI stops one row past its limit, the console
+    also counts the rest."""
+    from slopetui.store.read_query import QueryError, ReadQuery
+
+    db = Database(store)
+    engine = db.read_only_engine()
+    try:
+        chunks: list[list[tuple]] = []
+        fetched = sql_results.fetch(engine, ReadQuery(numbers(1200)), chunks.append, 1000)
+        assert (fetched.count, fetched.more, fetched.rest) == (1000, True, 0)
+        assert sum(map(len, chunks)) == 1000 and chunks[0][0] == (1, "row 1")
+        fetched = sql_results.fetch(engine, ReadQuery(numbers(1200)), chunks.append, 1000,
+                                    count_rest=True)
+        assert (fetched.count, fetched.rest, fetched.count_stopped) == (1000, 200, None)
+        fetched = sql_results.fetch(engine, ReadQuery("-- only a comment"), chunks.append, 10)
+        assert fetched.columns is None and fetched.count == 0  # no rows at all
+        with pytest.raises(QueryError) as raised:
+            sql_results.fetch(engine, ReadQuery("DELETE FROM runs"), chunks.append, 10)
+        assert sql_results.error_text(raised.value).startswith(
+            "refused: the store is opened read-only (")
+    finally:
+        engine.dispose()
+        db.dispose()
+    assert [sql_results.cell_text(v) for v in (None, 1 / 3, 42, "a")] == \
+        ["NULL", "0.333333", "42", "a"]

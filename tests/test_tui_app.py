@@ -181,6 +181,9 @@ def test_queue_screen_shows_workers_and_pauses_a_sweep(db):
 
     async def scenario():
         app = app_for(db)
+        said: list[str] = []
+        notify = app.notify
+        app.notify = lambda message, **kw: (said.append(message), notify(message, **kw))[1]
         async with app.run_test(size=(80, 24)) as pilot:
             await pilot.press("2")
             await wait_until(pilot, lambda: isinstance(app.screen, QueueScreen))
@@ -193,6 +196,10 @@ def test_queue_screen_shows_workers_and_pauses_a_sweep(db):
             await wait_until(pilot, lambda: _sweep_status(db, sweep) == "active")
             await pilot.press("c")
             await wait_until(pilot, lambda: _sweep_status(db, sweep) == "cancelled")
+            # the lines `slopetui pause|resume|cancel` prints (sweeps.control.apply)
+            await wait_until(pilot, lambda: len(said) == 3)
+        assert said == [f"sweep {sweep} is paused", f"sweep {sweep} is active",
+                        f"sweep {sweep} cancelled: 4 queued runs cancelled"]
         assert count(db, Run.status == "cancelled") == 4
 
     run(scenario)

@@ -17,6 +17,7 @@ from textual.pilot import Pilot
 from textual.screen import Screen
 from textual.widgets import DataTable, OptionList, Static, TextArea, Tree
 
+from slopetui.sql_history import read_history
 from slopetui.store import Database
 from slopetui.tui.app import SlopeApp
 from slopetui.tui.screens import sql as sql_screen
@@ -25,10 +26,7 @@ from slopetui.tui.screens.sql import (
     QueryFailed,
     SqlScreen,
     format_cell,
-    merge_history,
-    read_history,
     run_query,
-    write_history,
 )
 from tests.conftest import submit_quick
 
@@ -250,18 +248,6 @@ def test_run_query_keeps_colons(db: Database) -> None:
         engine.dispose()
 
 
-def test_history_file(tmp_path: Path) -> None:
-    path = tmp_path / "deep" / "sql_history"
-    queries = merge_history(["SELECT\n  1", " SELECT 2 ", "SELECT\n  1"],
-                            [f"SELECT {i}" for i in range(300)])
-    assert queries[:3] == ["SELECT\n  1", "SELECT 2", "SELECT 0"]
-    assert len(queries) == sql_screen.HISTORY_LIMIT
-    write_history(path, queries)
-    assert read_history(path) == queries
-    path.write_text(path.read_text() + "not json\n" + json.dumps(7) + "\n")
-    assert read_history(path) == queries
-
-
 # -- time limit and cancellation --------------------------------------------------------
 
 #: About a minute of SQLite on a 2-core box: a broken cancel fails the test, not hangs it.
@@ -401,18 +387,7 @@ def test_closing_the_app_cancels(store: str, monkeypatch: pytest.MonkeyPatch,
     assert not [r for r in caplog.records if r.levelno >= logging.WARNING], caplog.text
 
 
-# -- the history file's permissions ---------------------------------------------------------
-
-def test_the_history_file_is_private(tmp_path: Path) -> None:
-    path = tmp_path / "new" / "sql_history"
-    write_history(path, ["SELECT 1"])
-    assert stat.S_IMODE(path.stat().st_mode) == 0o600
-    old = tmp_path / "old_history"
-    old.write_text(json.dumps("SELECT 2") + "\n")
-    old.chmod(0o644)
-    write_history(old, ["SELECT 3"])  # a rewrite replaces it with a private file
-    assert stat.S_IMODE(old.stat().st_mode) == 0o600
-
+# -- the history file's permissions (the file itself: tests/test_sql_history.py) ----------
 
 def test_the_console_tightens_an_old_history(store: str, history_path: Path) -> None:
     history_path.write_text(json.dumps("SELECT 2") + "\n")

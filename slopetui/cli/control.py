@@ -21,11 +21,5 @@ def handle(args: argparse.Namespace) -> int:
     from slopetui.sweeps import control
 
     sweep = sweep_arg(args.sweep)  # before the database opens
-    db = open_db(args)
-    if args.action == "cancel":
-        n = control.cancel(db, sweep)
-        print(f"sweep {sweep} cancelled: {n} queued runs cancelled")
-    else:
-        status = getattr(control, args.action)(db, sweep)
-        print(f"sweep {sweep} is {status}")
+    print(control.apply(open_db(args), args.action, sweep))
     return 0

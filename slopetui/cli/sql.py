@@ -4,8 +4,9 @@ The database refuses writes itself (SQLite opened with mode=ro, query_only and a
 authorizer; PostgreSQL in READ ONLY transactions); the text is not parsed here.
 
 The query runs through ``slopetui.store.read_query`` with a time limit (--timeout) and
-Ctrl-C cancels it. Rows are written as they are fetched, a chunk at a time, so that
-``--limit 0`` over a huge result holds one chunk in memory, not the result.
+Ctrl-C cancels it; ``slopetui.sql_results`` reads its rows, as in the TUI's console. Rows
+are written as they are fetched, a chunk at a time, so that ``--limit 0`` over a huge
+result holds one chunk in memory, not the result.
 
 Exit status: 0 done; 1 the time limit stopped the query (the statement may be fine: give
 it more time); 2 bad options, or the database rejected or refused the statement (change
@@ -27,15 +28,14 @@ from types import FrameType
 from typing import TextIO
 
 from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.sql_results import cell_text, error_text, fetch
 from slopetui.store.read_query import (
     DEFAULT_TIMEOUT_S,
-    FETCH_CHUNK,
     QueryCancelled,
     QueryError,
     QueryTimedOut,
     ReadQuery,
     Row,
-    Rows,
     parse_timeout,
 )
 
@@ -73,14 +73,6 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 # -- output ------------------------------------------------------------------------------
 
-def _text(value: object) -> str:
-    if value is None:
-        return "NULL"
-    if isinstance(value, float):
-        return f"{value:.6g}"
-    return str(value)
-
-
 def _json_value(value: object) -> object:
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
@@ -91,9 +83,11 @@ class Writer:
 
     def __init__(self, out: TextIO) -> None:
         self.out = out
+        self.started = False
 
     def start(self, columns: list[str]) -> None:
         self.columns = columns
+        self.started = True
 
     def write(self, rows: list[Row]) -> None:
         raise NotImplementedError
@@ -134,7 +128,7 @@ class TableWriter(Writer):
         self.widths: list[int] = []
 
     def write(self, rows: list[Row]) -> None:
-        cells = [[_text(v) for v in row] for row in rows]
+        cells = [[cell_text(v) for v in row] for row in rows]
         if self.held is None:
             self._lines(cells)
             return
@@ -164,24 +158,6 @@ class TableWriter(Writer):
         self.out.write(f"({count} row{'s' if count != 1 else ''}"
                        f"{'; more not shown, see --limit' if more else ''})\n")
         super().finish(count, more)
-
-
-def copy_rows(rows: Rows, writer: Writer, limit: int) -> None:
-    """Fetch and write at most limit rows (0: all), a chunk at a time; one row past the
-    limit is fetched to tell whether there are more."""
-    count, more = 0, False
-    while True:
-        want = FETCH_CHUNK if not limit else min(FETCH_CHUNK, limit - count + 1)
-        chunk = rows.fetch(want)
-        if not chunk:
-            break
-        if limit and count + len(chunk) > limit:
-            chunk, more = chunk[:limit - count], True
-        writer.write(chunk)
-        count += len(chunk)
-        if more:
-            break
-    writer.finish(count, more)
 
 
 # -- Ctrl-C -----------------------------------------------------------------------------
@@ -223,21 +199,19 @@ def handle(args: argparse.Namespace) -> int:
     writer: Writer = (CsvWriter if args.csv else JsonWriter if args.json
                       else TableWriter)(sys.stdout)
     engine = open_db(args).read_only_engine()
-    started = False
     try:
-        with cancel_on_sigint(query), query.execute(engine) as rows:
-            if rows.columns is None:
-                print("(no rows: the statement returns nothing)")
-                return 0
-            writer.start(rows.columns)
-            started = True
-            copy_rows(rows, writer, args.limit)
+        with cancel_on_sigint(query):
+            fetched = fetch(engine, query, writer.write, args.limit, start=writer.start)
     except (QueryCancelled, QueryTimedOut, QueryError) as exc:
-        if started:
+        if writer.started:
             writer.stop()  # the rows read so far stay printed
         return _report(exc)
     finally:
         engine.dispose()
+    if fetched.columns is None:
+        print("(no rows: the statement returns nothing)")
+    else:
+        writer.finish(fetched.count, fetched.more)
     return 0
 
 
@@ -250,9 +224,5 @@ def _report(exc: QueryCancelled | QueryTimedOut | QueryError) -> int:
         hint = " (--timeout S sets the limit; 0 for none)" if exc.timeout_s else ""
         print(f"slopetui sql: {exc}{hint}", file=sys.stderr)
         return EXIT_TIMED_OUT
-    if exc.refused:
-        print(f"slopetui sql: refused: the store is opened read-only ({exc.message})",
-              file=sys.stderr)
-    else:
-        print(f"slopetui sql: error: {exc.message}", file=sys.stderr)
+    print(f"slopetui sql: {error_text(exc)}", file=sys.stderr)
     return EXIT_REJECTED

@@ -6,12 +6,10 @@ import argparse
 import json
 import sys
 from collections.abc import Mapping
-from pathlib import Path
 from typing import Any
 
 from core.params import PARAM_NAMES
 from core.solve import METHODS
-from slopetui import examples
 from slopetui.cli.options import add_db_option, open_db
 from slopetui.cli.run import PARAM_HELP, accept_negative_numbers
 from slopetui.sweeps.spec import (
@@ -19,8 +17,7 @@ from slopetui.sweeps.spec import (
     SpecError,
     parse_axis_flag,
     parse_spec,
-    read_toml,
-    toml_tables,
+    read_spec,
 )
 
 
@@ -61,18 +58,6 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "adaptive_levels)")
     add_db_option(p)
     p.set_defaults(handler=handle)
-
-
-def read_spec(spec: str) -> dict[str, Any]:
-    """The tables of SPEC: the file at that path, else the shipped example of that name (a
-    file always wins, so a local fig4a.toml is never shadowed)."""
-    if not Path(spec).exists():
-        try:
-            return toml_tables(examples.text(spec), f"example {spec}")
-        except KeyError:
-            raise SpecError(spec, "no such file, and no shipped example of that name "
-                                  f"(examples: {', '.join(examples.names())})") from None
-    return read_toml(spec)
 
 
 def _merge(data: dict[str, Any], key: str, flags: Mapping[str, Any]) -> None:

@@ -1,4 +1,5 @@
-"""Pause, resume and cancel sweeps."""
+"""Pause, resume and cancel sweeps; ``apply`` dispatches an action by name for the faces
+(``slopetui pause|resume|cancel`` and the application's keys) and says what happened."""
 
 from __future__ import annotations
 
@@ -41,3 +42,20 @@ def cancel(db: Database, sweep_id: int) -> int:
         sweep.status = "cancelled"
         return s.execute(update(Run).where(Run.sweep_id == sweep_id, Run.status == "queued")
                          .values(status="cancelled")).rowcount
+
+
+#: The actions by name, as the faces offer them.
+ACTIONS = ("pause", "resume", "cancel")
+
+
+def apply(db: Database, action: str, sweep_id: int) -> str:
+    """Pause, resume or cancel a sweep; the outcome on one line, e.g. "sweep 3 is paused"
+    or "sweep 3 cancelled: 12 queued runs cancelled". Raises UnknownSweep, and ValueError
+    for an action that is not in ACTIONS."""
+    if action == "cancel":
+        return f"sweep {sweep_id} cancelled: {cancel(db, sweep_id)} queued runs cancelled"
+    if action == "pause":
+        return f"sweep {sweep_id} is {pause(db, sweep_id)}"
+    if action == "resume":
+        return f"sweep {sweep_id} is {resume(db, sweep_id)}"
+    raise ValueError(f"unknown sweep action {action!r}; one of {', '.join(ACTIONS)}")

@@ -49,6 +49,7 @@ import numpy as np
 
 from core import PARAM_NAMES, ParameterError, Params, SolverSettings
 from core.solve import DEFAULT_DT, LimitError, validate_run
+from slopetui import examples
 from slopetui.display_text import unsafe_characters
 
 SPACINGS = ("linear", "log")
@@ -390,10 +391,19 @@ def _default_name(x: Axis, y: Axis | None) -> str:
     return f"{x.param} {x.start:g}..{x.stop:g} x {y.param} {y.start:g}..{y.stop:g}"
 
 
-def read_toml(path: str | Path) -> dict[str, Any]:
-    """The tables of a TOML spec file; SpecError (field: the path) if it cannot be read
-    or is not UTF-8 TOML (a binary file, a directory)."""
-    path = Path(path)
+def read_spec(source: str | Path) -> dict[str, Any]:
+    """The tables of a TOML spec: the file at ``source``, else the shipped example of that
+    name (a file always wins, so a local fig4a.toml is never shadowed). SpecError (field:
+    the source) if there is neither, or the file cannot be read, or it is not UTF-8 TOML
+    (a binary file, a directory). The one loader of spec files: parse_spec validates."""
+    path = Path(source)
+    if not path.exists():
+        try:
+            text = examples.text(str(source))
+        except KeyError:
+            raise SpecError(str(source), "no such file, and no shipped example of that name "
+                                         f"(examples: {', '.join(examples.names())})") from None
+        return _toml_tables(text, f"example {source}")
     try:
         text = path.read_text(encoding="utf-8")
     except IsADirectoryError:
@@ -403,20 +413,15 @@ def read_toml(path: str | Path) -> dict[str, Any]:
     except UnicodeDecodeError as exc:
         raise SpecError(str(path), f"not a text file: byte {exc.start} is not UTF-8 (expected "
                                    "a TOML spec file)") from None
-    return toml_tables(text, str(path))
+    return _toml_tables(text, str(path))
 
 
-def toml_tables(text: str, where: str) -> dict[str, Any]:
+def _toml_tables(text: str, where: str) -> dict[str, Any]:
     """Parse a spec's TOML text; ``where`` names it in the error."""
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(where, f"not valid TOML: {exc}") from None
-
-
-def load_toml(path: str | Path, *, submitting: bool = False) -> SweepSpec:
-    """Read and validate a TOML spec file."""
-    return parse_spec(read_toml(path), submitting=submitting)
 
 
 def parse_axis_flag(field: str, text: str) -> dict[str, Any]:

@@ -89,13 +89,13 @@ class SlopeApp(App[None]):
         """Pause, resume or cancel a sweep (from any screen), then refresh the view."""
         from slopetui.sweeps import control
         try:
-            result = getattr(control, action)(self.db, sweep_id)
+            if self.db is None:  # the screens offer the keys once the store is open
+                raise RuntimeError("the database is not open yet")
+            text = control.apply(self.db, action, sweep_id)
         except Exception as exc:
             self.call_from_thread(self.notify, f"{action} sweep {sweep_id}: {exc}",
                                   severity="error", timeout=8)
             return
-        text = (f"sweep {sweep_id}: {result} queued runs cancelled" if action == "cancel"
-                else f"sweep {sweep_id} is {result}")
         self.call_from_thread(self.notify, text)
         self.call_from_thread(self.refresh_active_screen)
 

@@ -8,14 +8,13 @@ diagram adaptive (``[adaptive] levels``); empty means every point is computed.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from rich.text import Text
 from textual import on, work
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal, VerticalScroll
-from textual.screen import Screen
 from textual.widgets import (
     Button,
     Checkbox,
@@ -32,6 +31,10 @@ from slopetui.sweeps.estimate import describe
 from slopetui.sweeps.presets import BY_KEY, PRESETS
 from slopetui.sweeps.spec import CONFIRM_ABOVE_RUNS, SpecError, SweepSpec, parse_spec
 from slopetui.sweeps.submit import submit
+from slopetui.tui.screens.base import SlopeScreen
+
+if TYPE_CHECKING:
+    from slopetui.store.database import Database
 
 DEFAULTS = Params()
 AXIS_CHOICES = [(p, p) for p in PARAM_NAMES]
@@ -62,7 +65,7 @@ def _fixed_row(names: tuple[str, ...]) -> Horizontal:
     return Horizontal(*cells, classes="form-row")
 
 
-class NewSweepScreen(Screen[int | None]):
+class NewSweepScreen(SlopeScreen[int | None]):
     """Dismissed with the new sweep's id, or None when cancelled."""
 
     BINDINGS = [
@@ -75,6 +78,9 @@ class NewSweepScreen(Screen[int | None]):
         self.spec: SweepSpec | None = None
         self.confirmed_runs = 0
         self.n_workers = 2
+        #: Seconds per step measured on this store (sweeps.estimate.measured_speeds);
+        #: empty until read, and for a method no run was computed with yet.
+        self.speeds: dict[tuple[str, bool], float] = {}
 
     def compose(self) -> ComposeResult:
         yield Header()
@@ -118,19 +124,21 @@ class NewSweepScreen(Screen[int | None]):
 
     @work(thread=True, exclusive=True, group="new-sweep-workers")
     def count_workers(self) -> None:
-        db = getattr(self.app, "db", None)
+        db = self.db
         if db is None:
             return
         from slopetui.queue.pool import default_jobs
         from slopetui.sweeps.progress import live_workers
+        from slopetui.sweeps.estimate import measured_speeds
         try:
             n = len(live_workers(db)) or default_jobs()
-        except Exception:  # only the estimate depends on it
+            speeds = measured_speeds(db)
+        except Exception:  # only the estimate depends on them
             return
-        self.app.call_from_thread(self._set_workers, n)
+        self.app.call_from_thread(self._set_workers, n, speeds)
 
-    def _set_workers(self, n: int) -> None:
-        self.n_workers = n
+    def _set_workers(self, n: int, speeds: dict[tuple[str, bool], float]) -> None:
+        self.n_workers, self.speeds = n, speeds
         self.validate_form()
 
     # --- the form as a spec mapping ----------------------------------------------------
@@ -178,7 +186,7 @@ class NewSweepScreen(Screen[int | None]):
             return None
         self.spec = spec
         error.update("")
-        self.query_one("#estimate", Static).update("≈ " + describe(spec, self.n_workers))
+        self.query_one("#estimate", Static).update("≈ " + describe(spec, self.n_workers, self.speeds))
         warnings = friction_warnings(spec.base)
         self.query_one("#form-warnings", Static).update(
             "\n".join(f"⚠ {w}" for w in warnings))
@@ -199,7 +207,7 @@ class NewSweepScreen(Screen[int | None]):
     @on(Select.Changed)
     @on(Checkbox.Changed)
     def _changed(self, event: Input.Changed | Select.Changed | Checkbox.Changed) -> None:
-        if getattr(event, "select", None) is not None and event.select.id == "preset":
+        if isinstance(event, Select.Changed) and event.select.id == "preset":
             return
         self.confirmed_runs = 0
         self.validate_form()
@@ -243,16 +251,16 @@ class NewSweepScreen(Screen[int | None]):
                 f"This sweep queues {spec.first_runs} {what} (more than {CONFIRM_ABOVE_RUNS}): "
                 "submit again to confirm.")
             return
-        if getattr(self.app, "db", None) is None:
+        if self.db is None:
             self.notify("the database is not open yet", severity="error")
             return
         self.query_one("#submit", Button).disabled = True
-        self.submit_spec(spec)
+        self.submit_spec(self.db, spec)
 
     @work(thread=True, exclusive=True, group="new-sweep-submit")
-    def submit_spec(self, spec: SweepSpec) -> None:
+    def submit_spec(self, db: Database, spec: SweepSpec) -> None:
         try:
-            out = submit(self.app.db, spec)  # type: ignore[attr-defined]
+            out = submit(db, spec)
         except Exception as exc:  # shown in the form; nothing was written (one transaction)
             self.app.call_from_thread(self._submit_failed, f"{type(exc).__name__}: {exc}")
             return

@@ -9,7 +9,6 @@ from textual import on, work
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.message import Message
-from textual.screen import Screen
 from textual.widgets import DataTable, Footer, Header, Static
 
 from slopetui.display_text import terminal_safe
@@ -20,9 +19,10 @@ from slopetui.sweeps.progress import (
     sweep_progress,
 )
 from slopetui.tui.messages import StoreFailed
+from slopetui.tui.screens.base import SlopeScreen
 
 
-class QueueScreen(Screen[None]):
+class QueueScreen(SlopeScreen[None]):
     BINDINGS = [
         Binding("p", "control('pause')", "Pause", id="queue.pause"),
         Binding("r", "control('resume')", "Resume", id="queue.resume"),
@@ -49,17 +49,19 @@ class QueueScreen(Screen[None]):
         yield Footer()
 
     def on_mount(self) -> None:
-        self.set_interval(getattr(self.app, "refresh_s", 2.0), self.refresh_data)
+        self.set_interval(self.app.refresh_s, self.refresh_data)
         self.refresh_data()
         self.query_one("#queue-table").focus()
 
     def refresh_data(self) -> None:
-        if getattr(self.app, "db", None) is not None:
+        if self.db is not None:
             self.load()
 
     @work(thread=True, exclusive=True, group="queue-load")
     def load(self) -> None:
-        db = self.app.db  # type: ignore[attr-defined]
+        db = self.db
+        if db is None:  # refresh_data starts this once the store is open
+            return
         try:
             self.post_message(self.Loaded(sweep_progress(db), live_workers(db)))
         except Exception as exc:
@@ -93,8 +95,8 @@ class QueueScreen(Screen[None]):
 
     def action_control(self, action: str) -> None:
         table = self.query_one("#queue-table", DataTable)
-        if table.row_count == 0 or getattr(self.app, "db", None) is None:
+        if table.row_count == 0 or self.db is None:
             return
         key = table.coordinate_to_cell_key(table.cursor_coordinate).row_key.value
         if key is not None:
-            self.app.control_sweep(action, int(key))  # type: ignore[attr-defined]
+            self.app.control_sweep(action, int(key))

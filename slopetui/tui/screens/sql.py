@@ -5,33 +5,28 @@ Queries run on ``Database.read_only_engine()``, so the database itself refuses w
 (as ``slopetui sql`` does); the text is never parsed here. Every database call runs in a
 thread worker and reports back with a message; widgets are touched on the UI thread only.
 
-A query runs through ``slopetui.store.read_query.ReadQuery`` (as in ``slopetui sql``): it
-has the same default time limit, and the screen cancels it when a new query starts, on
-ctrl+g, and when the screen is left or closed.
+A query runs through ``slopetui.store.read_query.ReadQuery`` and
+``slopetui.sql_results.fetch``, the code ``slopetui sql`` runs: the same default time
+limit, the same rows, the same error lines. The screen cancels it when a new query starts,
+on ctrl+g, and when the screen is left or closed. The history file is
+``slopetui.sql_history``'s; the schema comes from ``slopetui.store.catalog``. This module
+keeps the widgets and their events.
 """
 
 from __future__ import annotations
 
-import json
-import os
-import threading
 import time
-from collections.abc import Iterable, Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 from decimal import Decimal
 from pathlib import Path
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
-from platformdirs import user_data_path
 from rich.text import Text
-from sqlalchemy import Engine, inspect
 from textual import on, work
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal, Vertical
 from textual.message import Message
-from textual.screen import Screen
 from textual.widgets import (
     DataTable,
     Footer,
@@ -45,30 +40,29 @@ from textual.widgets.option_list import Option
 from textual.widgets.text_area import LanguageDoesNotExist
 from textual.worker import get_current_worker
 
+from slopetui import sql_history
+from slopetui.sql_history import History
+from slopetui.sql_results import SharedEngine, cell_text, error_text, fetch
+from slopetui.store.catalog import Column, tables_and_columns
 from slopetui.store.read_query import (
     DEFAULT_TIMEOUT_S,
-    FETCH_CHUNK,
     QueryCancelled,
     QueryError,
     QueryTimedOut,
     ReadQuery,
-    Rows,
+    Row,
 )
 from slopetui.tui.messages import StoreFailed
+from slopetui.tui.screens.base import SlopeScreen
+
+if TYPE_CHECKING:
+    from sqlalchemy import Engine
 
 #: Rows shown in the table; the rest are counted, not displayed.
 DISPLAY_LIMIT = 1000
 #: Characters shown of one cell: a traceback in runs.error would make its column
 #: hundreds of cells wide.
 CELL_CHARS = 120
-#: Queries kept in the history file.
-HISTORY_LIMIT = 200
-#: Rows fetched at a time while counting the rows beyond DISPLAY_LIMIT: the runner's
-#: chunk, which counted 300,000 rows in 293 ms where chunks of 5000 took 545 ms.
-COUNT_CHUNK = FETCH_CHUNK
-#: Permissions of the history file: queries can name what a user studies, and the store
-#: beside it is private too (0600).
-HISTORY_MODE = 0o600
 
 OPENING = "opening the database…"
 
@@ -82,18 +76,19 @@ GROUP BY sweep_id, regime ORDER BY sweep_id, runs DESC;
 # -- formatting -------------------------------------------------------------------------
 
 def format_cell(value: object) -> Text:
-    """One value as the table shows it: NULL dimmed, numbers right-aligned with floats
-    to 6 significant digits. A Text, so that brackets in the data (JSON lists) are not
-    read as markup."""
+    """One value as the table shows it: ``slopetui sql``'s text (cell_text), NULL dimmed,
+    numbers right-aligned. Unlike the CLI, which prints data whole, a cell shows decimals
+    to 6 significant digits as floats, bytes in hex, and at most CELL_CHARS characters.
+    A Text, so that brackets in the data (JSON lists) are not read as markup."""
     if value is None:
-        return Text("NULL", style="dim")
+        return Text(cell_text(value), style="dim")
     if isinstance(value, bool):
-        return Text(str(value))
-    if isinstance(value, (float, Decimal)):
+        return Text(cell_text(value))
+    if isinstance(value, Decimal):
         return Text(f"{value:.6g}", justify="right")
-    if isinstance(value, int):
-        return Text(str(value), justify="right")
-    text = value.hex() if isinstance(value, bytes) else str(value)
+    if isinstance(value, (int, float)):
+        return Text(cell_text(value), justify="right")
+    text = value.hex() if isinstance(value, bytes) else cell_text(value)
     if len(text) > CELL_CHARS:
         text = text[:CELL_CHARS - 1] + "…"
     return Text(text)
@@ -128,7 +123,8 @@ class QueryDone(Message):
 
 @dataclass
 class QueryFailed(Message):
-    """A statement failed; ``refused`` when the database refused it as a write."""
+    """A statement failed: ``message`` is the line to show (sql_results.error_text);
+    ``refused`` when the database refused it as a write."""
 
     message: str
     refused: bool
@@ -149,117 +145,39 @@ QueryOutcome = QueryDone | QueryFailed | QueryHalted
 
 def run_query(engine: Engine, query: ReadQuery | str,
               limit: int = DISPLAY_LIMIT) -> QueryOutcome:
-    """Run one statement and report it; never raises on a database error, a cancel or
-    the time limit (a str runs with the default limit).
-
-    exec_driver_sql, not text() (inside ReadQuery): text() would read ``:name`` in the
-    query (a time literal, a JSON path) as a bind parameter.
-    """
+    """Run one statement as ``slopetui sql`` does (sql_results.fetch), keeping the first
+    limit rows formatted and counting the rest; never raises on a database error, a
+    cancel or the time limit (a str runs with the default limit)."""
     if isinstance(query, str):
         query = ReadQuery(query, DEFAULT_TIMEOUT_S)
+    rows: list[tuple[Text, ...]] = []
+
+    def keep(chunk: list[Row]) -> None:
+        rows.extend(tuple(format_cell(v) for v in row) for row in chunk)
+
     start = time.perf_counter()
     try:
-        with query.execute(engine) as result:
-            if result.columns is None:
-                return QueryDone([], [], 0, time.perf_counter() - start, returns_rows=False,
-                                 query=query)
-            columns = result.columns
-            rows = [tuple(format_cell(v) for v in row) for row in result.fetch(limit)]
-            total, count_stopped = len(rows), None
-            if total == limit:
-                more, count_stopped = _count_rest(result)
-                total += more
+        fetched = fetch(engine, query, keep, limit, count_rest=True)
     except QueryCancelled as exc:
         return QueryHalted(str(exc), timed_out=False, query=query)
     except QueryTimedOut as exc:
         return QueryHalted(str(exc), timed_out=True, query=query)
     except QueryError as exc:
-        return QueryFailed(exc.message, exc.refused, query=query)
+        return QueryFailed(error_text(exc), exc.refused, query=query)
     except Exception as exc:  # anything else is shown with its cause, not a traceback
-        return QueryFailed(f"{type(exc).__name__}: {exc}", refused=False, query=query)
-    return QueryDone(columns, rows, total, time.perf_counter() - start,
-                     count_stopped=count_stopped, query=query)
-
-
-def _count_rest(result: Rows) -> tuple[int, str | None]:
-    """Count the rows past the displayed ones without keeping them, and say why the count
-    stopped short if it did: the rows to show are there, a time-out should not hide them."""
-    count = 0
-    try:
-        while chunk := result.fetch(COUNT_CHUNK):
-            count += len(chunk)
-    except QueryTimedOut as exc:
-        return count, str(exc)
-    return count, None
+        return QueryFailed(f"error: {type(exc).__name__}: {exc}", refused=False, query=query)
+    elapsed = time.perf_counter() - start
+    if fetched.columns is None:
+        return QueryDone([], [], 0, elapsed, returns_rows=False, query=query)
+    return QueryDone(fetched.columns, rows, fetched.count + fetched.rest, elapsed,
+                     count_stopped=fetched.count_stopped, query=query)
 
 
 @dataclass
 class SchemaLoaded(Message):
     """Tables (and views) of the store with their columns as (name, type, primary key)."""
 
-    tables: list[tuple[str, list[tuple[str, str, bool]]]]
-
-
-def load_schema(engine: Engine) -> list[tuple[str, list[tuple[str, str, bool]]]]:
-    inspector = inspect(engine)
-    names = sorted(inspector.get_table_names()) + sorted(inspector.get_view_names())
-    return [(name, [(c["name"], str(c["type"]), bool(c.get("primary_key")))
-                    for c in inspector.get_columns(name)]) for name in names]
-
-
-# -- history -----------------------------------------------------------------------------
-
-def merge_history(*sources: Iterable[str], limit: int = HISTORY_LIMIT) -> list[str]:
-    """Queries newest first without repeats (the first occurrence wins), at most limit."""
-    seen: set[str] = set()
-    merged: list[str] = []
-    for source in sources:
-        for sql in source:
-            sql = sql.strip()
-            if sql and sql not in seen:
-                seen.add(sql)
-                merged.append(sql)
-    return merged[:limit]
-
-
-def read_history(path: Path) -> list[str]:
-    """One JSON string per line (a query may span lines); unreadable lines are skipped,
-    a missing file is an empty history."""
-    try:
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except FileNotFoundError:
-        return []
-    queries: list[str] = []
-    for line in lines:
-        try:
-            value = json.loads(line)
-        except ValueError:
-            continue
-        if isinstance(value, str):
-            queries.append(value)
-    return merge_history(queries)
-
-
-def write_history(path: Path, queries: list[str]) -> None:
-    """Replace the file in one rename, so that a crash never leaves half a history; the
-    new file is private (HISTORY_MODE), whatever the old one's mode was."""
-    path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
-    tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp")
-    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, HISTORY_MODE)
-    os.fchmod(fd, HISTORY_MODE)  # a stale tmp file of a crashed run keeps its old mode
-    with os.fdopen(fd, "w", encoding="utf-8") as out:
-        out.write("".join(json.dumps(q) + "\n" for q in queries))
-    os.replace(tmp, path)
-
-
-def tighten_history(path: Path) -> None:
-    """Make an existing history file private (older versions wrote it 0644)."""
-    try:
-        mode = path.stat().st_mode & 0o777
-    except FileNotFoundError:
-        return
-    if mode & ~HISTORY_MODE:
-        os.chmod(path, HISTORY_MODE)
+    tables: list[tuple[str, list[Column]]]
 
 
 @dataclass
@@ -269,11 +187,11 @@ class HistoryLoaded(Message):
 
 # -- the screen --------------------------------------------------------------------------
 
-class SqlScreen(Screen[None]):
+class SqlScreen(SlopeScreen[None]):
     """Editor on top, status line, results below; schema and history on the right."""
 
     #: Where the history is kept; tests point it elsewhere.
-    HISTORY_PATH: ClassVar[Path] = user_data_path("slopetui") / "sql_history"
+    HISTORY_PATH: ClassVar[Path] = sql_history.default_path()
 
     BINDINGS = [
         Binding("ctrl+r,ctrl+enter", "run_query", "Run", id="sql.run"),
@@ -289,19 +207,9 @@ class SqlScreen(Screen[None]):
 
     def __init__(self, history_path: Path | None = None) -> None:
         super().__init__()
-        self.history_path = history_path or self.HISTORY_PATH
-        self.history: list[str] = []
-        self._history_loaded = False
-        # Saves run in threads; the lock makes the last one to write write the newest.
-        self._history_lock = threading.Lock()
-        self._engine: Engine | None = None
-        self._engine_lock = threading.Lock()
-        # Workers using the engine now, and whether the screen is gone: the engine is
-        # disposed only when both say so. Its pool (one connection per thread) closes
-        # connections in use too, and a query closed under its feet fails in odd ways
-        # (MemoryError from execute, "Cannot operate on a closed database").
-        self._engine_users = 0
-        self._closed = False
+        self.history = History(history_path or self.HISTORY_PATH)
+        # The workers' engine, disposed once the screen is gone and no worker uses it.
+        self._engine = SharedEngine(self._open_engine)
         self._schema_requested = False
         self._pending: str | None = None
         # The query running now (set and read on the UI thread only).
@@ -343,9 +251,7 @@ class SqlScreen(Screen[None]):
 
     def on_unmount(self) -> None:
         self.cancel_running()  # else its thread runs on to the time limit
-        with self._engine_lock:
-            self._closed = True
-            self._dispose_if_unused()
+        self._engine.close()
 
     def on_screen_suspend(self) -> None:
         # Switching to another mode leaves the console: its query stops. A screen pushed
@@ -361,7 +267,7 @@ class SqlScreen(Screen[None]):
     def refresh_data(self) -> None:
         """The app calls this once its database is open: load the schema, run a query
         that waited for it."""
-        if self.app.db is None:  # type: ignore[attr-defined]
+        if self.db is None:
             self.set_status(OPENING, "-info")
             return
         if not self._schema_requested:
@@ -376,44 +282,29 @@ class SqlScreen(Screen[None]):
 
     # -- engine and workers --
 
-    @contextmanager
-    def read_only_engine(self) -> Iterator[Engine]:
-        """The read-only engine, created once (by whichever worker asks first); disposed
-        once the screen is gone and no worker uses it."""
-        with self._engine_lock:
-            if self._engine is None:
-                self._engine = self.app.db.read_only_engine()  # type: ignore[attr-defined]
-            self._engine_users += 1
-            engine = self._engine
-        try:
-            yield engine
-        finally:
-            with self._engine_lock:
-                self._engine_users -= 1
-                self._dispose_if_unused()
-
-    def _dispose_if_unused(self) -> None:
-        """Call with _engine_lock held."""
-        if self._closed and self._engine_users == 0 and self._engine is not None:
-            self._engine.dispose()
-            self._engine = None
+    def _open_engine(self) -> Engine:
+        """The read-only engine (in the first worker that needs it)."""
+        if self.db is None:  # workers start once the store is open
+            raise RuntimeError("the database is not open yet")
+        return self.db.read_only_engine()
 
     @work(thread=True, exclusive=True, group="sql")
     def execute(self, query: ReadQuery) -> None:
         worker = get_current_worker()
         try:
-            with self.read_only_engine() as engine:
+            with self._engine.use() as engine:
                 outcome = run_query(engine, query, DISPLAY_LIMIT)
         except Exception as exc:  # e.g. an in-memory SQLite store cannot be reopened
-            outcome = QueryFailed(f"{type(exc).__name__}: {exc}", refused=False, query=query)
+            outcome = QueryFailed(f"error: {type(exc).__name__}: {exc}", refused=False,
+                                  query=query)
         if not worker.is_cancelled:  # a newer query replaced this one
             self.post_message(outcome)
 
     @work(thread=True, exclusive=True, group="sql-schema")
     def load_schema(self) -> None:
         try:
-            with self.read_only_engine() as engine:
-                tables = load_schema(engine)
+            with self._engine.use() as engine:
+                tables = tables_and_columns(engine)
         except Exception as exc:
             self.post_message(StoreFailed("load the schema", f"{type(exc).__name__}: {exc}"))
             return
@@ -422,8 +313,7 @@ class SqlScreen(Screen[None]):
     @work(thread=True, exclusive=True, group="sql-history-load")
     def load_history(self) -> None:
         try:
-            tighten_history(self.history_path)
-            queries = read_history(self.history_path)
+            queries = self.history.read()
         except (OSError, UnicodeDecodeError) as exc:
             self.post_message(StoreFailed("read the query history", str(exc)))
             queries = []
@@ -431,11 +321,10 @@ class SqlScreen(Screen[None]):
 
     @work(thread=True, group="sql-history-save")
     def save_history(self) -> None:
-        with self._history_lock:
-            try:
-                write_history(self.history_path, list(self.history))
-            except OSError as exc:
-                self.post_message(StoreFailed("save the query history", str(exc)))
+        try:
+            self.history.save()
+        except OSError as exc:
+            self.post_message(StoreFailed("save the query history", str(exc)))
 
     # -- messages from the workers --
 
@@ -471,11 +360,7 @@ class SqlScreen(Screen[None]):
         if not self._finished(failed):
             return
         self.query_one("#sql-results", DataTable).clear(columns=True)
-        if failed.refused:
-            self.set_status(f"refused: the store is opened read-only ({failed.message})",
-                            "-error")
-        else:
-            self.set_status(f"error: {failed.message}", "-error")
+        self.set_status(failed.message, "-error")
 
     @on(QueryHalted)
     def show_halt(self, halted: QueryHalted) -> None:
@@ -505,11 +390,9 @@ class SqlScreen(Screen[None]):
 
     @on(HistoryLoaded)
     def merge_loaded_history(self, loaded: HistoryLoaded) -> None:
-        ran_already = bool(self.history)
-        self.history = merge_history(self.history, loaded.queries)
-        self._history_loaded = True
+        unsaved = self.history.merge_read(loaded.queries)
         self.show_history()
-        if ran_already:  # queries run before the file was read were not saved yet
+        if unsaved:  # queries run before the file was read
             self.save_history()
 
     # -- widgets' events --
@@ -517,9 +400,9 @@ class SqlScreen(Screen[None]):
     @on(OptionList.OptionSelected, "#sql-history")
     def recall(self, event: OptionList.OptionSelected) -> None:
         """Put a query of the history back into the editor."""
-        if 0 <= event.option_index < len(self.history):
+        if 0 <= event.option_index < len(self.history.queries):
             editor = self.query_one("#sql-editor", TextArea)
-            editor.text = self.history[event.option_index]
+            editor.text = self.history.queries[event.option_index]
             editor.move_cursor(editor.document.end)
             editor.focus()
 
@@ -539,7 +422,7 @@ class SqlScreen(Screen[None]):
             self.set_status("nothing to run: write a query first", "-info")
             return
         self.remember(sql)
-        if self.app.db is None:  # type: ignore[attr-defined]
+        if self.db is None:
             self._pending = sql  # refresh_data runs it once the database is open
             self.set_status(OPENING, "-info")
             return
@@ -581,16 +464,16 @@ class SqlScreen(Screen[None]):
     # -- helpers --
 
     def remember(self, sql: str) -> None:
-        self.history = merge_history([sql], self.history)
+        can_save = self.history.add(sql)
         self.show_history()
-        if self._history_loaded:  # else merge_loaded_history saves it
+        if can_save:  # else merge_loaded_history saves it
             self.save_history()
 
     def show_history(self) -> None:
         options = self.query_one("#sql-history", OptionList)
         options.clear_options()
         options.add_options([Option(Text(one_line(q), no_wrap=True, overflow="ellipsis"))
-                             for q in self.history])
+                             for q in self.history.queries])
 
     def set_status(self, message: str, kind: str) -> None:
         """kind: -info (hints, progress), -done (a result), -error (error or refusal)."""

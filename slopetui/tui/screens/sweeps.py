@@ -10,14 +10,14 @@ from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Vertical
 from textual.message import Message
-from textual.screen import Screen
 from textual.widgets import ContentSwitcher, DataTable, Footer, Header, Static
 
 from slopetui.display_text import terminal_safe
-from slopetui.plots.hopf import Curve
 from slopetui.sweeps.diagram import SweepDiagram, load_diagram, plane_hopf
+from slopetui.sweeps.hopf_plane import Curve
 from slopetui.sweeps.progress import SweepProgress, format_eta, sweep_progress
 from slopetui.tui.messages import RunChosen, StoreFailed
+from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.widgets.bifurcation_view import BifurcationView
 from slopetui.tui.widgets.phase_grid import GridData, PhaseGrid
 
@@ -42,7 +42,7 @@ def grid_data(d: SweepDiagram, hopf: Curve | None) -> GridData:
                     spec.adaptive_levels is not None)
 
 
-class SweepsScreen(Screen[None]):
+class SweepsScreen(SlopeScreen[None]):
     """Enter on a sweep moves to its diagram; arrows move the cursor there, enter opens
     the run under it."""
 
@@ -79,16 +79,18 @@ class SweepsScreen(Screen[None]):
         yield Footer()
 
     def on_mount(self) -> None:
-        self.set_interval(getattr(self.app, "refresh_s", 2.0), self.refresh_data)
+        self.set_interval(self.app.refresh_s, self.refresh_data)
         self.refresh_data()
 
     def refresh_data(self) -> None:
-        if getattr(self.app, "db", None) is not None:
+        if self.db is not None:
             self.load(self.selected)
 
     @work(thread=True, exclusive=True, group="sweeps-load")
     def load(self, sweep_id: int | None) -> None:
-        db = self.app.db  # type: ignore[attr-defined]
+        db = self.db
+        if db is None:  # refresh_data starts this once the store is open
+            return
         try:
             sweeps = sweep_progress(db)
             if sweep_id is None and sweeps:
@@ -170,11 +172,11 @@ class SweepsScreen(Screen[None]):
 
     @on(RunChosen)
     def _open_run(self, message: RunChosen) -> None:
-        self.app.open_run(message.run_id)  # type: ignore[attr-defined]
+        self.app.open_run(message.run_id)
 
     def _control(self, action: str) -> None:
-        if self.selected is not None and getattr(self.app, "db", None) is not None:
-            self.app.control_sweep(action, self.selected)  # type: ignore[attr-defined]
+        if self.selected is not None and self.db is not None:
+            self.app.control_sweep(action, self.selected)
 
     def action_pause(self) -> None:
         self._control("pause")

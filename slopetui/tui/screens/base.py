@@ -1,0 +1,39 @@
+"""The one typed way for a screen to reach the application and its store.
+
+Screens derive from ``SlopeScreen`` instead of ``Screen``: ``self.app`` is then typed as
+``SlopeApp`` (what Posting gets with ``cast("Posting", super().app)``), and ``self.db`` is
+the store, or None until the app has opened it (``SlopeApp.open_store`` runs in a thread
+worker).
+No ``getattr(self.app, "db", None)``, no ``# type: ignore[attr-defined]``.
+
+Textual declares its own ``app`` this way (``textual.getters.app``) for the type checker
+only; at run time Screen's property already returns the SlopeApp. (Declared for real,
+``getters.app(SlopeApp)`` would need the class when the screen's class is defined, and
+``slopetui.tui.app`` imports the screens.)
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, TypeVar
+
+from textual.screen import Screen
+
+if TYPE_CHECKING:
+    from textual import getters
+
+    from slopetui.store.database import Database
+    from slopetui.tui.app import SlopeApp
+
+ResultT = TypeVar("ResultT")
+
+
+class SlopeScreen(Screen[ResultT]):
+    """A screen of SlopeApp."""
+
+    if TYPE_CHECKING:  # at run time Screen's own property returns the same object
+        app = getters.app(SlopeApp)
+
+    @property
+    def db(self) -> Database | None:
+        """The store, or None while the app is still opening it."""
+        return self.app.db
