@@ -187,7 +187,8 @@ def report(folder: Path, plane: str, args: argparse.Namespace) -> None:
     print(f"  runs computed   brute force {len(brute)}, adaptive {len(computed)} "
           f"(per level {per_level}), {len(brute) / len(computed):.2f}x fewer")
     print(f"  agreement       {100 * same / len(brute):.2f}% of points "
-          f"({len(brute) - same} differ{': ' + ', '.join(f'{k} {v}' for k, v in wrong.most_common()) if wrong else ''})")
+          f"({len(brute) - same} differ"
+          f"{': ' + ', '.join(f'{k} {v}' for k, v in wrong.most_common()) if wrong else ''})")
     print(f"  wall time       brute force {t_brute:.1f} s, adaptive {t_adaptive:.1f} s")
     # determinism: the store's adaptive sweep is the pure geometry run on brute force labels
     replay = refine_in_memory(n, n, args.levels, lambda ix, iy: brute[ix, iy])

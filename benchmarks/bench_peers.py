@@ -270,7 +270,7 @@ class Jitc:
         if lyap:
             zero = [0.0] * 5
             dde.add_past_point(-self.p.tau, state + zero, zero + zero)
-            dde.add_past_point(0.0, state + [0.0, 1.0, 1.0, 1.0, 1.0], zero + zero)
+            dde.add_past_point(0.0, [*state, 0.0, 1.0, 1.0, 1.0, 1.0], zero + zero)
         else:
             dde.constant_past(state, time=0.0)
         dde.step_on_discontinuities()
@@ -321,11 +321,13 @@ def weighted_estimate(logs: np.ndarray, spans: np.ndarray, n_blocks: int = 20) -
         return LyapunovEstimate(math.nan, math.nan, float(spans.sum()), 0)
     value = float(logs.sum() / spans.sum())
     nb = min(n_blocks, len(logs))
-    means = np.array([lg.sum() / sp.sum() for lg, sp in zip(np.array_split(logs, nb), np.array_split(spans, nb))])
+    blocks = zip(np.array_split(logs, nb), np.array_split(spans, nb), strict=True)
+    means = np.array([lg.sum() / sp.sum() for lg, sp in blocks])
     return LyapunovEstimate(value, float(means.std(ddof=1) / math.sqrt(nb)), float(spans.sum()), nb)
 
 
-def match_tolerance(jitc: Jitc, targets: dict[str, float], ref: Shape) -> tuple[dict[str, float], list[tuple[float, Shape]]]:
+def match_tolerance(jitc: Jitc, targets: dict[str, float], ref: Shape
+                    ) -> tuple[dict[str, float], list[tuple[float, Shape]]]:
     """For each target amplitude error, the loosest ladder tol whose error is not larger."""
     ladder: list[tuple[float, Shape]] = []
     needed = min(abs(v) for v in targets.values())

@@ -569,4 +569,4 @@ def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) ->
     share = done / max(1, int(done.sum()))
     return [trajectory_of(p, s, g, int(done[j]), win[j, :g.n_win].T, trace[j, :g.n_trace].T,
                           logs[j, :n_logs[j] if s.lyap else 0], runtime * share[j])
-            for j, (p, g) in enumerate(zip(points, grids))]
+            for j, (p, g) in enumerate(zip(points, grids, strict=True))]

@@ -23,7 +23,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from core.lyapunov import LyapunovEstimate
-from core.regimes import REGIMES
 
 #: Peak-to-peak amplitude of m_y below which the window counts as at rest. A settled
 #: sliding run leaves round-off only: we measured 0 to 1.5e-10 on the (b, tau) plane at
@@ -131,9 +130,10 @@ def peak_period(peaks: np.ndarray, amplitude: float, max_period: int = MAX_PERIO
 
     r_n = max_i |p_{i+n} - p_i| measures how well the sequence repeats after n peaks.
     The period is the smallest n with r_n <= max(RETURN_MARGIN * min_m r_m,
-    RETURN_NOISE * amplitude), provided that min_m r_m <= RETURN_TOL * amplitude. Unlike clustering the sorted values with a gap
-    tolerance, this separates clusters closer than any fixed tolerance (period-2 just
-    past the doubling) and tolerates clusters that still drift slowly.
+    RETURN_NOISE * amplitude), provided that min_m r_m <= RETURN_TOL * amplitude. Unlike
+    clustering the sorted values with a gap tolerance, this separates clusters closer than
+    any fixed tolerance (period-2 just past the doubling) and tolerates clusters that still
+    drift slowly.
     """
     if len(peaks) < 2 * max_period + 2:
         max_period = max(1, (len(peaks) - 2) // 2)

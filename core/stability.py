@@ -169,7 +169,7 @@ def hopf_curve_friction(p: Params, name: str, n: int = 400) -> tuple[np.ndarray,
         raise ValueError("the Hopf curve needs k > 0")
     omega = math.sqrt(2.0 * p.k) * np.sin(np.linspace(1e-4, 0.5 * math.pi * (1 - 1e-4), n)) ** 2
     f1_h = np.sqrt(2.0 * p.k - omega * omega)
-    tau = np.array([hopf_tau(w, f, p.k) for w, f in zip(omega, f1_h)])
+    tau = np.array([hopf_tau(w, f, p.k) for w, f in zip(omega, f1_h, strict=True)])
     v = p.v
     if name == "a":
         val = (f1_h + 2.0 * p.b * v - p.c) / (3.0 * v * v)

@@ -8,8 +8,14 @@ import numpy as np
 import pytest
 
 from core import LyapunovEstimate, Params, SolverSettings, classify, run_point
-from core.classify import (RETURN_NOISE, dominant_frequency, fast_fft_length, find_peaks,
-                           peak_period, zero_one_test)
+from core.classify import (
+    RETURN_NOISE,
+    dominant_frequency,
+    fast_fft_length,
+    find_peaks,
+    peak_period,
+    zero_one_test,
+)
 
 T = np.arange(0.0, 1000.0, 0.01)
 

@@ -189,7 +189,7 @@ def test_sql_refuses_writes_at_the_database_level(tmp_path, capsys, statement):
     url = f"sqlite:///{db}"
     cli(capsys, "submit", "--x", "k=4:8:3", "--t-end", "100", "--window", "50", "--db", url)
     before = dump(db)
-    code, out, err = cli(capsys, "sql", statement.replace('{tmp}', str(tmp_path)), "--db", url)
+    code, _, err = cli(capsys, "sql", statement.replace('{tmp}', str(tmp_path)), "--db", url)
     assert code == 2 and "refused" in err, err
     assert count_rows(db) == 3 and count_rows(db, "sweeps") == 1
     assert not (tmp_path / "other.db").exists()

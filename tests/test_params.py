@@ -23,8 +23,8 @@ from core.solve import (
 def test_defaults_are_eq_8():
     p = Params()
     assert (p.a, p.b, p.c, p.d, p.v) == (3.2, 7.2, 4.8, 1e-4, 0.1)
-    assert p.F == pytest.approx(3.2e-3 - 7.2e-2 + 0.48)          # eq. 1 at v = 0.1
-    assert p.F1 == pytest.approx(3.456)                            # eq. 10
+    assert pytest.approx(3.2e-3 - 7.2e-2 + 0.48) == p.F          # eq. 1 at v = 0.1
+    assert pytest.approx(3.456) == p.F1                            # eq. 10
     assert p.q == pytest.approx(-6.24)
 
 

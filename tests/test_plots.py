@@ -9,7 +9,7 @@ import plotext as plt
 import pytest
 
 from core import Params
-from core.classify import REGIMES
+from core.regimes import REGIMES
 from core.stability import hopf_curve_friction, hopf_k
 from slopetui.plots import (
     REGIME_STYLES,
@@ -44,7 +44,7 @@ def grid_sweep() -> tuple[np.ndarray, np.ndarray, list[str | None]]:
     """A (k, tau) grid labelled by the exact boundary, with every regime and a pending run."""
     k, tau = (a.ravel() for a in np.meshgrid(np.linspace(1, 30, 30), np.linspace(0.5, 20, 20)))
     regimes: list[str | None] = []
-    for ki, ti in zip(k, tau):
+    for ki, ti in zip(k, tau, strict=True):
         kh = hopf_k(ti, F1)
         regimes.append("sliding" if ki < kh else "oscillatory" if ki < 2 * kh else "unstable")
     regimes[3], regimes[40], regimes[41], regimes[7] = "complex", "mixed", "mixed", None

@@ -62,7 +62,7 @@ def test_expired_leases_go_back_to_the_queue_and_the_old_holder_is_fenced(db):
 
 def test_a_fresh_heartbeat_keeps_the_lease(db):
     submit_quick(db, 1)
-    job = jobs.claim(db, "w")
+    assert jobs.claim(db, "w") is not None
     jobs.heartbeat(db, "w")
     assert jobs.requeue_expired(db, lease_s=60) == (0, 0)
 
@@ -119,7 +119,7 @@ def test_identical_runs_take_the_cached_result(db):
     with db.sessions() as s:
         a, b = (list(s.scalars(select(Run).where(Run.sweep_id == i).order_by(Run.ix)))
                 for i in (first.sweep_id, again.sweep_id))
-    for x, y in zip(a, b):
+    for x, y in zip(a, b, strict=True):
         assert y.cached_from == x.id and y.regime == x.regime
         assert y.lambda_max == x.lambda_max or math.isnan(x.lambda_max)
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import os
 
 import numba
@@ -56,7 +57,7 @@ def test_rk4_converges_at_fourth_order(tau):
     and without delay (tau = 0: the spring term vanishes)."""
     p = Params(k=10.0, tau=tau)
     states = [final_state(p, "rk4", dt, 50.0) for dt in (0.1, 0.05, 0.025, 0.0125, 0.00625)]
-    diffs = [np.max(np.abs(a - b)) for a, b in zip(states, states[1:])]
+    diffs = [np.max(np.abs(a - b)) for a, b in itertools.pairwise(states)]
     orders = [np.log2(diffs[i] / diffs[i + 1]) for i in range(len(diffs) - 1)]
     assert all(3.8 < o < 4.5 for o in orders), orders
     assert abs(orders[-1] - 4.0) < 0.2, orders
@@ -95,6 +96,6 @@ def test_kernel_cache_is_keyed_by_the_engine_source():
     """An edit to any core/*.py (e.g. model.py, inlined into the kernels) must not reuse
     kernels compiled from the old source."""
     if os.environ.get("NUMBA_CACHE_DIR"):
-        assert numba.config.CACHE_DIR == os.environ["NUMBA_CACHE_DIR"]
+        assert os.environ["NUMBA_CACHE_DIR"] == numba.config.CACHE_DIR
     else:
         assert numba.config.CACHE_DIR.endswith(jit_cache.source_digest())

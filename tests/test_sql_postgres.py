@@ -59,7 +59,7 @@ def read_all(engine: Engine, query: ReadQuery) -> list[tuple]:
 
 def test_statement_timeout(engine: Engine) -> None:
     start = time.monotonic()
-    with pytest.raises(QueryTimedOut, match="timed out after 0.5 s"):
+    with pytest.raises(QueryTimedOut, match=r"timed out after 0\.5 s"):
         read_all(engine, ReadQuery("SELECT pg_sleep(30)", timeout_s=0.5))
     assert time.monotonic() - start < 5
     # LOCAL: the pooled connection keeps no limit of ours.

@@ -69,7 +69,7 @@ def test_cancel_from_another_thread(engine: Engine) -> None:
     timer = threading.Timer(0.3, query.cancel)
     timer.start()
     start = time.monotonic()
-    with pytest.raises(QueryCancelled, match="^cancelled$"):
+    with pytest.raises(QueryCancelled, match=r"^cancelled$"):
         read_all(engine, query)
     assert 0.25 < time.monotonic() - start < 5
     timer.join()

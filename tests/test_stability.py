@@ -85,7 +85,7 @@ def test_eq_26_is_only_qualitative():
 def test_friction_plane_curves_are_on_the_boundary(name):
     p = Params(k=12.0)
     values, taus = hopf_curve_friction(p, name)
-    for val, tau in list(zip(values, taus))[50:350:60]:
+    for val, tau in list(zip(values, taus, strict=True))[50:350:60]:
         q = p.with_(**{name: float(val)}, tau=float(tau))
         assert leading_root(q).real == pytest.approx(0.0, abs=1e-7)
         assert hopf_k(float(tau), q.F1) == pytest.approx(p.k, rel=1e-6)

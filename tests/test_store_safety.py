@@ -75,7 +75,7 @@ def test_a_migration_that_would_orphan_rows_is_rolled_back(populated):
     raw.execute("PRAGMA foreign_keys = OFF")
     raw.execute("UPDATE runs SET sweep_id = 999 WHERE id = 1")  # points nowhere
     raw.close()
-    with pytest.raises(StoreError, match="rolled back.*foreign keys"):
+    with pytest.raises(StoreError, match=r"rolled back.*foreign keys"):
         upgrade(populated)
     assert current_revision(populated) == revisions()[0]
 

@@ -121,7 +121,7 @@ def test_a_done_run_shows_its_summary_four_plots_and_the_match(db_url, done_stor
         assert status(screen).startswith(MATCH_TEXT)
         tabs = screen.query_one("#run-tabs", TabbedContent)
         assert tabs.tab_count == 4
-        for key, tab in zip("tpsl", (TAB_TIME, TAB_PHASE, TAB_SPECTRUM, TAB_LYAP)):
+        for key, tab in zip("tpsl", (TAB_TIME, TAB_PHASE, TAB_SPECTRUM, TAB_LYAP), strict=True):
             await pilot.press(key)
             await pilot.pause()
             await pilot.pause()

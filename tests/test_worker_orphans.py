@@ -4,6 +4,7 @@ warm-up as well as idle or busy, and leave the store as they should."""
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 from pathlib import Path
@@ -44,10 +45,8 @@ def worker_children(pool_pid: int) -> list[int]:
 
 def kill_group(pool) -> None:
     """Clean up whatever a failed test left (the pool is its process group's leader)."""
-    try:
+    with contextlib.suppress(ProcessLookupError):
         os.killpg(pool.pid, signal.SIGKILL)
-    except ProcessLookupError:
-        pass
     pool.communicate()
 
 

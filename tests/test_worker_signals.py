@@ -85,7 +85,7 @@ class Case:
                 os.killpg(self.proc.pid, self.signum)
 
     def check(self, elapsed: float) -> None:
-        out, err = self.proc.communicate()
+        _, err = self.proc.communicate()
         log = (self.dir / "pool.log").read_text()
         assert self.proc.returncode == 0, (self.name, err, log)
         assert elapsed < (ABORT_BOUND_S if self.state == "twice" else EXIT_BOUND_S), self.name
@@ -193,7 +193,7 @@ def test_signals_to_one_worker(tmp_path, db, db_url):
         time.sleep(0.3)
         os.kill(other, signal.SIGTERM)
         t0 = time.monotonic()
-        out, err = pool.communicate(timeout=EXIT_BOUND_S)
+        _, err = pool.communicate(timeout=EXIT_BOUND_S)
         assert time.monotonic() - t0 < ABORT_BOUND_S
     finally:
         if pool.poll() is None:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-
 from typing import TYPE_CHECKING
 
 from slopetui.cli.options import UsageError, add_db_option

@@ -86,7 +86,7 @@ def handle(args: argparse.Namespace) -> int:
     from slopetui.sweeps.submit import submit
 
     db = open_db(args)
-    for key, spec in zip(keys, specs):
+    for key, spec in zip(keys, specs, strict=True):
         out = submit(db, spec)
         cached = f" ({out.n_cached} from the cache)" if out.n_cached else ""
         print(f"{key}: sweep {out.sweep_id}, {out.n_runs} runs queued{cached}")

@@ -44,7 +44,7 @@ def accept_negative_numbers(parser: argparse.ArgumentParser) -> None:
     """Let option values be negative numbers in any notation (see NEGATIVE_NUMBER). The
     matcher is argparse's private attribute, unchanged since Python 3.2; the parser has
     no option that looks like a negative number, so nothing else is affected."""
-    parser._negative_number_matcher = NEGATIVE_NUMBER  # type: ignore[attr-defined]
+    parser._negative_number_matcher = NEGATIVE_NUMBER
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -70,7 +70,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def parse_inputs(args: argparse.Namespace) -> tuple[Params, SolverSettings]:
     """Build validated Params and SolverSettings from the flags; raises ParameterError."""
     given = {n: getattr(args, n) for n in PARAM_NAMES if getattr(args, n) is not None}
-    params = Params(**given)  # type: ignore[arg-type]  # strings are checked and coerced
+    params = Params(**given)  # strings are checked and coerced
     settings = SolverSettings(method=args.method, dt=args.dt, t_end=args.t_end,
                               window=args.window, lyap=args.lyap)
     validate_run(params, settings)  # the pair: dt against tau, the engine's limits, the window

@@ -7,7 +7,6 @@ import io
 import sys
 from collections.abc import Iterable
 from pathlib import Path
-
 from typing import TYPE_CHECKING
 
 from core.regimes import REGIMES

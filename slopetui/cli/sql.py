@@ -113,7 +113,7 @@ class CsvWriter(Writer):
 class JsonWriter(Writer):
     def write(self, rows: list[Row]) -> None:
         for row in rows:
-            self.out.write(json.dumps({c: _json_value(v) for c, v in zip(self.columns, row)},
+            self.out.write(json.dumps({c: _json_value(v) for c, v in zip(self.columns, row, strict=True)},
                                       default=str) + "\n")
         self.out.flush()
 
@@ -144,7 +144,7 @@ class TableWriter(Writer):
 
     def _lines(self, cells: list[list[str]]) -> None:
         self.out.write("".join(
-            "  ".join(v.ljust(w) for v, w in zip(row, self.widths)).rstrip() + "\n"
+            "  ".join(v.ljust(w) for v, w in zip(row, self.widths, strict=True)).rstrip() + "\n"
             for row in cells))
 
     def stop(self) -> None:

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import argparse
 import json
-
 from typing import TYPE_CHECKING
 
 from slopetui.cli.options import add_db_option, open_db, sweep_arg
@@ -31,8 +30,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def handle(args: argparse.Namespace) -> int:
-    from slopetui.sweeps.control import UnknownSweep
     from slopetui.queue.workers_table import live_workers
+    from slopetui.sweeps.control import UnknownSweep
     from slopetui.sweeps.progress import format_eta, sweep_progress
 
     ids = [sweep_arg(text) for text in args.sweeps]  # before the database opens

@@ -22,8 +22,8 @@ from slopetui.cli.options import add_db_option, open_db
 
 if TYPE_CHECKING:
     from slopetui.queue.local_pool import LocalPool
-    from slopetui.store.database import Database
     from slopetui.queue.workers_table import WorkerInfo
+    from slopetui.store.database import Database
 
 #: While `worker --stop` waits, it says what it waits for at once, then this often (s).
 SAY_EVERY_S = 10.0

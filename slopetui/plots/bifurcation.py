@@ -56,7 +56,7 @@ def _peak_series(values: np.ndarray, peaks: Sequence[Sequence[float]], keys: lis
     shown = visible(values, log)
     xs: dict[str, list[np.ndarray]] = {}
     ys: dict[str, list[np.ndarray]] = {}
-    for value, run_peaks, key, ok in zip(values, peaks, keys, shown):
+    for value, run_peaks, key, ok in zip(values, peaks, keys, shown, strict=True):
         run = np.asarray(run_peaks, dtype=float).ravel()
         run = run[np.isfinite(run)]
         if ok and run.size:

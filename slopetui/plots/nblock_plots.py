@@ -35,4 +35,4 @@ def render_side_by_side(t: np.ndarray, mean_field: np.ndarray, ensemble: np.ndar
     right = _panel(t, ensemble, ENSEMBLE_COLOR, f"ensemble, N = {n_blocks} (eq. 5)", variable,
                    y_range, width=half, height=height, show_color=color)
     return "\n".join(a + " " * (half - len(plt.uncolorize(a)) + 2) + b
-                     for a, b in zip(left, right))
+                     for a, b in zip(left, right, strict=False))

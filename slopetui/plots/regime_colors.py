@@ -1,4 +1,4 @@
-"""Colour and marker of each regime (core.classify.REGIMES) in the terminal plots.
+"""Colour and marker of each regime (core.regimes.REGIMES) in the terminal plots.
 
 Colours are plotext's basic 16-colour names, so they survive 16-colour terminals, and
 were picked to read on both dark and light backgrounds:
@@ -32,7 +32,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 
-from core.classify import REGIMES
+from core.regimes import REGIMES
 
 #: The label of runs without a regime yet (stored as None or "pending").
 PENDING = "pending"

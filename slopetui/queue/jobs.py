@@ -29,7 +29,7 @@ from sqlalchemy.orm import Session
 from core.params import PARAM_NAMES, Params
 from slopetui.queue.cache import RESULT_FIELDS
 from slopetui.queue.defaults import LEASE_S, MAX_ATTEMPTS
-from slopetui.store.database import Database
+from slopetui.store.database import Database, rows_changed
 from slopetui.store.db_time import db_now
 from slopetui.store.models import Run, Sweep, Worker
 
@@ -198,11 +198,11 @@ def fail(db: Database, job: Job, worker_id: str, error: str,
     status, or None if the lease was lost meanwhile."""
     status = "failed" if job.attempts >= max_attempts else "queued"
     with db.transaction() as s:
-        n = s.execute(update(Run).where(_HOLDING)
+        n = rows_changed(s.execute(update(Run).where(_HOLDING)
                       .values(status=status, error=error[-4000:],
                               worker_id=worker_id if status == "failed" else None,
                               finished_at=db_now() if status == "failed" else None),
-                      {"rid": job.run_id, "wid": worker_id}).rowcount
+                      {"rid": job.run_id, "wid": worker_id}))
         s.execute(update(Worker).where(Worker.id == worker_id).values(run_id=None))
     return status if n == 1 else None
 
@@ -211,10 +211,10 @@ def release(db: Database, job: Job, worker_id: str) -> bool:
     """Give a run back unfinished (a shutdown, not its fault): a started run's attempt is
     given back too."""
     with db.transaction() as s:
-        n = s.execute(update(Run).where(_HOLDING)
+        n = rows_changed(s.execute(update(Run).where(_HOLDING)
                       .values(status="queued", worker_id=None,
                               attempts=Run.attempts - int(job.started)),
-                      {"rid": job.run_id, "wid": worker_id}).rowcount
+                      {"rid": job.run_id, "wid": worker_id}))
         s.execute(update(Worker).where(Worker.id == worker_id).values(run_id=None))
     return n == 1
 
@@ -238,7 +238,7 @@ def _requeue(s: Session, where: Any, reason: str, max_attempts: int) -> tuple[in
                                error=f"{reason}; gave up after {max_attempts} attempts"))
     requeued = s.execute(update(Run).where(where)
                          .values(status="queued", worker_id=None, error=reason))
-    return requeued.rowcount + unstarted.rowcount, failed.rowcount
+    return rows_changed(requeued) + rows_changed(unstarted), rows_changed(failed)
 
 
 def requeue_expired(db: Database, lease_s: float = LEASE_S,

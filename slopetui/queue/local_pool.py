@@ -35,8 +35,8 @@ from typing import TYPE_CHECKING
 from platformdirs import user_log_path, user_state_path
 
 if TYPE_CHECKING:  # the modules below import sqlalchemy; callers of default_jobs need not
-    from slopetui.store.database import Database
     from slopetui.queue.workers_table import WorkerInfo
+    from slopetui.store.database import Database
 
 
 def default_jobs() -> int:

@@ -227,7 +227,7 @@ class Pool:
                 self._act_on(signals)
                 for sentinel in ready:
                     if sentinel in self.procs:
-                        self._reap(db, self.procs.pop(sentinel))  # type: ignore[arg-type]
+                        self._reap(db, self.procs.pop(sentinel))
                 self._kill_stuck()
                 progress.tick()
             progress.tick(force=True)  # where the pool left the sweeps

@@ -48,7 +48,8 @@ from concurrent.futures import wait as wait_futures
 from dataclasses import dataclass
 from typing import Any
 
-from sqlalchemy import func, select as sql_select
+from sqlalchemy import func
+from sqlalchemy import select as sql_select
 
 from slopetui.queue import defaults, jobs
 from slopetui.store.database import Database
@@ -244,7 +245,10 @@ def block_stop_signals() -> Callable[[], None]:
     if not hasattr(signal, "pthread_sigmask"):
         return lambda: None
     old = signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
-    return lambda: signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+    def restore() -> None:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+    return restore
 
 
 def die_with_parent() -> None:

@@ -17,8 +17,9 @@ from core import SolverSettings, run_point
 from core.classify import find_peaks, peak_period
 from core.lyapunov import format_with_error
 from slopetui.reproduce import measures as m
-from slopetui.sweeps.diagram import SweepDiagram
+from slopetui.sweeps.diagram import RunPoint, SweepDiagram
 from slopetui.sweeps.presets import BY_KEY
+from slopetui.sweeps.spec import Axis
 
 Diagrams = dict[str, SweepDiagram]
 
@@ -120,7 +121,7 @@ def _extrema_counts(diag: SweepDiagram, k: float) -> tuple[int, int]:
 def fig4b(d: Diagrams) -> Finding:
     diag = d["fig4b"]
     runs = [r for r in m.done(diag) if r.x <= 20.5]
-    counts = {}
+    counts: dict[int | None, int] = {}
     for r in runs:
         counts[r.period_count] = counts.get(r.period_count, 0) + 1
     lines = [f"regimes for 17 <= k <= 21: {m.counts_text(diag)}",
@@ -156,11 +157,11 @@ def fig4c(d: Diagrams) -> Finding:
     doubling = {k: v for k, v in det.items() if k.startswith("period-")}
     lines = [f"regimes: {m.counts_text(diag)}",
              "complex runs by kind: " + ", ".join(f"{k} {v}" for k, v in det.most_common())]
-    p2 = [r for r in m.done(diag) if r.detail == "period-2"]
+    p2 = [r for r in m.done(diag) if r.detail == "period-2" and r.y is not None]
     if p2:
-        lines.append("period-2 runs at k = {:.3g}-{:.3g}, tau = {:.3g}-{:.3g}".format(
-            min(r.x for r in p2), max(r.x for r in p2), min(r.y for r in p2),
-            max(r.y for r in p2)))
+        taus = [r.y for r in p2 if r.y is not None]
+        lines.append(f"period-2 runs at k = {min(r.x for r in p2):.3g}-{max(r.x for r in p2):.3g}, "
+                     f"tau = {min(taus):.3g}-{max(taus):.3g}")
     verdict = "agree" if p2 else "partly" if doubling else "disagree"
     return Finding(("fig4c",), verdict, lines,
                    "Period-2 orbits appear inside the complex region, at its border with the "
@@ -239,13 +240,25 @@ def fig6(d: Diagrams) -> Finding:
             lines.append(f"{BY_KEY[key].figure}: smallest tau that leaves the fixed point, per a: from "
                          f"{taus.min():.3g} to {taus.max():.3g} over a = "
                          f"{onset[0][0]:.3g}-{onset[-1][0]:.3g}")
-    step = float(np.diff(d["fig6a"].spec.y.values())[0])
+    step = float(np.diff(_y_axis(d["fig6a"]).values())[0])
     vertical = bool(spreads) and max(spreads) <= 2 * step
     return Finding(("fig6a", "fig6b"), "agree" if vertical else "partly", lines,
                    "The small-delay transition sits at nearly the same tau for every a (within "
                    "two grid steps): the nearly vertical line the text explains with eq. 26."
                    if vertical else "The onset tau varies with a by more than two grid steps; "
                    "the text's 'nearly vertical' line holds only roughly at this resolution.")
+
+
+def _y_axis(diag: SweepDiagram) -> Axis:
+    """The y axis of a phase diagram (every finding that asks for it reads one)."""
+    assert diag.spec.y is not None, f"{diag.name} is not a phase diagram"
+    return diag.spec.y
+
+
+def _y(r: RunPoint) -> float:
+    """The y value of a run of a phase diagram."""
+    assert r.y is not None
+    return r.y
 
 
 def _columns(diag: SweepDiagram) -> dict[float, list]:
@@ -260,10 +273,10 @@ def fig7(d: Diagrams) -> Finding:
     lines = []
     for k in ("fig7a", "fig7b"):
         lines += [f"{BY_KEY[k].figure}: {m.counts_text(d[k])}", *_branch_line(d[k])]
-    small = float(np.quantile(near.spec.y.values(), 0.25))
-    slide_near = [r for r in m.done(near) if r.regime == "sliding" and r.y <= small
+    small = float(np.quantile(_y_axis(near).values(), 0.25))
+    slide_near = [r for r in m.done(near) if r.regime == "sliding" and _y(r) <= small
                   and not m.fast_sliding(near, r)]
-    slide_far = [r for r in m.done(far) if r.regime == "sliding" and r.y <= small
+    slide_far = [r for r in m.done(far) if r.regime == "sliding" and _y(r) <= small
                  and not m.fast_sliding(far, r)]
     lines.append(f"sliding at the fixed point at small delay (tau <= {small:.3g}): "
                  f"{len(slide_near)} runs with delta = 1e-6, {len(slide_far)} with delta = 0.1")
@@ -297,7 +310,7 @@ def fig8(d: Diagrams) -> Finding:
     if fast:
         lines.append(f"at rest on a faster sliding branch (m_y > v): {len(fast)} runs, at b = "
                      f"{min(r.x for r in fast):.3g}-{max(r.x for r in fast):.3g} and tau <= "
-                     f"{max(r.y for r in fast):.3g}, m_y = {min(r.drift for r in fast):.3g}-"
+                     f"{max(_y(r) for r in fast):.3g}, m_y = {min(r.drift for r in fast):.3g}-"
                      f"{max(r.drift for r in fast):.3g}")
     mixed = m.fraction(near, "mixed") + m.fraction(far, "mixed")
     lower = s_near > s_far + 0.05
@@ -313,7 +326,8 @@ def fig8(d: Diagrams) -> Finding:
                       "there instead, at small tau, is a second steady state: the slope comes "
                       "to rest on a faster sliding branch, the steady solution m_y = y of eq. "
                       "6b with m_x(t - tau) - m_x(t) = -tau y (core.params.sliding_branches; "
-                      "the measured m_y match its larger root, see above). A run that switches between that branch and oscillation "
+                      "the measured m_y match its larger root, see above). A run that switches between "
+                      "that branch and oscillation "
                       "would look like the paper's mixed regime; ours settle on one of them "
                       "within t = 1e5. F'(v) turns negative at b = 24.5 (v = 0.1), beyond our "
                       "range, where every run blows up at once."))

@@ -18,7 +18,9 @@ def done(d: SweepDiagram) -> list[RunPoint]:
 
 
 def run_params(d: SweepDiagram, r: RunPoint) -> Params:
-    values = {d.spec.x.param: r.x} | ({d.spec.y.param: r.y} if d.spec.y else {})
+    values = {d.spec.x.param: r.x}
+    if d.spec.y is not None and r.y is not None:
+        values[d.spec.y.param] = r.y
     return d.spec.base.with_(**values)
 
 
@@ -36,7 +38,7 @@ def fast_sliding(d: SweepDiagram, r: RunPoint) -> bool:
 
 
 def regime_counts(d: SweepDiagram) -> Counter[str]:
-    return Counter(r.regime for r in done(d))
+    return Counter(r.regime for r in done(d) if r.regime is not None)  # done: it has one
 
 
 def branch_mismatch(d: SweepDiagram) -> tuple[int, float, int]:

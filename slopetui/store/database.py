@@ -14,12 +14,12 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from datetime import datetime
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 from urllib.parse import quote
 
 from sqlalchemy import Connection, Engine, create_engine, event, inspect, select
-from sqlalchemy.engine import URL, make_url
-from sqlalchemy.exc import ArgumentError, DBAPIError, SQLAlchemyError
+from sqlalchemy.engine import URL, CursorResult, Result, make_url
+from sqlalchemy.exc import ArgumentError, DBAPIError
 from sqlalchemy.orm import Session, sessionmaker
 
 import migrations
@@ -83,7 +83,13 @@ def _create_private_file(path: Path, *, make_folder: bool) -> None:
     os.close(fd)
 
 
-def explain(exc: SQLAlchemyError, url: str | None = None) -> str:
+def rows_changed(result: Result[Any]) -> int:
+    """The rows an UPDATE or DELETE changed (what SQLAlchemy's CursorResult.rowcount says;
+    Session.execute is typed as returning a plain Result)."""
+    return cast("CursorResult[Any]", result).rowcount
+
+
+def explain(exc: BaseException, url: str | None = None) -> str:
     """One line for a database error met by a command on the store at ``url`` (default:
     ``default_url()``): for a SQLite file, its path and the cause (damaged, disk full,
     read-only...), see ``slopetui.store.failures``."""
@@ -238,7 +244,9 @@ class Database:
     def now(self, session: Session) -> datetime:
         """Database time. Leases and heartbeats use it, so that workers on hosts whose
         clocks disagree still agree on when a lease expired."""
-        return session.scalar(select(db_now()))
+        now = session.scalar(select(db_now()))
+        assert now is not None  # a SELECT of a function always returns its row
+        return now
 
     def read_only_engine(self) -> Engine:
         """An engine on which the database itself refuses writes: SQLite opened with

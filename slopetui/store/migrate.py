@@ -144,6 +144,7 @@ def foreign_keys_off(connection: Connection, db: Database) -> Iterator[None]:
         yield
         return
     raw = connection.connection.driver_connection
+    assert raw is not None  # a connection that is open has its driver's connection
     raw.execute("PRAGMA foreign_keys = OFF")
     try:
         yield

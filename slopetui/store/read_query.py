@@ -173,7 +173,7 @@ class ReadQuery:
                     raise QueryError(f"read-only queries with a time limit are supported on "
                                      f"SQLite and PostgreSQL, not {backend}", refused=False)
         except DBAPIError as exc:  # opening the connection, SET LOCAL
-            raise self._translate(exc.orig) from exc
+            raise self._translate(exc.orig or exc) from exc
 
     def _check_cancelled(self) -> None:
         if self._cancel_requested:

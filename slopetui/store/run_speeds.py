@@ -33,5 +33,6 @@ def seconds_per_step(db: Database, method: str, lyap: bool) -> float | None:
                     Run.t_blowup.is_(None), Run.runtime_s > 0)
              .order_by(Run.id.desc()).limit(RECENT_RUNS))
     with db.sessions() as s:
-        costs = [runtime / (t_end / dt) for runtime, t_end, dt in s.execute(query)]
+        costs = [runtime / (t_end / dt) for runtime, t_end, dt in s.execute(query)
+                 if runtime is not None]  # the query keeps runtime_s > 0 only
     return statistics.median(costs) if costs else None

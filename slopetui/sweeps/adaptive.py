@@ -130,7 +130,7 @@ def _insert_inferred(s: Session, sweep_id: int, spec: SweepSpec,
         return
     points = sorted(fill, key=lambda p: (p[1], p[0]))
     rows = run_rows(spec, engine, points)
-    for row, point in zip(rows, points):
+    for row, point in zip(rows, points, strict=True):
         label, level = fill[point]
         row.update(sweep_id=sweep_id, inferred=True, level=level)
         if label == FAILED:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from sqlalchemy import update
 
-from slopetui.store.database import Database
+from slopetui.store.database import Database, rows_changed
 from slopetui.store.models import Run, Sweep
 
 
@@ -40,8 +40,9 @@ def cancel(db: Database, sweep_id: int) -> int:
         if sweep is None:
             raise UnknownSweep(sweep_id)
         sweep.status = "cancelled"
-        return s.execute(update(Run).where(Run.sweep_id == sweep_id, Run.status == "queued")
-                         .values(status="cancelled")).rowcount
+        return rows_changed(s.execute(update(Run).where(Run.sweep_id == sweep_id,
+                                                        Run.status == "queued")
+                                      .values(status="cancelled")))
 
 
 #: The actions by name, as the faces offer them.

@@ -41,7 +41,7 @@ def write_csv(runs: Iterable[Run], out: IO[str]) -> int:
     for run in runs:
         finished = run.status == "done"  # other runs have no result yet: empty, not nan
         measured = finished and not run.inferred
-        writer.writerow(["" if c in RESULT_NAMES and not (measured or finished and c == "regime")
+        writer.writerow(["" if c in RESULT_NAMES and not (measured or (finished and c == "regime"))
                          else cell(getattr(run, c)) for c in COLUMNS])
         n += 1
     return n

@@ -54,7 +54,12 @@ def _axis(param: str, start: float, stop: float, num: int, spacing: str = "linea
 
 
 def _preset(key: str, figure: str, title: str, claim: str, note: str, x: dict,
-            y: dict | None = None, solver: dict | None = None, **fixed: float) -> Preset:
+            y: dict | None = None, *, solver: dict | None = None, **fixed: float) -> Preset:
+    return _preset_of(key, figure, title, claim, note, x, y, solver, fixed)
+
+
+def _preset_of(key: str, figure: str, title: str, claim: str, note: str, x: dict,
+               y: dict | None, solver: dict | None, fixed: dict[str, float]) -> Preset:
     spec: dict[str, Any] = {"name": f"{figure}: {title}", "x": x, "fixed": fixed,
                             "solver": dict(solver or (PLANE_SOLVER if y else PAPER_SOLVER))}
     if y is not None:
@@ -65,11 +70,11 @@ def _preset(key: str, figure: str, title: str, claim: str, note: str, x: dict,
 def _pair(n: int, title: str, claim: str, note: str, x: dict, **fixed: float) -> tuple[Preset, Preset]:
     """Panels A (delta = 1e-6, near the fixed point) and B (delta = 0.1, far from it) of
     a (parameter, tau) phase diagram; the paper compares the two in each figure."""
-    near = _preset(f"fig{n}a", f"Fig. {n}A", f"{title}, delta = 1e-6", claim, note, x,
-                   dict(TAU_AXIS), delta=1e-6, **fixed)
-    far = _preset(f"fig{n}b", f"Fig. {n}B", f"{title}, delta = 0.1", f"(see Fig. {n}A)",
-                  f"As Fig. {n}A, far from the fixed point.", dict(x), dict(TAU_AXIS),
-                  delta=0.1, **fixed)
+    near = _preset_of(f"fig{n}a", f"Fig. {n}A", f"{title}, delta = 1e-6", claim, note, x,
+                      dict(TAU_AXIS), None, {"delta": 1e-6, **fixed})
+    far = _preset_of(f"fig{n}b", f"Fig. {n}B", f"{title}, delta = 0.1", f"(see Fig. {n}A)",
+                     f"As Fig. {n}A, far from the fixed point.", dict(x), dict(TAU_AXIS), None,
+                     {"delta": 0.1, **fixed})
     return near, far
 
 

@@ -164,7 +164,7 @@ class Refinement:
         need[:-1, 1:] |= cells
         need[1:, 1:] |= cells
         i, j = np.nonzero(need)
-        return list(zip(self.xl[lv][i].tolist(), self.yl[lv][j].tolist()))
+        return list(zip(self.xl[lv][i].tolist(), self.yl[lv][j].tolist(), strict=True))
 
     # --- what the driver asks -------------------------------------------------------------
     def next_level(self) -> LevelPlan | None:

@@ -36,7 +36,7 @@ def insert_runs(s: Session, sweep_id: int, rows: list[Row]) -> int:
     cached = finished_results(s, (r["cache_key"] for r in rows))  # type: ignore[misc]
     for row in rows:
         row["sweep_id"] = sweep_id
-        hit = cached.get(row["cache_key"])  # type: ignore[arg-type]
+        hit = cached.get(str(row["cache_key"]))
         if hit is not None:
             row.update(result_of(hit), status="done", cached_from=hit.id)
         else:

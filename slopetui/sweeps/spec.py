@@ -203,7 +203,9 @@ class SweepSpec:
         if only is not None:
             for ix, iy in only:
                 p = base.with_(**{self.x.param: float(xs[ix])})
-                yield ix, iy, p if self.y is None else p.with_(**{self.y.param: float(ys[iy])})
+                if self.y is not None:
+                    p = p.with_(**{self.y.param: float(self.y.values()[iy])})
+                yield ix, iy, p
             return
         for iy, yv in enumerate(ys):
             row = base if self.y is None else base.with_(**{self.y.param: float(yv)})
@@ -232,7 +234,7 @@ def _parse_fixed(data: object, axes: list[Axis]) -> dict[str, float]:
     if not isinstance(data, Mapping):
         raise SpecError("fixed", "expected a table of parameter = value")
     _unknown_keys("fixed", data, set(PARAM_NAMES))
-    swept = {a.param: name for a, name in zip(axes, ("x", "y"))}
+    swept = {a.param: name for a, name in zip(axes, ("x", "y"), strict=False)}  # one axis or two
     fixed = {}
     for key, value in data.items():
         if key in swept:

@@ -128,8 +128,8 @@ class NewSweepScreen(SlopeScreen[int | None]):
         if db is None:
             return
         from slopetui.queue.pool import default_jobs
-        from slopetui.sweeps.progress import live_workers
         from slopetui.sweeps.estimate import measured_speeds
+        from slopetui.sweeps.progress import live_workers
         try:
             n = len(live_workers(db)) or default_jobs()
             speeds = measured_speeds(db)

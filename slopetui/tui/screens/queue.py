@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from rich.text import Text
 from textual import on, work
@@ -37,12 +38,12 @@ class QueueScreen(SlopeScreen[None]):
     def compose(self) -> ComposeResult:
         yield Header()
         yield Static("Workers", classes="section-title")
-        workers = DataTable(id="worker-table", cursor_type="row")
+        workers: DataTable[Any] = DataTable(id="worker-table", cursor_type="row")
         workers.add_columns("worker", "running", "jobs done", "heartbeat", "since")
         yield workers
         yield Static("Sweeps (p pause, r resume, c cancel the highlighted one)",
                      classes="section-title")
-        sweeps = DataTable(id="queue-table", cursor_type="row", zebra_stripes=True)
+        sweeps: DataTable[Any] = DataTable(id="queue-table", cursor_type="row", zebra_stripes=True)
         sweeps.add_columns("id", "status", "queued", "running", "done", "failed", "cancelled",
                            "name")
         yield sweeps

@@ -18,8 +18,8 @@ Runs that are not done (queued, running, failed, cancelled) show their status an
 stored error; their traces are computed only on request (r), and only when their
 inputs are valid. So are the *inferred* runs of an adaptive sweep: the screen says that
 their regime was inferred from their cell's corners, not computed, and r computes them
-(and compares the computed regime with the inferred one). Every database call and computation runs in a thread worker and
-reports back with a message; widgets are touched on the UI thread only.
+(and compares the computed regime with the inferred one). Every database call and computation
+runs in a thread worker and reports back with a message; widgets are touched on the UI thread only.
 """
 
 from __future__ import annotations

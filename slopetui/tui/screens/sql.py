@@ -15,6 +15,7 @@ keeps the widgets and their events.
 
 from __future__ import annotations
 
+import contextlib
 import time
 from dataclasses import dataclass
 from decimal import Decimal
@@ -240,10 +241,8 @@ class SqlScreen(SlopeScreen[None]):
 
     def on_mount(self) -> None:
         editor = self.query_one("#sql-editor", TextArea)
-        try:
-            editor.language = "sql"  # highlighting when tree-sitter's SQL grammar is there
-        except LanguageDoesNotExist:
-            pass
+        with contextlib.suppress(LanguageDoesNotExist):  # highlighting needs tree-sitter's SQL
+            editor.language = "sql"
         editor.move_cursor(editor.document.end)
         editor.focus()
         self.load_history()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from rich.text import Text
 from textual import on, work
@@ -68,7 +69,7 @@ class SweepsScreen(SlopeScreen[None]):
 
     def compose(self) -> ComposeResult:
         yield Header()
-        table = DataTable(id="sweep-table", cursor_type="row", zebra_stripes=True)
+        table: DataTable[Any] = DataTable(id="sweep-table", cursor_type="row", zebra_stripes=True)
         table.add_columns("id", "name", "progress", "done", "r/min", "ETA", "status")
         yield table
         with Vertical(id="diagram-pane"):

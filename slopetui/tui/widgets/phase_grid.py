@@ -152,11 +152,11 @@ class PhaseGrid(Widget, can_focus=True):
     def _hopf_cells(self, sx: int, sy: int) -> set[tuple[int, int]]:
         """Display cells the exact Hopf curve passes through."""
         assert self.data is not None
-        if self.data.hopf is None or len(self.data.hopf[0]) == 0:
+        d, hopf = self.data, self.data.hopf
+        if hopf is None or len(hopf[0]) == 0:
             return set()
-        d = self.data
-        fx = np.array([_axis_position(d.xs, d.x_log, float(v)) for v in d.hopf[0]])
-        fy = np.array([_axis_position(d.ys, d.y_log, float(v)) for v in d.hopf[1]])
+        fx = np.array([_axis_position(d.xs, d.x_log, float(v)) for v in hopf[0]])
+        fy = np.array([_axis_position(d.ys, d.y_log, float(v)) for v in hopf[1]])
         cells = set()
         for i in range(len(fx) - 1):  # interpolate, so that steep stretches stay joined
             steps = int(max(abs(fx[i + 1] - fx[i]) / sx, abs(fy[i + 1] - fy[i]) / sy, 1) * 2)
@@ -165,7 +165,7 @@ class PhaseGrid(Widget, can_focus=True):
                 y = fy[i] + s * (fy[i + 1] - fy[i])
                 if np.isfinite(x) and np.isfinite(y) and -0.5 <= x <= len(d.xs) - 0.5 \
                         and -0.5 <= y <= len(d.ys) - 0.5:
-                    cells.add((int(round(x)) // sx, int(round(y)) // sy))
+                    cells.add((round(x) // sx, round(y) // sy))
         return cells
 
     # --- the cursor --------------------------------------------------------------------
