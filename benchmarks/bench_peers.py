@@ -14,7 +14,7 @@ k = 10, tau = 10 (the oscillatory example of Fig. 2B, a period-1 limit cycle):
     (n_lyap = 1) for lambda_max, at two tolerances: one matched to the accuracy of
     slopetui's Euler at dt = 1e-3, one matched to RK4 at dt = 1e-2 (see below).
   * A plain Python Euler loop (benchmarks/numpy_euler.py), dt = 1e-3: the stand-in for
-    the paper's MATLAB loop. tests/test_numpy_loop.py checks it is core's Euler map.
+    the paper's MATLAB loop. tests/unit/test_numpy_loop.py checks it is core's Euler map.
 
 What is measured
   Accuracy. Every contender integrates to t_end = 1000 and samples m_y every 0.01 over

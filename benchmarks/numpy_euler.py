@@ -10,7 +10,7 @@ Python floats', and the stand-in should be a fair loop, not a clumsy one. NumPy 
 the output samples.
 
 The scheme is exactly core.euler's, so the two integrate the same discrete map (checked
-to round-off by tests/test_numpy_loop.py):
+to round-off by tests/unit/test_numpy_loop.py):
   * the grid of core.solve: N = ceil(tau / dt) slots and the effective step dt' = tau / N,
     so that m_x(t_n - tau) = m_x at step n - N falls on the grid;
   * the constant history m_x(t) = delta for t <= 0 (the buffer starts full of delta) and

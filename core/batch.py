@@ -36,7 +36,7 @@ samplers and renormalisation interval. Each slot keeps its own step counter.
 Each lane performs the same operations in the same order as the single kernel (core.euler,
 core.rk4) on its run: without lambda_max its window, trace and blow-up step equal the single
 kernel's bit for bit. With lambda_max, LLVM fuses a few multiply-adds differently (see
-euler_block), and a lane agrees with the single kernel to rounding; tests/test_batch.py
+euler_block), and a lane agrees with the single kernel to rounding; tests/unit/test_batch.py
 checks both, and that regimes and lambda_max agree.
 """
 
@@ -349,7 +349,7 @@ def euler_block(k, c, n_active, fl, ints, plan, past, made, trace, lyap, record)
     tangent has its own loop: one loop with both bodies is too large for LLVM to vectorise
     (3x slower). LLVM then fuses the multiply-adds of the two loops a little differently
     from the single kernel, so with lambda_max a lane agrees with it to rounding, not to the
-    bit (tests/test_batch.py); without lambda_max it is bit for bit equal. The five row
+    bit (tests/unit/test_batch.py); without lambda_max it is bit for bit equal. The five row
     updates of each loop are spelled out: a shared helper looping over the rows stopped
     LLVM vectorising the tangent loop (9.5 ns per point-step against 6.6).
     """

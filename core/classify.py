@@ -82,7 +82,7 @@ def find_peaks(t: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     0.01: above RETURN_NOISE, so the few lags n whose n periods nearly repeat the sampling
     phase returned 100x better than lag 1, and settled cycles were called period-2, -8 or
     -12 (lone "complex" points across the (k, tau) plane at t_end = 2000). The quartic's
-    error there is 4e-8 of the amplitude (tests/test_classify.py).
+    error there is 4e-8 of the amplitude (tests/unit/test_classify.py).
     """
     if len(y) < 3:
         return np.zeros(0), np.zeros(0)

@@ -6,7 +6,7 @@ Everything else is derived from it: the cache's copy of a result
 (``slopetui.queue.cache.RESULT_FIELDS``), the CSV columns of ``runs --csv`` and
 ``export --csv`` (``slopetui.sweeps.export``), the keys of ``slopetui run --json``
 (``slopetui.cli.run``) and the result lines of the TUI's run detail screen.
-``tests/test_result_schema.py`` checks that the ORM columns, the migrated table, the
+``tests/unit/test_result_schema.py`` checks that the ORM columns, the migrated table, the
 exporters and the engine agree with it.
 
 **Adding a field:** add a ``ResultField`` here, compute its value in

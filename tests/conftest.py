@@ -1,22 +1,28 @@
-"""Fixtures shared by the store, queue and pool tests."""
+"""Fixtures shared by every tier (unit/, integration/, tui/), and the tiers' `slow` marker;
+the helpers are in tests/support.py."""
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
-from core import run_point
-from slopetui.queue import jobs
 from slopetui.store import Database
 from slopetui.sweeps.spec import parse_spec
-from slopetui.sweeps.submit import Submitted, submit
+from slopetui.sweeps.submit import submit
+from tests.support import ADAPTIVE_PLANE, EVIL, QUICK_SOLVER, finish_adaptive
 
-#: A cheap point: RK4, tau = 2, t_end = 200, a few ms per run.
-QUICK_SOLVER = {"method": "rk4", "dt": 0.01, "t_end": 200.0, "window": 100.0}
+TESTS = Path(__file__).resolve().parent
+#: Real processes (integration/) and Textual Pilot scenarios (tui/) take seconds a test:
+#: all of them are `slow`, out of the fast loop `pytest -m "not slow"` (pyproject.toml).
+SLOW_TIERS = {"integration", "tui"}
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    for item in items:
+        path = item.path.resolve()
+        if path.is_relative_to(TESTS) and path.relative_to(TESTS).parts[0] in SLOW_TIERS:
+            item.add_marker(pytest.mark.slow)
 
 
 @pytest.fixture
@@ -31,41 +37,21 @@ def db(db_url: str) -> Database:
     database.dispose()
 
 
-def submit_quick(db: Database, n: int = 5, *, tau: float = 2.0, **solver: object) -> Submitted:
-    """A 1-D sweep over k with n cheap runs."""
-    spec = parse_spec({"x": {"param": "k", "start": 4, "stop": 12, "num": n},
-                       "fixed": {"tau": tau}, "solver": {**QUICK_SOLVER, **solver}})
-    return submit(db, spec)
+@pytest.fixture(scope="module")
+def refined(tmp_path_factory) -> tuple[str, int]:
+    """A store holding ADAPTIVE_PLANE refined to the end (one per test module)."""
+    url = f"sqlite:///{tmp_path_factory.mktemp('adaptive') / 'store.db'}"
+    db = Database(url)
+    out = submit(db, parse_spec(ADAPTIVE_PLANE))
+    assert out.n_runs == 12 and out.n_points == 13 * 9  # the coarse lattice: 4 x 3
+    finish_adaptive(db, out.sweep_id)
+    db.dispose()
+    return url, out.sweep_id
 
 
-def slopetui_cli(*args: str, env: dict[str, str] | None = None, cwd: str | None = None,
-                 timeout: float = 300) -> subprocess.CompletedProcess[str]:
-    """`python -m slopetui ARGS` in a fresh process, as a user would type it."""
-    return subprocess.run([sys.executable, "-m", "slopetui", *args], capture_output=True,
-                          text=True, timeout=timeout, env={**os.environ, **(env or {})},
-                          cwd=cwd)
-
-
-def finish_all(db: Database, worker: str = "test") -> int:
-    """Compute every queued run in this process, as a worker would; returns how many."""
-    n = 0
-    while (job := jobs.claim(db, worker)) is not None:
-        jobs.complete(db, job, worker, run_point(job.params, job.settings).as_record())
-        n += 1
-    return n
-
-
-def finish_adaptive(db: Database, sweep_id: int, worker: str = "test") -> int:
-    """Compute an adaptive sweep level by level in this process, advancing it as an idle
-    worker would, until it is refined; returns the runs computed."""
-    from slopetui.store.models import Sweep
-    from slopetui.sweeps.adaptive import advance
-
-    n = 0
-    for _ in range(20):  # more than the 8 levels allowed, plus slack
-        n += finish_all(db, worker)
-        advance(db, sweep_id)
-        with db.sessions() as s:
-            if s.get(Sweep, sweep_id).refined:
-                return n
-    raise AssertionError(f"adaptive sweep {sweep_id} did not finish refining")
+@pytest.fixture
+def evil_sweep(db):
+    """A sweep whose name an older tool stored with escapes (parse_spec reads it back)."""
+    spec = parse_spec({"name": EVIL, "x": {"param": "k", "start": 4, "stop": 12, "num": 3},
+                       "solver": QUICK_SOLVER})
+    return submit(db, spec).sweep_id

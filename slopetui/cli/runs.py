@@ -6,6 +6,7 @@ import argparse
 import io
 import sys
 from collections.abc import Iterable
+from contextlib import closing
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -64,20 +65,10 @@ def csv_to_stdout(runs: Iterable[Run]) -> int:
 def handle_runs(args: argparse.Namespace) -> int:
     limit = int_arg("--limit", args.limit, 0, note=" (0 for all)")
     sweep = None if args.sweep is None else sweep_arg(args.sweep, "--sweep")
-    from sqlalchemy import select
+    from slopetui.store.queries import runs_matching
 
-    from slopetui.store.models import Run
-
-    db = open_db(args)
-    q = select(Run).order_by(Run.id.desc())
-    for column, value in (("sweep_id", sweep), ("regime", args.regime),
-                          ("status", args.status)):
-        if value is not None:
-            q = q.where(getattr(Run, column) == value)
-    if limit:
-        q = q.limit(limit)
-    with db.sessions() as s:
-        runs = list(s.scalars(q))
+    runs = runs_matching(open_db(args), sweep=sweep, regime=args.regime, status=args.status,
+                         limit=limit)
     if args.csv:
         csv_to_stdout(runs)
         return 0
@@ -98,17 +89,14 @@ def handle_runs(args: argparse.Namespace) -> int:
 
 
 def handle_export(args: argparse.Namespace) -> int:
-    from sqlalchemy import select
-
-    from slopetui.store.models import Run, Sweep
+    from slopetui.store.queries import runs_of, sweep_exists
     from slopetui.sweeps.control import UnknownSweep
 
     sweep = sweep_arg(args.sweep)
     db = open_db(args)
-    with db.sessions() as s:
-        if s.get(Sweep, sweep) is None:
-            raise UnknownSweep(sweep)
-        runs = s.scalars(select(Run).where(Run.sweep_id == sweep).order_by(Run.iy, Run.ix))
+    if not sweep_exists(db, sweep):
+        raise UnknownSweep(sweep)
+    with closing(runs_of(db, sweep)) as runs:
         if args.output:
             n = _write_file(args.output, runs)
             print(f"{n} runs of sweep {sweep} written to {terminal_safe(args.output)}",

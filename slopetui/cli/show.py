@@ -74,12 +74,9 @@ def handle(args: argparse.Namespace) -> int:
 
 
 def newest_sweep(db: Database) -> int:
-    from sqlalchemy import func, select
+    from slopetui.store.queries import newest_sweep_id
 
-    from slopetui.store.models import Sweep
-
-    with db.sessions() as s:
-        newest = s.scalar(select(func.max(Sweep.id)))
+    newest = newest_sweep_id(db)
     if newest is None:
         raise UsageError("there are no sweeps yet: slopetui submit --help")
     return newest

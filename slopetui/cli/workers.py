@@ -70,11 +70,11 @@ def _worker_json(w: WorkerInfo) -> dict[str, object]:
 
 def handle(args: argparse.Namespace) -> int:
     from slopetui.queue.local_pool import local_pools
+    from slopetui.store.queries import database_now
     db = open_db(args)
     pools, orphans = local_pools(db)
     remote = _remote(db)
-    with db.sessions() as s:
-        now = db.now(s)
+    now = database_now(db)
     here = socket.gethostname()
     if args.json:
         print(json.dumps({

@@ -8,14 +8,12 @@ import time
 from datetime import date
 from pathlib import Path
 
-from sqlalchemy import func, select
-
 from slopetui.plots import render_sweep
 from slopetui.queue.pool import default_jobs, run_pool
 from slopetui.queue.worker_process import WorkerOptions
 from slopetui.reproduce.findings import FINDINGS, Diagrams, Finding
 from slopetui.store.database import Database
-from slopetui.store.models import Run
+from slopetui.store.queries import runtime_total, unfinished_runs
 from slopetui.sweeps.diagram import SweepDiagram, load_diagram
 from slopetui.sweeps.presets import BY_KEY, PRESETS
 from slopetui.sweeps.spec import parse_spec
@@ -32,10 +30,7 @@ def compute(db: Database, resolution: int, t_end: float | None, jobs: int | None
     for p in PRESETS:
         ids[p.key] = submit(db, parse_spec(p.at_resolution(resolution, t_end))).sweep_id
     t0 = time.perf_counter()
-    with db.sessions() as s:
-        waiting = s.scalar(select(func.count()).select_from(Run)
-                           .where(Run.sweep_id.in_(ids.values()), Run.status != "done"))
-    if waiting:
+    if unfinished_runs(db, ids.values()):
         from slopetui.sweeps.adaptive import advance_all
         from slopetui.sweeps.progress import PoolProgress
         opts = WorkerOptions(db_url=db.url.render_as_string(hide_password=False),
@@ -131,9 +126,8 @@ def write_report(db: Database, resolution: int, t_end: float | None, out: Path,
     complete = len(findings) == len(results)
     n_runs = sum(len(d.runs) for d in diagrams.values())
     n_done = sum(d.n_done for d in diagrams.values())
-    with db.sessions() as s:  # cached runs carry the runtime of the run that computed them
-        core_s = s.scalar(select(func.sum(Run.runtime_s)).where(Run.sweep_id.in_(ids.values())))
-    core_s = float(core_s or 0.0)
+    # cached runs carry the runtime of the run that computed them
+    core_s = runtime_total(db, ids.values())
     tally = {v: sum(f.verdict == v for f in findings) for v in ("agree", "partly", "disagree")}
     head = [
         "# The paper reproduced" + ("" if complete else " (INCOMPLETE)"),

@@ -1,5 +1,6 @@
 """The experiment store: SQLAlchemy models of sweeps, runs and workers, the one module
-that owns engines, sessions and transactions, and the Alembic migrations applied on open.
+that owns engines, sessions and transactions, the Alembic migrations applied on open, and
+the named queries the faces call (``slopetui.store.queries``).
 
 The names below are imported on first use (PEP 562), so that a light submodule
 (``slopetui.store.location``) can be imported without SQLAlchemy.

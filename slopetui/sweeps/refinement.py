@@ -45,7 +45,7 @@ Decisions, and why:
 - *What it cannot see:* a region that touches no computed point. Each level's halo
   reaches one cell of that level beyond the cells it flags, so a thin feature that no
   coarse point sees is followed only a few lattice steps out of a refined region (a
-  tongue between lattice lines: ``tests/test_adaptive.py``), and an island smaller
+  tongue between lattice lines: ``tests/unit/test_adaptive.py``), and an island smaller
   than a coarse cell, away from every boundary, is missed. The coarse spacing
   (``levels``) bounds the size of what can be missed.
 - *What it costs:* the coarse lattice, plus about 12 points per lattice step of

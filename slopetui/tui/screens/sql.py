@@ -57,7 +57,7 @@ from slopetui.tui.messages import StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
 
 if TYPE_CHECKING:
-    from sqlalchemy import Engine
+    from slopetui.store.queries import Engine
 
 #: Rows shown in the table; the rest are counted, not displayed.
 DISPLAY_LIMIT = 1000

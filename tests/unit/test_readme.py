@@ -1,0 +1,35 @@
+"""The README's SQL examples run against a real store (and stay read-only)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from slopetui.cli import main
+from slopetui.sweeps.spec import parse_spec
+from slopetui.sweeps.submit import submit
+from tests.support import QUICK_SOLVER, finish_adaptive, finish_all, submit_quick
+
+README = Path(__file__).resolve().parents[2] / "README.md"
+
+
+def sql_examples() -> list[str]:
+    return re.findall(r"```sql\n(.*?)```", README.read_text(), re.DOTALL)
+
+
+def test_the_readme_sql_examples_run(db, db_url, capsys):
+    examples = sql_examples()
+    assert len(examples) >= 4
+    for tau in (1.0, 2.0, 3.0):  # sweeps 1-3, so that "sweep 2" and "sweep 3" exist
+        submit_quick(db, 4, tau=tau)
+    finish_all(db)
+    adaptive = submit(db, parse_spec({  # sweep 4: computed and inferred runs
+        "x": {"param": "k", "start": 2, "stop": 20, "num": 9},
+        "y": {"param": "tau", "start": 0.5, "stop": 10, "num": 5},
+        "adaptive": {"levels": 2}, "solver": QUICK_SOLVER}))
+    finish_adaptive(db, adaptive.sweep_id)
+    for query in examples:
+        code = main(["sql", query, "--db", db_url])
+        out = capsys.readouterr()
+        assert code == 0, (query, out.err)
+        assert "row" in out.out
