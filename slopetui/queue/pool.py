@@ -7,7 +7,7 @@ queue at once.
 
 Signals. SIGINT, SIGTERM or SIGHUP: the workers finish the runs in their kernels and exit;
 a second signal makes them give their runs back to the queue and exit now. The handlers do
-nothing (worker_process.SignalPipe): the main loop, which waits on the workers' sentinels
+nothing (stop_signals.SignalPipe): the main loop, which waits on the workers' sentinels
 and on the signal pipe together, counts the signals and sets the workers' ``stop`` or
 ``abort`` Event itself. A signal handler that set an Event could deadlock on the Event's
 lock (the handler runs in the main thread, between two bytecodes of whatever it does).
@@ -38,13 +38,11 @@ from multiprocessing.process import BaseProcess
 
 from slopetui.queue import jobs
 from slopetui.queue.local_pool import default_jobs, remove_pool_file, write_pool_file
+from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, block_stop_signals
+from slopetui.queue.warm_up import watched_warm_up
 from slopetui.queue.worker_process import (
-    STOP_SIGNALS,
-    SignalPipe,
     WorkerOptions,
-    block_stop_signals,
     configure_logging,
-    watched_warm_up,
     worker_id_for,
     worker_main,
 )

@@ -5,9 +5,10 @@ A batch is up to ``batch`` queued runs with the same solver settings. Euler batc
 through the batched kernel (core.batch: ~2x the single kernel's throughput) in one call,
 which reports nothing until every lane is done (core.run_batch has no per-lane callback),
 so their results are written when it returns, and every run of the batch, being in the
-kernel, is charged an attempt. RK4 (see BATCHED_METHODS), or a batch of 1, is computed run by run, and each run
-is charged its attempt when it starts and written when it ends (jobs.begin, jobs.complete):
-a worker killed mid-batch loses only the run it was computing. The computation runs in a
+kernel, is charged an attempt. RK4 (not in BATCHED_METHODS) is claimed one run at a time,
+and a run computed alone is charged its attempt when it starts and written when it ends
+(jobs.begin, jobs.complete): a killed worker loses only the run it was computing. The
+signal plumbing is in slopetui.queue.stop_signals, the warm-up in slopetui.queue.warm_up. The computation runs in a
 thread (the numba kernels release the GIL), so the main thread stays free to notice a
 shutdown; a heartbeat thread extends the leases of every run the worker holds.
 
@@ -38,11 +39,10 @@ import os
 import select
 import signal
 import socket
-import sys
 import threading
 import time
 import traceback
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from concurrent.futures import wait as wait_futures
 from dataclasses import dataclass
@@ -52,19 +52,16 @@ from sqlalchemy import func
 from sqlalchemy import select as sql_select
 
 from slopetui.queue import defaults, jobs
+from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
+from slopetui.queue.warm_up import watched_warm_up
 from slopetui.store.database import Database
 from slopetui.store.db_time import db_now
 from slopetui.store.models import Run, Sweep, Worker
 
 log = logging.getLogger("slopetui.worker")
 
-#: The signals a pool acts on; its workers act on SIGTERM only.
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 #: How often the main thread looks at the stop sources while it waits (s).
 TICK_S = 0.2
-#: A warm-up longer than this is a compilation (~30 s), not a load from numba's cache
-#: (~1 s, 2-3 s on a loaded machine) (s).
-COMPILING_AFTER_S = 5.0
 
 
 #: A step a worker takes after each batch (unless it is aborting) and whenever it finds
@@ -133,137 +130,6 @@ def configure_logging(log_path: str | None, echo: bool = False) -> None:
         handler.setFormatter(logging.Formatter(
             "%(asctime)s %(process)d %(levelname)s %(message)s"))
     root.setLevel(logging.INFO)
-
-
-def warm_up() -> None:
-    """Compile (or load from numba's cache) every kernel a run can use, with a short run
-    of each method, so the first real job does not pay for compilation."""
-    from core import Params, SolverSettings, run_batch, run_point
-    for method in ("euler", "rk4"):
-        settings = SolverSettings(method=method, t_end=20.0, window=10.0)
-        run_point(Params(tau=1.0), settings)
-        run_batch([Params(tau=1.0), Params(tau=2.0)], settings)
-
-
-def watched_warm_up(stopped: Callable[[], bool], announce: bool = True) -> float | None:
-    """warm_up() in a daemon thread, so that this (main) thread can still act on a stop.
-    ``announce``: log how long it took, and say so when it turns out to be a compilation
-    (the pool; its workers then load what it compiled). Returns the seconds it took, or
-    None if ``stopped()`` came first (the caller then exits; the thread dies with the
-    process)."""
-    errors: list[BaseException] = []
-
-    def target() -> None:
-        try:
-            warm_up()
-        except BaseException as exc:  # re-raised in the main thread
-            errors.append(exc)
-
-    t0 = time.monotonic()
-    thread = threading.Thread(target=target, name="warm-up", daemon=True)
-    thread.start()
-    said = False
-    while thread.is_alive():
-        thread.join(TICK_S)
-        if stopped():
-            return None
-        if announce and not said and time.monotonic() - t0 > COMPILING_AFTER_S:
-            log.info("compiling the numba kernels (first run after install or an engine "
-                     "change; ~30 s)")
-            said = True
-    if errors:
-        raise errors[0]
-    took = time.monotonic() - t0
-    if said:
-        log.info("numba kernels compiled in %.1f s", took)
-    elif announce:
-        log.info("numba kernels loaded from numba's cache in %.1f s", took)
-    return took
-
-
-class SignalPipe:
-    """Counts signals without doing anything in a handler that could block.
-
-    The Python handlers are empty on purpose: for each signal, CPython's C-level handler
-    writes its number to the wakeup pipe (``signal.set_wakeup_fd``); ``poll()``, called by
-    the loop, reads and counts those bytes (two signals are two bytes, even when the
-    Python-level handler would run once for both). ``fileno()`` can be select()ed on to
-    wake up at once. Main thread only, as signal handlers are."""
-
-    def __init__(self, signums: Iterable[int]) -> None:
-        self.signums = frozenset(int(s) for s in signums)
-        self.count = 0
-        self.last: int | None = None
-        self._read, self._write = os.pipe()
-        os.set_blocking(self._read, False)
-        os.set_blocking(self._write, False)  # a full pipe drops the byte, never blocks
-        self._old_fd = signal.set_wakeup_fd(self._write, warn_on_full_buffer=False)
-        self._old = {s: signal.signal(s, self._handler) for s in self.signums}
-
-    @staticmethod
-    def _handler(_signum: int, _frame: Any) -> None:
-        """Nothing: the byte in the wakeup pipe is the signal (see the class docstring)."""
-
-    def fileno(self) -> int:
-        return self._read
-
-    def poll(self) -> int:
-        """Count the signals received since the last poll; returns the total."""
-        while True:
-            try:
-                data = os.read(self._read, 512)
-            except BlockingIOError:
-                break
-            if not data:
-                break
-            for signum in data:
-                if signum in self.signums:
-                    self.count += 1
-                    self.last = signum
-        return self.count
-
-    def name(self) -> str:
-        return signal.Signals(self.last).name if self.last else "a signal"
-
-    def close(self) -> None:
-        """Put back the previous handlers and wakeup fd (a pool may run inside another
-        program, e.g. `slopetui reproduce`)."""
-        for signum, old in self._old.items():
-            signal.signal(signum, old)
-        signal.set_wakeup_fd(self._old_fd)
-        os.close(self._read)
-        os.close(self._write)
-
-
-def block_stop_signals() -> Callable[[], None]:
-    """Block INT/TERM/HUP in this thread; returns the function that restores the mask.
-
-    A spawned child inherits the mask through fork and exec: the pool spawns its workers
-    with these signals blocked, and each worker unblocks them once its own handlers are in,
-    so a signal that comes while it is still starting waits instead of killing it half
-    made (a KeyboardInterrupt traceback, or a death that the pool would count)."""
-    if not hasattr(signal, "pthread_sigmask"):
-        return lambda: None
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
-
-    def restore() -> None:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
-    return restore
-
-
-def die_with_parent() -> None:
-    """Ask Linux to send SIGTERM to this process when its parent (the pool) dies, even a
-    kill -9 of it: an orphan worker must not claim runs and pose as live (prctl
-    PR_SET_PDEATHSIG). Elsewhere a no-op: the getppid() check in the loop still works."""
-    if not sys.platform.startswith("linux"):
-        return
-    try:
-        import ctypes
-        libc = ctypes.CDLL(None, use_errno=True)
-        pr_set_pdeathsig = 1
-        libc.prctl(pr_set_pdeathsig, int(signal.SIGTERM), 0, 0, 0)
-    except (OSError, AttributeError):  # no libc prctl (e.g. musl without it)
-        pass
 
 
 class Control:

@@ -65,12 +65,12 @@ def test_the_log_is_created_readable_by_its_owner_only(tmp_path):
 
 
 def test_a_slow_warm_up_says_it_compiles_and_how_long_it_took(monkeypatch, caplog):
-    from slopetui.queue import worker_process
+    from slopetui.queue import warm_up
 
-    monkeypatch.setattr(worker_process, "warm_up", lambda: time.sleep(0.5))
-    monkeypatch.setattr(worker_process, "COMPILING_AFTER_S", 0.1)
+    monkeypatch.setattr(warm_up, "warm_up", lambda: time.sleep(0.5))
+    monkeypatch.setattr(warm_up, "COMPILING_AFTER_S", 0.1)
     with caplog.at_level(logging.INFO, logger="slopetui"):
-        took = worker_process.watched_warm_up(lambda: False)
+        took = warm_up.watched_warm_up(lambda: False)
     assert took >= 0.5
     assert "compiling the numba kernels (first run after install or an engine change; ~30 s)" \
         in caplog.text
