@@ -183,12 +183,11 @@ class Database:
         self.engine = self._make_engine()
         #: The same pool, for reads: ``with db.reader.connect() as conn``.
         self.reader = self.engine.execution_options(**{READ_OPTION: True})
-        if self.path is not None:
-            self._probe()
         #: Sessions for reading (``with db.sessions() as s``); writes use transaction().
         self.sessions = sessionmaker(self.reader, expire_on_commit=False)
         self._write_sessions = sessionmaker(self.engine, expire_on_commit=False)
-        if upgrade and self.stored_revision() != migrations.HEAD:
+        revision = self._first_read()
+        if upgrade and revision != migrations.HEAD:
             # only a stale schema pays for Alembic and the migration lock
             from slopetui.store.migrate import upgrade as upgrade_schema
             upgrade_schema(self)
@@ -214,15 +213,16 @@ class Database:
             event.listen(engine, "begin", _sqlite_begin)
         return engine
 
-    def _probe(self) -> None:
-        """Open one connection now, so that a file SQLite cannot use (not a database, a
-        read-only folder for its -wal file...) fails here with its cause named, not at the
-        first query with "unable to open database file"."""
-        assert self.path is not None
+    def _first_read(self) -> str | None:
+        """The stored revision, read now: the first connection and the first read of the
+        file, so that a SQLite file that cannot be used (not a database, a read-only folder
+        for its -wal file...) fails here with its cause named, not at a later query with
+        "unable to open database file"."""
         try:
-            with self.reader.connect() as conn:
-                conn.exec_driver_sql("PRAGMA schema_version").scalar()
+            return self.stored_revision()
         except DBAPIError as exc:
+            if self.path is None:
+                raise
             raise StoreError(describe(self.path, str(exc.orig).strip())) from None
 
     @property
