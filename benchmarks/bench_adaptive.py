@@ -40,7 +40,7 @@ from sqlalchemy import select
 
 from core import run_point
 from slopetui.queue import jobs
-from slopetui.store import Database
+from slopetui.store import Database, open_store
 from slopetui.store.models import Run, Sweep
 from slopetui.sweeps.adaptive import advance
 from slopetui.sweeps.refinement import FAILED, refine_in_memory
@@ -109,7 +109,7 @@ def labels_of(db: Database, sweep_id: int) -> tuple[Labels, Labels]:
 def fresh_store(path: Path) -> Database:
     if path.exists():
         raise SystemExit(f"--keep: {path} exists; its cache would serve the new sweep")
-    return Database(f"sqlite:///{path}")
+    return open_store(f"sqlite:///{path}")
 
 
 def brute_force(folder: Path, plane: str, args: argparse.Namespace) -> tuple[Labels, float]:

@@ -29,7 +29,7 @@ from pathlib import Path
 
 from core import Params, SolverSettings, run_point
 from slopetui.queue import jobs
-from slopetui.store import Database
+from slopetui.store import open_store
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 
@@ -43,7 +43,7 @@ def _spec(n: int, solver: dict[str, object]) -> object:
 
 def overhead_worker(url: str, worker_id: str, out: mp.Queue) -> None:
     """Claim, cache lookup and result write until the queue is empty; per-job seconds."""
-    db = Database(url)
+    db = open_store(url)
     record = run_point(Params(tau=2.0), SolverSettings(**CHEAP)).as_record()
     times = []
     while True:
@@ -59,7 +59,7 @@ def overhead_worker(url: str, worker_id: str, out: mp.Queue) -> None:
 
 def measure_overhead(folder: Path, n_jobs: int, n_procs: int) -> list[float]:
     url = f"sqlite:///{folder / f'overhead-{n_procs}.db'}"
-    db = Database(url)
+    db = open_store(url)
     submit(db, _spec(n_jobs, CHEAP))
     ctx = mp.get_context("spawn")
     out = ctx.Queue()
@@ -87,7 +87,7 @@ STAMP = re.compile(r"^(\d{4}-\d\d-\d\d \d\d:\d\d:\d\d,\d{3}) \d+ INFO (.*)$", re
 def pool_throughput(folder: Path, workers: int, n_runs: int, t_end: float) -> tuple[float, float]:
     """(runs per second, wall seconds of the whole command) for one pool size."""
     url = f"sqlite:///{folder / f'scaling-{workers}.db'}"
-    submit(Database(url), _spec(n_runs, {"method": "euler", "t_end": t_end, "window": 100.0}))
+    submit(open_store(url), _spec(n_runs, {"method": "euler", "t_end": t_end, "window": 100.0}))
     log = folder / f"scaling-{workers}.log"
     t0 = time.perf_counter()
     subprocess.run([sys.executable, "-m", "slopetui", "worker", "-j", str(workers),

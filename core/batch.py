@@ -52,7 +52,7 @@ from core.model import JIT, coefficients, rhs, rhs_tangent
 from core.params import Params
 from core.recording import blown_up, renormalise
 from core.rk4 import hermite_mid
-from core.solve import SolverSettings, Trajectory, make_grid, trajectory_of
+from core.solve import SolverSettings, Trajectory, make_grid, simulate, trajectory_of
 
 #: The engine's numba options, with numpy's error model: Python's would test every
 #: division (RK4's dt / 6) for zero, and a possible exception stops LLVM vectorising.
@@ -84,10 +84,12 @@ N_INT = 10
 (BX, BY, BEX, BEY, BSX, BSY, BU) = range(7)  # a variable's tangent is two planes after it
 N_PAST, N_MADE = 4, 7
 # Columns of the per-lane ``plan`` (the core.solve.Grid of each lane).
+# The window sampler's columns are those of Grid.sample_start, n_samples, sample_jump and
+# win_start (where it resumes after the middle window; core.recording.sample).
 (P_N_DELAY, P_N_STEPS, P_WIN_START, P_WIN_STRIDE, P_N_WIN, P_TRACE_STRIDE, P_N_TRACE,
- P_RENORM) = range(8)
-PLAN = ("n_delay", "n_steps", "win_start", "win_stride", "n_win", "trace_stride", "n_trace",
-        "renorm_steps")
+ P_RENORM, P_WIN_JUMP, P_WIN_RESUME) = range(10)
+PLAN = ("n_delay", "n_steps", "sample_start", "win_stride", "n_samples", "trace_stride", "n_trace",
+        "renorm_steps", "sample_jump", "win_start")
 
 
 @njit(**BATCH_JIT)
@@ -157,14 +159,14 @@ def lane_events(j, fl, ints, plan, e_hist, win, trace, lyap, logs, rows):
         ints[I_R * LANES + j] = i_r + 1
         ints[NEXT_R * LANES + j] += plan[lane, P_RENORM]
     if n == plan[lane, P_N_STEPS]:
-        sample_slot(win[lane], plan[lane, P_N_WIN], plan[lane, P_WIN_STRIDE], NEXT_W, I_W, n,
-                    j, fl, ints)
-        sample_slot(trace[lane], plan[lane, P_N_TRACE], plan[lane, P_TRACE_STRIDE], NEXT_T,
+        sample_slot(win[lane], plan[lane, P_N_WIN], plan[lane, P_WIN_STRIDE],
+                    plan[lane, P_WIN_JUMP], plan[lane, P_WIN_RESUME], NEXT_W, I_W, n, j, fl, ints)
+        sample_slot(trace[lane], plan[lane, P_N_TRACE], plan[lane, P_TRACE_STRIDE], -1, 0, NEXT_T,
                     I_T, n, j, fl, ints)
 
 
 @njit(**BATCH_JIT)
-def sample_slot(out, count, stride, next_row, i_row, n, j, fl, ints):
+def sample_slot(out, count, stride, jump, resume, next_row, i_row, n, j, fl, ints):
     """One sampler of slot j (its next step and column in rows next_row, i_row of ints):
     if it is due at step n, store the slot's state in out[column] (core.recording.sample,
     with the samples as rows)."""
@@ -173,7 +175,10 @@ def sample_slot(out, count, stride, next_row, i_row, n, j, fl, ints):
         for v in range(5):
             out[i, v] = fl[(M_X + v) * LANES + j]
         ints[i_row * LANES + j] = i + 1
-        ints[next_row * LANES + j] += stride
+        if i + 1 == jump:
+            ints[next_row * LANES + j] = resume
+        else:
+            ints[next_row * LANES + j] += stride
 
 
 @njit(**BATCH_JIT)
@@ -292,11 +297,12 @@ def sample_block(k, n_active, ints, plan, made, win):
         lane, n = ints[LANE * LANES + j], ints[STEP * LANES + j]
         ints[NEXT_W * LANES + j], ints[I_W * LANES + j] = sample_steps(
             n, n + k, ints[NEXT_W * LANES + j], ints[I_W * LANES + j],
-            plan[lane, P_WIN_STRIDE], plan[lane, P_N_WIN], win[lane], made, j)
+            plan[lane, P_WIN_STRIDE], plan[lane, P_N_WIN], plan[lane, P_WIN_JUMP],
+            plan[lane, P_WIN_RESUME], win[lane], made, j)
 
 
 @njit(**BATCH_JIT)
-def sample_steps(n, end, next_n, i, stride, count, out, made, j):
+def sample_steps(n, end, next_n, i, stride, count, jump, resume, out, made, j):
     """One sampler over the block's steps n..end-1 of slot j; return (next_n, i)."""
     while next_n < end and i < count:
         b = next_n - n
@@ -305,8 +311,8 @@ def sample_steps(n, end, next_n, i, stride, count, out, made, j):
         out[i, 2] = made[at(BSX, b, j)]
         out[i, 3] = made[at(BSY, b, j)]
         out[i, 4] = made[at(BU, b, j)]
-        next_n += stride
         i += 1
+        next_n = resume if i == jump else next_n + stride
     return next_n, i
 
 
@@ -328,7 +334,7 @@ def take_trace(i, k, n_active, fl, ints, plan, trace):
         n = ints[STEP * LANES + j] + i
         if ints[NEXT_T * LANES + j] == n:  # before making a view of the lane's trace
             lane = ints[LANE * LANES + j]
-            sample_slot(trace[lane], plan[lane, P_N_TRACE], plan[lane, P_TRACE_STRIDE],
+            sample_slot(trace[lane], plan[lane, P_N_TRACE], plan[lane, P_TRACE_STRIDE], -1, 0,
                         NEXT_T, I_T, n, j, fl, ints)
     return next_trace(k, n_active, ints, plan)
 
@@ -545,6 +551,8 @@ def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) ->
     s = s or SolverSettings()
     if not points:
         return []
+    if s.method == "stiff":  # no batched kernel (core.stiff): one run after another
+        return [simulate(p, s) for p in points]
     grids = [make_grid(p, s) for p in points]
     n_lanes = len(points)
     plan = np.array([[getattr(g, name) for name in PLAN] for g in grids], dtype=np.int64)
@@ -567,6 +575,6 @@ def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) ->
           plan, hist, e_hist, win, trace, s.lyap, logs, done)
     runtime = time.perf_counter() - t0
     share = done / max(1, int(done.sum()))
-    return [trajectory_of(p, s, g, int(done[j]), win[j, :g.n_win].T, trace[j, :g.n_trace].T,
+    return [trajectory_of(p, s, g, int(done[j]), win[j, :g.n_samples].T, trace[j, :g.n_trace].T,
                           logs[j, :n_logs[j] if s.lyap else 0], runtime * share[j])
             for j, (p, g) in enumerate(zip(points, grids, strict=True))]

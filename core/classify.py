@@ -1,18 +1,27 @@
-"""Label the analysis window with the paper's regimes (Section 3) and measure it.
+"""Label a run with the paper's regimes (Section 3), from its dynamics, and measure it.
 
-Regimes:
-  sliding      the oscillation of m_y has died out: below AMPLITUDE_FLOOR, or decaying
-               steadily across the sub-windows (near the Hopf curve decay rates are ~1e-4,
-               so the oscillation is still visible at t = 1e5 but is going away);
-  oscillatory  the peaks of m_y form one cluster (a period-1 limit cycle);
-  complex      several clusters (period-n), or a continuum, which is called chaotic
-               when lambda_max > 0 significantly (or, without lambda_max, when the
-               Gottwald-Melbourne 0-1 test gives K > 0.5) and quasi-periodic otherwise;
+Regimes (the paper's five labels) and the attractor word beside them:
+  sliding      at rest: at the fixed point (``fixed-point``), on a faster sliding branch
+               (``fast-branch``, core.params.sliding_branches) or at a steady state off the
+               branches that the noise carries (``variance-state``); or a linear
+               oscillation near the fixed point (flag ``linear-transient``: the echoes of
+               the kink of the constant history, core.solve), or a decaying oscillation;
+  oscillatory  an orbit that returns after one basic period (``periodic``), whatever its
+               number of maxima per period (core.returns);
+  complex      an orbit that returns after n >= 2 basic periods (``periodic``), a
+               quasi-periodic orbit (``torus``) or chaos (``chaotic``: lambda_max > 0
+               significantly, or without lambda_max the 0-1 test);
   mixed        the window switches between quiet and oscillating stretches;
-  unstable     the run blew up (core.recording.BLOWUP_BOUND).
+  unstable     a runaway to a fast sliding branch far above the drive (``fast-branch``,
+               beyond RUNAWAY_RATIO v), or a divergence of the equations (``divergent``;
+               core.point first re-integrates a blow-up of an explicit scheme with the
+               stiff-safe one, so what is left diverged there too).
 
-The summary also reports the peak clusters (the points of a bifurcation diagram), the
-period, the peak-to-peak amplitude, the dominant frequency and the drift of m_x.
+``settled`` says whether the pattern was already there in the middle of the run (the
+window that ends at t_end / 2, core.solve.Grid; the first half of the window when the run
+has none): False for slow transients, modulations and growing or decaying oscillations.
+The summary also reports the maxima of a return (the points of a bifurcation diagram),
+the return time, the peak-to-peak amplitude, the dominant frequency and the drift of m_x.
 """
 
 from __future__ import annotations
@@ -23,38 +32,58 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from core.lyapunov import LyapunovEstimate
+from core.params import Params, sliding_branches
+from core.returns import Return, clusters, find_return, lag_defects
+from core.stability import hopf_period, leading_exponent
 
-#: Peak-to-peak amplitude of m_y below which the window counts as at rest. A settled
-#: sliding run leaves round-off only: we measured 0 to 1.5e-10 on the (b, tau) plane at
-#: k = 6 and 12 (RK4, t_end = 2e4); limit cycles there have amplitudes of 1 and up.
+#: Peak-to-peak amplitude of m_y (relative to max(1, |mean m_y|)) below which the window
+#: counts as at rest. A settled sliding run leaves round-off only: we measured 0 to 1.5e-10
+#: on the (b, tau) plane at k = 6 and 12 (RK4, t_end = 2e4).
 AMPLITUDE_FLOOR = 1e-6
+#: An oscillation about the fixed point whose amplitude and offset stay below this fraction
+#: of y_nl = F'(v) / |3av - b| (the m_y at which the quadratic friction term of eq. 6b
+#: equals the linear one; 0.55 at the defaults) is linear to that fraction: a transient of
+#: the linearised system, not an attractor. At tau = 60, k = 6, delta = 1e-6 (0.4% above
+#: k_H) the window holds the echoes of the history's kink, peak-to-peak 5.2e-6 (Euler,
+#: t = 1e5), growing at the leading root's +1.3e-7 on time scales of 1e7; the smallest
+#: limit cycles we saw have amplitudes of 1 and up.
+LINEAR_FRACTION = 1e-2
 #: Sub-windows for the decay and switching tests.
 N_SUBWINDOWS = 20
 #: A steady decay counts as sliding when the sub-window amplitudes fall monotonically and
 #: their fitted log-decay across the whole window exceeds DECAY_MIN (1%: at window 1000 a
 #: rate of 1e-5/t, met within ~0.2% of k_H at tau = 10). Slow transients on attractors
-#: stay far below it: the period-3 cycle at k = 22, tau = 10 drifts by 0.04% per window.
+#: stay far below it: the three-maxima orbit at k = 22, tau = 10 drifts by 0.04% per window.
 DECAY_MIN = 0.01
 #: A sub-window is "quiet" when its amplitude is below this fraction of the largest one.
 QUIET_FRACTION = 0.05
-#: The peak sequence p_i is period-n when its lag-n return differences max|p_{i+n} - p_i|
-#: are below RETURN_TOL times the amplitude, and n is the smallest lag within a factor
-#: RETURN_MARGIN of the best lag. Measured at tau = 10, delta = 0.1 (RK4, t_end = 1e5):
-#: settled cycles return to 1e-10 A; the period-2 orbit at k = 20 has lag-1 differences
-#: of 1.6e-4 A (so a gap tolerance of 1e-3 A would merge its clusters) and lag-2 ones of
-#: ~1e-6 A; the slowly drifting period-3 at k = 22 returns to 1e-5 A at lag 3. At small
-#: tau and large k (period ~2) settled cycles return to ~5e-8 A (find_peaks).
-RETURN_TOL = 1e-3
-RETURN_MARGIN = 2.0
-#: Return differences below this fraction of the amplitude are round-off (settled cycles
-#: show ~1e-10 A), so every lag under it is equally good and the smallest one wins.
-RETURN_NOISE = 1e-6
-#: Longer periods than this are a continuum (quasi-periodic or chaotic), not period-n.
-MAX_PERIOD = 16
+#: The pattern counts as settled when the maxima of a return and the return time in the
+#: middle of the run equal those at the end to this fraction of the amplitude and of the
+#: return time. Settled orbits agree to 1e-11 (k = 15, 17.2, tau = 10, RK4, t = 5e4 and
+#: 1e5); at k = 20 the two maxima moved by 1.7e-3 A between those times, the slow decaying
+#: modulation measured in docs/reproduction.md (Fig. 4B).
+SETTLE_TOL = 1e-5
+#: An alternation (a return after n >= 2 basic periods) decays when its defect at the
+#: basic period fell by more than this factor between the middle and the end of the run.
+ALTERNATION_DECAY = 0.5
+#: A quasi-periodic orbit (torus) fills the same band of maxima in the middle and at the end
+#: of the run: their lowest and highest maxima agree to this fraction of the amplitude.
+TORUS_TOL = 1e-2
 #: Chaos needs lambda_max above 3 sigma and above this absolute value (1/time).
 CHAOS_LAMBDA_MIN = 1e-3
 #: At most this many peak values are kept for a continuum's bifurcation-diagram column.
 MAX_PEAKS_KEPT = 64
+#: Rest on a sliding branch counts as a runaway ("unstable") when the slope slides there
+#: faster than RUNAWAY_RATIO times the drive v. The branches reached in the paper's planes
+#: lie at v + m_y = 19-72 v (b, c, k planes: m_y = 1.84-7.14 at v = 0.1) or at
+#: 1400-2000 v (Fig. 7, a = 0.03-0.04: m_y = 143-205); the ratio sits between them.
+RUNAWAY_RATIO = 300.0
+#: A rest state is on a branch when its m_y is within this fraction of the branch's: with
+#: noise (d = 1e-4) the variance shifts the branch by ~1e-6 relative (measured on Fig. 6-9).
+BRANCH_TOL = 1e-2
+#: ... and at the fixed point when |m_y| is below this (the noise-driven drift of the
+#: sliding state is m_y ~ -q d / (G (F' + k tau)) ~ 2e-6 at the defaults).
+FIXED_POINT_TOL = 1e-3
 
 
 @dataclass(frozen=True, slots=True)
@@ -64,12 +93,16 @@ class Summary:
     regime: str
     detail: str
     amplitude: float                 # peak-to-peak of m_y over the window
-    period: float                    # full period (n peak intervals for period-n); NaN if none
-    period_count: int                # clusters: 0 at rest, n for period-n, -1 for a continuum
-    peaks: list[float] = field(default_factory=list)  # cluster centres, or sampled continuum
+    period: float                    # return time in state space; NaN if none
+    period_count: int                # return time in basic periods; 0 at rest, -1 continuum
+    peaks: list[float] = field(default_factory=list)  # maxima of a return, or sampled continuum
     frequency: float = math.nan      # dominant frequency of m_y (cycles per time unit)
     drift: float = math.nan          # mean velocity of m_x over the window
     zero_one_k: float = math.nan     # 0-1 test statistic on the peak sequence (continua)
+    maxima_per_period: int = 0       # maxima of m_y in one return
+    attractor: str = ""              # fixed-point, fast-branch, variance-state, periodic, ...
+    settled: bool = True             # the pattern was there in the middle of the run too
+    flags: tuple[str, ...] = ()      # linear-transient, slow-modulation, ... (core.point adds more)
 
 
 def find_peaks(t: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -123,25 +156,6 @@ def _quartic_maximum(ym2: np.ndarray, ym1: np.ndarray, y0: np.ndarray, y1: np.nd
         with np.errstate(divide="ignore", invalid="ignore"):
             x = np.clip(x - np.where(curv < 0.0, slope / curv, 0.0), -1.0, 1.0)
     return x, y0 + x * (c1 + x * (c2 + x * (c3 + x * c4)))
-
-
-def peak_period(peaks: np.ndarray, amplitude: float, max_period: int = MAX_PERIOD) -> int:
-    """The period n of the peak sequence (period-n orbit), or 0 if it has none <= max_period.
-
-    r_n = max_i |p_{i+n} - p_i| measures how well the sequence repeats after n peaks.
-    The period is the smallest n with r_n <= max(RETURN_MARGIN * min_m r_m,
-    RETURN_NOISE * amplitude), provided that min_m r_m <= RETURN_TOL * amplitude. Unlike
-    clustering the sorted values with a gap tolerance, this separates clusters closer than
-    any fixed tolerance (period-2 just past the doubling) and tolerates clusters that still
-    drift slowly.
-    """
-    if len(peaks) < 2 * max_period + 2:
-        max_period = max(1, (len(peaks) - 2) // 2)
-    r = np.array([np.max(np.abs(peaks[n:] - peaks[:-n])) for n in range(1, max_period + 1)])
-    best = r.min()
-    if not best <= RETURN_TOL * amplitude:
-        return 0
-    return int(np.nonzero(r <= max(RETURN_MARGIN * best, RETURN_NOISE * amplitude))[0][0]) + 1
 
 
 def subwindow_amplitudes(t: np.ndarray, y: np.ndarray, n: int = N_SUBWINDOWS) -> tuple[np.ndarray, np.ndarray]:
@@ -245,42 +259,95 @@ def _switches(quiet: np.ndarray) -> int:
     return int(np.count_nonzero(quiet[1:] != quiet[:-1]))
 
 
-def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
-             lyap: LyapunovEstimate | None = None) -> Summary:
-    """Classify an analysis window (rows m_x, m_y, ... sampled at times t)."""
-    m_x, m_y = window[0], window[1]
-    drift = _drift(t, m_x)
-    if blew_up:
-        return Summary("unstable", "blow-up", math.nan, math.nan, 0, [], math.nan, drift)
-    amplitude = float(np.ptp(m_y)) if len(m_y) else math.nan
-    if not amplitude >= AMPLITUDE_FLOOR:
-        return Summary("sliding", "at rest", amplitude, math.nan, 0, [], math.nan, drift)
-    frequency = dominant_frequency(t, m_y)
+def _rest(level: float, amplitude: float, drift: float, p: Params | None) -> Summary:
+    """A window at rest: where it rests decides the label (see the module docstring)."""
+    if abs(level) < FIXED_POINT_TOL:
+        return Summary("sliding", "at rest", amplitude, math.nan, 0, [], math.nan, drift,
+                       attractor="fixed-point")
+    branch = next((r for r in (sliding_branches(p) if p else ()) if r != 0.0
+                   and abs(level - r) <= BRANCH_TOL * abs(r)), None)
+    if branch is None:
+        return Summary("sliding", f"at rest, m_y = {level:.4g}", amplitude, math.nan, 0, [],
+                       math.nan, drift, attractor="variance-state")
+    assert p is not None
+    if p.v + level > RUNAWAY_RATIO * p.v:
+        return Summary("unstable", f"runaway to m_y = {level:.5g}", amplitude, math.nan, 0, [],
+                       math.nan, drift, attractor="fast-branch")
+    return Summary("sliding", f"fast branch, m_y = {level:.4g}", amplitude, math.nan, 0, [],
+                   math.nan, drift, attractor="fast-branch")
 
-    amps, centres = subwindow_amplitudes(t, m_y)
-    switches = _switches(amps < QUIET_FRACTION * amps.max())
-    if switches >= 2:
-        return Summary("mixed", f"{switches} switches", amplitude, math.nan, -1, [],
-                       frequency, drift)
-    rate = float(np.polyfit(centres, np.log(amps), 1)[0]) if np.all(amps > 0) else math.nan
-    if rate * (t[-1] - t[0]) < -DECAY_MIN and np.all(np.diff(amps) < 0):
-        return Summary("sliding", f"decaying at {rate:.2e}/t", amplitude, math.nan, 0, [],
-                       frequency, drift)
 
-    peak_t, peak_y = find_peaks(t, m_y)
-    if len(peak_y) < 4:
-        # too few maxima in the window to tell a period: report an oscillation of unknown
-        # period rather than invent one
-        return Summary("oscillatory", f"{len(peak_y)} peaks in window", amplitude, math.nan, 1,
-                       sorted(float(v) for v in peak_y), frequency, drift)
-    n = peak_period(peak_y, amplitude)
-    if n:
-        centres_y = sorted(float(peak_y[j::n].mean()) for j in range(n))
-        mean_interval = float((peak_t[-1] - peak_t[0]) / (len(peak_t) - 1))
-        regime = "oscillatory" if n == 1 else "complex"
-        return Summary(regime, f"period-{n}", amplitude, n * mean_interval, n, centres_y,
-                       frequency, drift)
+def _early(t: np.ndarray, y: np.ndarray, mid_t: np.ndarray | None, mid: np.ndarray | None
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(early t, early m_y, late t, late m_y): the middle window against the end window,
+    or the two halves of the end window when the run has no middle window."""
+    if mid_t is not None and mid is not None and len(mid_t) >= len(t) // 2 and len(mid_t) > 2:
+        return mid_t, mid[1], t, y
+    h = len(t) // 2
+    return t[:h], y[:h], t[h:], y[h:]
 
+
+def _linear(t: np.ndarray, y: np.ndarray, early: tuple, amplitude: float, drift: float,
+            p: Params) -> Summary:
+    """An oscillation within the linear range of the fixed point: its growth rate between
+    the early and late windows beside the leading root of the linearisation."""
+    et, ey, lt, ly = early
+    a_early, a_late = float(np.ptp(ey)), float(np.ptp(ly))
+    span = float(lt.mean() - et.mean())
+    rate = math.log(a_late / a_early) / span if a_early > 0 and a_late > 0 and span > 0 else math.nan
+    root = leading_exponent(p)
+    return Summary("sliding", f"linear {rate:+.1e}/t, root {root:+.1e}", amplitude, math.nan, 0, [],
+                   dominant_frequency(t, y), drift, attractor="fixed-point", settled=False,
+                   flags=("linear-transient",))
+
+
+def _settled(early: tuple, amplitude: float, basic: float, ret: Return, late_peaks: list[float]) -> bool:
+    """Whether the early window returns as the late one, with the same maxima and time."""
+    et, ey, _, _ = early
+    pt, py = find_peaks(et, ey)
+    if len(py) < 4:
+        return False
+    then = find_return(pt, py, amplitude, basic)
+    if then is None or then.maxima != ret.maxima:
+        return False
+    moved = max(abs(a - b) for a, b in zip(clusters(py, then.maxima), late_peaks, strict=True))
+    return moved <= SETTLE_TOL * amplitude and abs(then.time - ret.time) <= SETTLE_TOL * ret.time
+
+
+def _periodic(peak_t: np.ndarray, peak_y: np.ndarray, ret: Return, early: tuple, amplitude: float,
+              basic: float, frequency: float, drift: float) -> Summary:
+    """An orbit that returns: oscillatory after one basic period, complex after n >= 2,
+    unless the alternation that makes it n is dying out."""
+    n = ret.maxima
+    late = clusters(peak_y, n)
+    settled = _settled(early, amplitude, basic, ret, late)
+    flags: tuple[str, ...] = () if settled else ("slow-modulation",)
+    count = ret.count or 1
+    per = n // count if count > 1 and n % count == 0 else 0
+    if count > 1 and per and not settled:
+        # the defect of the return after one basic period, then and now
+        et, ey, _, _ = early
+        ept, epy = find_peaks(et, ey)
+        q_then = lag_defects(ept, epy, amplitude, per)[-1] if len(epy) > 2 * per + 2 else math.nan
+        q_now = lag_defects(peak_t, peak_y, amplitude, per)[-1]
+        if q_now < ALTERNATION_DECAY * q_then:
+            return Summary("oscillatory", f"alternation decaying {q_then:.1e} -> {q_now:.1e}",
+                           amplitude, ret.time / count, 1, clusters(peak_y, per), frequency, drift,
+                           maxima_per_period=per, attractor="periodic", settled=False,
+                           flags=("decaying-alternation",))
+    ratio = f", {ret.ratio:.2f} T_H" if math.isfinite(ret.ratio) else ""
+    if count == 1:
+        return Summary("oscillatory", f"period-1, {n} maxima{ratio}", amplitude, ret.time, 1, late,
+                       frequency, drift, maxima_per_period=n, attractor="periodic",
+                       settled=settled, flags=flags)
+    return Summary("complex", f"period-{count}, {n} maxima{ratio}", amplitude, ret.time, count, late,
+                   frequency, drift, maxima_per_period=n, attractor="periodic", settled=settled,
+                   flags=flags)
+
+
+def _continuum(peak_y: np.ndarray, early: tuple, amplitude: float, frequency: float, drift: float,
+               lyap: LyapunovEstimate | None) -> Summary:
+    """Maxima that never return: chaos, a torus, or a slow transient (unsettled)."""
     k01 = zero_one_test(peak_y)
     if lyap is not None and math.isfinite(lyap.value):
         err = lyap.error if math.isfinite(lyap.error) else 0.0
@@ -288,5 +355,62 @@ def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
     else:
         chaotic = k01 > 0.5
     kept = np.sort(peak_y)[np.linspace(0, len(peak_y) - 1, min(len(peak_y), MAX_PEAKS_KEPT)).astype(int)]
-    return Summary("complex", "chaotic" if chaotic else "quasi-periodic", amplitude, math.nan, -1,
-                   [float(v) for v in kept], frequency, drift, k01)
+    _, epy = find_peaks(early[0], early[1])
+    same_band = len(epy) > 0 and (abs(epy.min() - peak_y.min()) <= TORUS_TOL * amplitude
+                                  and abs(epy.max() - peak_y.max()) <= TORUS_TOL * amplitude)
+    if chaotic:
+        attractor, detail = "chaotic", "chaotic"
+    elif same_band:
+        attractor, detail = "torus", "quasi-periodic"
+    else:
+        attractor, detail = "unsettled", "no return, band still moving"
+    return Summary("complex", detail, amplitude, math.nan, -1, [float(v) for v in kept], frequency,
+                   drift, k01, maxima_per_period=0, attractor=attractor, settled=same_band,
+                   flags=() if same_band else ("slow-modulation",))
+
+
+def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
+             lyap: LyapunovEstimate | None = None, mid_t: np.ndarray | None = None,
+             mid: np.ndarray | None = None, p: Params | None = None) -> Summary:
+    """Classify a run from its analysis window (rows m_x, m_y, ... sampled at times t), the
+    window that ends at the middle of the run (mid_t, mid; may be empty) and its parameters
+    p (for the basic period, the branches and the linear range; without them those tests
+    are skipped)."""
+    m_x, m_y = window[0], window[1]
+    drift = _drift(t, m_x)
+    if blew_up:
+        return Summary("unstable", "diverged", math.nan, math.nan, 0, [], math.nan, drift,
+                       attractor="divergent")
+    amplitude = float(np.ptp(m_y)) if len(m_y) else math.nan
+    level = float(np.mean(m_y)) if len(m_y) else math.nan
+    if not amplitude >= AMPLITUDE_FLOOR * max(1.0, abs(level)):
+        return _rest(level, amplitude, drift, p)
+    early = _early(t, m_y, mid_t, mid)
+    if p is not None and p.F1 > 0.0 and p.q != 0.0:
+        y_nl = p.F1 / abs(p.q)
+        if amplitude < LINEAR_FRACTION * y_nl and abs(level) < LINEAR_FRACTION * y_nl:
+            return _linear(t, m_y, early, amplitude, drift, p)
+    frequency = dominant_frequency(t, m_y)
+
+    amps, centres = subwindow_amplitudes(t, m_y)
+    switches = _switches(amps < QUIET_FRACTION * amps.max())
+    if switches >= 2:
+        return Summary("mixed", f"{switches} switches", amplitude, math.nan, -1, [],
+                       frequency, drift, attractor="unsettled", settled=False)
+    rate = float(np.polyfit(centres, np.log(amps), 1)[0]) if np.all(amps > 0) else math.nan
+    if rate * (t[-1] - t[0]) < -DECAY_MIN and np.all(np.diff(amps) < 0):
+        return Summary("sliding", f"decaying at {rate:.2e}/t", amplitude, math.nan, 0, [],
+                       frequency, drift, attractor="fixed-point", settled=False,
+                       flags=("decaying",))
+
+    peak_t, peak_y = find_peaks(t, m_y)
+    if len(peak_y) < 4:
+        # too few maxima in the window to tell a return: an oscillation of unknown period
+        return Summary("oscillatory", f"{len(peak_y)} peaks in window", amplitude, math.nan, 1,
+                       sorted(float(v) for v in peak_y), frequency, drift,
+                       maxima_per_period=len(peak_y), attractor="periodic", settled=False)
+    basic = hopf_period(p.tau, p.F1) if p is not None else math.nan
+    ret = find_return(peak_t, peak_y, amplitude, basic)
+    if ret is not None:
+        return _periodic(peak_t, peak_y, ret, early, amplitude, basic, frequency, drift)
+    return _continuum(peak_y, early, amplitude, frequency, drift, lyap)

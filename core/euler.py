@@ -18,7 +18,7 @@ from core.recording import blown_up, renormalise, sample
 
 
 @njit(**JIT)
-def euler(coef, dt, n_delay, n_steps, win, win_start, win_stride, trace, trace_stride,
+def euler(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_resume, trace, trace_stride,
           lyap, renorm_steps, logs):
     """Integrate n_steps Euler steps; return the number of steps done (< n_steps on blow-up).
 
@@ -35,8 +35,8 @@ def euler(coef, dt, n_delay, n_steps, win, win_start, win_stride, trace, trace_s
     next_w, i_w, next_t, i_t = win_start, 0, 0, 0
     next_r, i_r = renorm_steps, 0
     for n in range(n_steps):
-        next_w, i_w = sample(n, next_w, i_w, win_stride, win, m_x, m_y, s_x, s_y, u)
-        next_t, i_t = sample(n, next_t, i_t, trace_stride, trace, m_x, m_y, s_x, s_y, u)
+        next_w, i_w = sample(n, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
+        next_t, i_t = sample(n, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
         if n_delay > 0:
             m_x_tau = hist[pos]
             hist[pos] = m_x
@@ -68,6 +68,6 @@ def euler(coef, dt, n_delay, n_steps, win, win_start, win_stride, trace, trace_s
                                                                      e_hist.shape[1], dt)
             i_r += 1
             next_r += renorm_steps
-    sample(n_steps, next_w, i_w, win_stride, win, m_x, m_y, s_x, s_y, u)
-    sample(n_steps, next_t, i_t, trace_stride, trace, m_x, m_y, s_x, s_y, u)
+    sample(n_steps, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
+    sample(n_steps, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
     return n_steps

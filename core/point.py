@@ -1,14 +1,26 @@
-"""One parameter point end to end: integrate, estimate lambda_max, classify."""
+"""One parameter point end to end: integrate, estimate lambda_max, classify.
+
+**A blow-up of an explicit scheme is not a label.** Euler (the paper's) and RK4 leave
+their stability region where the model is stiff: on the fast sliding branch of Fig. 7
+(ds_y/dt decays at a rate ~2900 > 2/dt) and where s_y grazes 0 from eq. 19's singular
+covariance. When they blow up, or drive s_y below 0, ``analyse`` integrates the point
+again with the stiff-safe scheme (core.stiff) at the same step and classifies that run,
+with the flag ``stiff-fallback``; a run that diverges there too is a divergence of the
+equations (``unstable``, attractor ``divergent``).
+"""
 
 from __future__ import annotations
 
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+
+import numpy as np
 
 from core.batch import simulate_batch
 from core.classify import Summary, classify
+from core.closure import closure_flags, uphill_flags
 from core.lyapunov import LyapunovEstimate, estimate
 from core.params import Params
 from core.result_fields import RECORD_KEYS
@@ -40,6 +52,10 @@ class PointResult:
             "amplitude": s.amplitude,
             "period": s.period,
             "period_count": s.period_count,
+            "maxima_per_period": s.maxima_per_period,
+            "attractor": s.attractor,
+            "settled": s.settled,
+            "flags": ",".join(s.flags),
             "peaks": list(s.peaks),
             "frequency": s.frequency,
             "drift": s.drift,
@@ -69,10 +85,28 @@ def run_batch(points: Sequence[Params], s: SolverSettings | None = None) -> list
 
 
 def analyse(tr: Trajectory, integration_s: float) -> PointResult:
-    """lambda_max and the regime of an integrated trajectory."""
+    """lambda_max and the regime of an integrated trajectory (re-integrated with the
+    stiff-safe scheme where an explicit one failed: see the module docstring)."""
     t0 = time.perf_counter()
+    flags: tuple[str, ...] = ()
+    t_blowup = tr.t_blowup  # the explicit scheme's, kept beside the flag
+    if tr.settings.method != "stiff" and (tr.blew_up or _negative_variance(tr)):
+        t1 = time.perf_counter()
+        tr = simulate(tr.params, replace(tr.settings, method="stiff", dt=tr.grid.dt))
+        integration_s += time.perf_counter() - t1
+        flags = ("stiff-fallback",)
+        t0 += time.perf_counter() - t1
     s = tr.settings
     lyap = estimate(tr.lyap_logs, tr.grid.renorm_interval) if s.lyap and not tr.blew_up else None
-    summary = classify(tr.window_t, tr.window, tr.blew_up, lyap)
-    return PointResult(tr.params, s, summary, lyap, tr.t_blowup,
+    summary = classify(tr.window_t, tr.window, tr.blew_up, lyap, tr.mid_t, tr.mid, tr.params)
+    states = np.concatenate((tr.trace, tr.mid, tr.window), axis=1)
+    flags += summary.flags + closure_flags(states) + uphill_flags(states, tr.params.v)
+    summary = replace(summary, flags=flags)
+    return PointResult(tr.params, s, summary, lyap, t_blowup,
                        integration_s + time.perf_counter() - t0, tr)
+
+
+def _negative_variance(tr: Trajectory) -> bool:
+    """s_y < 0 in a sample: an explicit step overshot the variance's decay (the model's own
+    excursions below 0, where the closure breaks down, the stiff scheme keeps and flags)."""
+    return any(bool(np.any(a[3] < 0.0)) for a in (tr.trace, tr.mid, tr.window) if a.shape[1])

@@ -2,8 +2,9 @@
 
 A run to t_end = 1e5 at dt = 1e-3 takes 1e8 steps, so nothing keeps the whole trajectory.
 Two samplers write the five variables into preallocated (5, n) arrays:
-  - the analysis window: every ``stride`` steps from ``start`` on (the last ``window``
-    time units, as the paper's [99000, 100000]);
+  - the analysis window: every ``stride`` steps over the last ``window`` time units (as
+    the paper's [99000, 100000]), and as long a window ending at the middle of the run
+    (to tell a settled attractor from a slow transient, core.classify);
   - the trace: every ``stride`` steps from t = 0, a few thousand points for plots.
 The tangent-linear renormalisation (for lambda_max) also lives here, because both
 schemes share it.
@@ -29,15 +30,21 @@ BLOWUP_BOUND = 1e6
 
 
 @njit(**JIT)
-def sample(n, next_n, i, stride, out, m_x, m_y, s_x, s_y, u):
-    """Store the state in column i of ``out`` if step n is due; return (next_n, i)."""
+def sample(n, next_n, i, stride, jump, resume, out, m_x, m_y, s_x, s_y, u):
+    """Store the state in column i of ``out`` if step n is due; return (next_n, i).
+
+    Samples are due every ``stride`` steps, except that after column ``jump - 1`` the
+    next one is due at step ``resume``: the analysis window is two windows, the middle
+    of the run and its end (core.solve.make_grid), in one array. jump = -1: no jump.
+    """
     if n == next_n and i < out.shape[1]:
         out[0, i] = m_x
         out[1, i] = m_y
         out[2, i] = s_x
         out[3, i] = s_y
         out[4, i] = u
-        return next_n + stride, i + 1
+        i += 1
+        return (resume if i == jump else next_n + stride), i
     return next_n, i
 
 

@@ -28,8 +28,9 @@ from typing import Literal
 #: ``measure``   a float measurement, NaN where undefined (``store.column_types.Measure``);
 #: ``count``     an integer;
 #: ``list``      a list of floats (a JSON column);
-#: ``optional``  a float that may not exist (None, SQL NULL: e.g. no blow-up).
-Kind = Literal["text", "measure", "count", "list", "optional"]
+#: ``optional``  a float that may not exist (None, SQL NULL: e.g. no blow-up);
+#: ``flag``      a boolean.
+Kind = Literal["text", "measure", "count", "list", "optional", "flag"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -64,12 +65,21 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
                 contract=True),
     ResultField("amplitude", "measure", "m_y", "peak-to-peak of m_y in the window",
                 contract=True, detail=True),
-    ResultField("period", "measure", "time", "the period of the oscillation",
-                contract=True, detail=True),
-    ResultField("period_count", "count", "", "peak clusters: 0 at rest, n for period-n, "
-                "-1 for a continuum"),
-    ResultField("peaks", "list", "m_y", "peak clusters of m_y in the window",
-                contract=True, detail=True),
+    ResultField("period", "measure", "time", "the return time of the orbit in state space "
+                "(core.returns), NaN if it has none", contract=True, detail=True),
+    ResultField("period_count", "count", "", "the return time in basic periods (the Hopf "
+                "period 2 pi / omega_H): 0 at rest, n for period-n, -1 for a continuum"),
+    ResultField("maxima_per_period", "count", "", "maxima of m_y in one return", detail=True,
+                label="maxima"),
+    ResultField("attractor", "text", "", "fixed-point, fast-branch, variance-state, periodic, "
+                "torus, chaotic, divergent or unsettled (core.classify)", detail=True),
+    ResultField("settled", "flag", "", "the pattern was already there in the middle of the "
+                "run (false: a slow transient or modulation)", detail=True),
+    ResultField("flags", "text", "", "comma-separated: stiff-fallback, closure-breakdown, "
+                "uphill, linear-transient, slow-modulation, decaying-alternation, decaying",
+                detail=True),
+    ResultField("peaks", "list", "m_y", "the maxima of m_y in one return (a continuum: "
+                "sampled), in the window", contract=True, detail=True),
     ResultField("frequency", "measure", "1/time", "the dominant frequency of m_y (cycles per time)"),
     ResultField("drift", "measure", "m_x/time", "mean dm_x/dt over the window",
                 contract=True, detail=True),

@@ -30,7 +30,7 @@ def hermite_mid(x0, x1, y0, y1, dt):
 
 
 @njit(**JIT)
-def rk4(coef, dt, n_delay, n_steps, win, win_start, win_stride, trace, trace_stride,
+def rk4(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_resume, trace, trace_stride,
         lyap, renorm_steps, logs):
     """Integrate n_steps RK4 steps; return the number of steps done (< n_steps on blow-up).
 
@@ -47,8 +47,8 @@ def rk4(coef, dt, n_delay, n_steps, win, win_start, win_stride, trace, trace_str
     next_w, i_w, next_t, i_t = win_start, 0, 0, 0
     next_r, i_r = renorm_steps, 0
     for n in range(n_steps):
-        next_w, i_w = sample(n, next_w, i_w, win_stride, win, m_x, m_y, s_x, s_y, u)
-        next_t, i_t = sample(n, next_t, i_t, trace_stride, trace, m_x, m_y, s_x, s_y, u)
+        next_w, i_w = sample(n, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
+        next_t, i_t = sample(n, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
         hist[0, pos] = m_x
         hist[1, pos] = m_y
         e_hist[0, pos] = e_x
@@ -109,6 +109,6 @@ def rk4(coef, dt, n_delay, n_steps, win, win_start, win_stride, trace, trace_str
                                                                      e_hist.shape[1], dt)
             i_r += 1
             next_r += renorm_steps
-    sample(n_steps, next_w, i_w, win_stride, win, m_x, m_y, s_x, s_y, u)
-    sample(n_steps, next_t, i_t, trace_stride, trace, m_x, m_y, s_x, s_y, u)
+    sample(n_steps, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
+    sample(n_steps, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
     return n_steps

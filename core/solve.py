@@ -29,12 +29,14 @@ import numpy as np
 from core.classify import N_SUBWINDOWS
 from core.params import ParameterError, Params, check_positive
 
-Method = Literal["euler", "rk4"]
-METHODS: tuple[str, ...] = ("euler", "rk4")
+Method = Literal["euler", "rk4", "stiff"]
+METHODS: tuple[str, ...] = ("euler", "rk4", "stiff")
 
 #: Default step per method. Euler: the paper's dt = 1e-3. RK4: 1e-2, which costs about
-#: as much per time unit as Euler at 1e-3 and is ~1e6 times more accurate.
-DEFAULT_DT: dict[str, float] = {"euler": 1e-3, "rk4": 1e-2}
+#: as much per time unit as Euler at 1e-3 and is ~1e6 times more accurate. Stiff: 1e-3,
+#: first order like Euler, with errors against Radau about as large or smaller; it stays
+#: stable at any step, and 1e-3 keeps the runs comparable with Euler's (core.stiff).
+DEFAULT_DT: dict[str, float] = {"euler": 1e-3, "rk4": 1e-2, "stiff": 1e-3}
 #: The paper's analysis window, [99000, 100000]: the default when the run is long enough
 #: (see default_window).
 DEFAULT_WINDOW = 1000.0
@@ -60,19 +62,20 @@ MIN_WINDOW_SAMPLES = 3 * N_SUBWINDOWS
 #: inside the kernels' 64-bit integers.
 MAX_STEPS = 10**10
 #: At most this much memory per run (bytes): 2 GiB, under the free memory of a laptop or
-#: of a small cloud worker with a core or two, and some 400 times a paper run's needs
-#: (5 MB, mostly its window of 100 001 samples; the delay ring of tau = 10 at dt = 1e-3
-#: is 160 kB). It counts what make_grid lays out (memory_of): the delay ring, the window
-#: and trace samples and the lambda_max logs. It is per run: a worker's batch (core.batch)
-#: holds the window, trace and logs of each of its runs (up to its --batch, default 32)
-#: and the rings of up to 16 of them at once, so a batch of runs near this limit needs
-#: many times it. Such runs are rare (tau over 10^5 time units at dt = 1e-3, or more than
-#: 2.7e8 lambda_max renormalisations); a worker should then compute them with --batch 1.
+#: of a small cloud worker with a core or two, and some 200 times a paper run's needs (10
+#: MB, mostly its two windows of 100 001 samples, at the middle and at the end; the delay
+#: ring of tau = 10 at dt = 1e-3 is 160 kB). It counts what make_grid lays out
+#: (memory_of): the delay ring, the window and trace samples and the lambda_max logs. It
+#: is per run: a worker's batch (core.batch) holds the window, trace and logs of each of
+#: its runs (up to its --batch, default 32) and the rings of up to 16 of them at once, so
+#: a batch of runs near this limit needs many times it. Such runs are rare (tau over 10^5
+#: time units at dt = 1e-3, or more than 2.7e8 lambda_max renormalisations); a worker
+#: should then compute them with --batch 1.
 MAX_RUN_BYTES = 2 * 1024**3
-#: Bytes per delay step of the ring buffers: m_x for Euler, (m_x, m_y) for RK4, and as
-#: much again for the tangent, which the single-run kernels allocate even without
-#: lambda_max (core.euler, core.rk4).
-RING_BYTES: dict[str, int] = {"euler": 2 * 8, "rk4": 2 * 2 * 8}
+#: Bytes per delay step of the ring buffers: m_x for Euler and stiff, (m_x, m_y) for RK4,
+#: and as much again for the tangent, which the single-run kernels allocate even without
+#: lambda_max (core.euler, core.rk4, core.stiff).
+RING_BYTES: dict[str, int] = {"euler": 2 * 8, "rk4": 2 * 2 * 8, "stiff": 2 * 8}
 #: Bytes per window or trace sample: five variables and the sample's time.
 SAMPLE_BYTES = 6 * 8
 #: Bytes per lambda_max log: one float per tangent renormalisation.
@@ -95,7 +98,9 @@ def default_window(t_end: float) -> float:
 class SolverSettings:
     """How to integrate a point.
 
-    method : "euler" (paper-faithful) or "rk4" (4th order, Hermite delay).
+    method : "euler" (paper-faithful), "rk4" (4th order, Hermite delay) or "stiff"
+             (linearly implicit, keeps the covariance realisable; core.stiff: what
+             core.point falls back to where an explicit scheme blows up).
     dt     : step in model time units; None takes DEFAULT_DT[method].
     t_end  : end of the run (default 1e5, the paper's horizon).
     window : length of the analysis window at the end of the run; None takes
@@ -137,7 +142,13 @@ class SolverSettings:
 
 @dataclass(frozen=True, slots=True)
 class Grid:
-    """The time grid a run uses: effective step, delay in steps, and the samplers."""
+    """The time grid a run uses: effective step, delay in steps, and the samplers.
+
+    The window sampler takes ``n_mid`` samples from step ``mid_start`` (the window that
+    ends at the middle of the run; n_mid = 0 when it would overlap the end window), then
+    ``n_win`` from ``win_start`` (the analysis window at the end), every ``win_stride``
+    steps, into one array: the kernels see it as one sampler that jumps once.
+    """
 
     dt: float
     n_delay: int
@@ -148,6 +159,28 @@ class Grid:
     trace_stride: int
     n_trace: int
     renorm_steps: int
+    mid_start: int = 0
+    n_mid: int = 0
+
+    @property
+    def sample_start(self) -> int:
+        """The window sampler's first step."""
+        return self.mid_start if self.n_mid else self.win_start
+
+    @property
+    def n_samples(self) -> int:
+        """The window sampler's columns: the middle window's, then the end window's."""
+        return self.n_mid + self.n_win
+
+    @property
+    def sample_jump(self) -> int:
+        """The column after which the sampler jumps to win_start (-1: no middle window)."""
+        return self.n_mid if self.n_mid else -1
+
+    def sample_steps(self) -> np.ndarray:
+        """The steps at which the window sampler samples, in column order."""
+        return np.concatenate((self.mid_start + self.win_stride * np.arange(self.n_mid),
+                               self.win_start + self.win_stride * np.arange(self.n_win)))
 
     @property
     def t_end(self) -> float:
@@ -174,7 +207,7 @@ class Memory:
 
 def memory_of(g: Grid, s: SolverSettings) -> Memory:
     """The memory a run on grid ``g`` needs (single-run kernel; see MAX_RUN_BYTES)."""
-    return Memory(ring=RING_BYTES[s.method] * (g.n_delay + 1), window=SAMPLE_BYTES * g.n_win,
+    return Memory(ring=RING_BYTES[s.method] * (g.n_delay + 1), window=SAMPLE_BYTES * g.n_samples,
                   trace=SAMPLE_BYTES * g.n_trace,
                   logs=LOG_BYTES * (g.n_steps // g.renorm_steps) if s.lyap else 0)
 
@@ -200,11 +233,16 @@ def make_grid(p: Params, s: SolverSettings) -> Grid:
     win_stride = max(1, round(WINDOW_SAMPLE_DT / dt), math.ceil(n_window_steps / MAX_WINDOW_SAMPLES))
     n_win = n_window_steps // win_stride + 1
     win_start = n_steps - (n_win - 1) * win_stride
+    # The middle window ends at the middle of the run; only if it fits before the end
+    # window (a window of half the run or more has none: the classifier then compares the
+    # halves of the end window).
+    mid_start = n_steps // 2 - (n_win - 1) * win_stride
+    n_mid = n_win if mid_start >= 0 and n_steps // 2 < win_start else 0
     trace_stride = max(1, n_steps // (s.trace_points - 1))
     n_trace = n_steps // trace_stride + 1
     renorm_steps = _renorm_steps(p, dt)
     g = Grid(dt, n_delay, n_steps, win_start, win_stride, n_win, trace_stride, n_trace,
-             renorm_steps)
+             renorm_steps, mid_start if n_mid else 0, n_mid)
     _check_memory(p, s, g)
     return g
 
@@ -320,7 +358,9 @@ def _window_error(s: SolverSettings, g: Grid) -> LimitError:
 
 @dataclass(slots=True)
 class Trajectory:
-    """What one integration keeps. Arrays have rows (m_x, m_y, s_x, s_y, u)."""
+    """What one integration keeps. Arrays have rows (m_x, m_y, s_x, s_y, u): the analysis
+    window at the end of the run, the window of as many samples that ends at its middle
+    (empty when there is none, see Grid), and the trace of the whole run."""
 
     params: Params
     settings: SolverSettings
@@ -332,6 +372,8 @@ class Trajectory:
     trace: np.ndarray
     lyap_logs: np.ndarray = field(repr=False)
     runtime_s: float = 0.0
+    mid_t: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    mid: np.ndarray = field(default_factory=lambda: np.zeros((5, 0)), repr=False)
 
     @property
     def blew_up(self) -> bool:
@@ -350,16 +392,17 @@ def simulate(p: Params, s: SolverSettings | None = None) -> Trajectory:
     from core.euler import euler
     from core.model import coefficients
     from core.rk4 import rk4
+    from core.stiff import stiff
 
     s = s or SolverSettings()
     g = make_grid(p, s)
-    win = np.full((5, g.n_win), np.nan)
+    win = np.full((5, g.n_samples), np.nan)
     trace = np.full((5, g.n_trace), np.nan)
     logs = np.zeros(g.n_steps // g.renorm_steps if s.lyap else 0)
     t0 = time.perf_counter()
-    done = {"euler": euler, "rk4": rk4}[s.method](
+    done = {"euler": euler, "rk4": rk4, "stiff": stiff}[s.method](
         coefficients(p), g.dt, g.n_delay, g.n_steps,
-        win, g.win_start, g.win_stride, trace, g.trace_stride,
+        win, g.sample_start, g.win_stride, g.sample_jump, g.win_start, trace, g.trace_stride,
         s.lyap, g.renorm_steps, logs,
     )
     return trajectory_of(p, s, g, int(done), win, trace, logs, time.perf_counter() - t0)
@@ -368,11 +411,12 @@ def simulate(p: Params, s: SolverSettings | None = None) -> Trajectory:
 def trajectory_of(p: Params, s: SolverSettings, g: Grid, done: int, win: np.ndarray,
                   trace: np.ndarray, logs: np.ndarray, runtime: float) -> Trajectory:
     """Wrap a kernel's outputs (done steps, samplers, tangent logs) as a Trajectory."""
-    win_n = g.win_start + g.win_stride * np.arange(g.n_win)
+    win_n = g.sample_steps()
     trace_n = g.trace_stride * np.arange(g.n_trace)
     # after a blow-up at step `done`, only the states before it were sampled
     last = g.n_steps if done == g.n_steps else done - 1
     n_w, n_t = int(np.count_nonzero(win_n <= last)), int(np.count_nonzero(trace_n <= last))
     n_r = done // g.renorm_steps if s.lyap else 0
-    return Trajectory(p, s, g, done, win_n[:n_w] * g.dt, win[:, :n_w], trace_n[:n_t] * g.dt,
-                      trace[:, :n_t], logs[:n_r], runtime)
+    n_m = min(n_w, g.n_mid)  # the middle window's samples, then the end window's
+    return Trajectory(p, s, g, done, win_n[n_m:n_w] * g.dt, win[:, n_m:n_w], trace_n[:n_t] * g.dt,
+                      trace[:, :n_t], logs[:n_r], runtime, win_n[:n_m] * g.dt, win[:, :n_m])

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from slopetui.store import Database
+from slopetui.store import Database, open_store
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 from tests.support import ADAPTIVE_PLANE, EVIL, QUICK_SOLVER, finish_adaptive
@@ -32,7 +32,7 @@ def db_url(tmp_path: Path) -> str:
 
 @pytest.fixture
 def db(db_url: str) -> Database:
-    database = Database(db_url)
+    database = open_store(db_url)
     yield database
     database.dispose()
 
@@ -41,7 +41,7 @@ def db(db_url: str) -> Database:
 def refined(tmp_path_factory) -> tuple[str, int]:
     """A store holding ADAPTIVE_PLANE refined to the end (one per test module)."""
     url = f"sqlite:///{tmp_path_factory.mktemp('adaptive') / 'store.db'}"
-    db = Database(url)
+    db = open_store(url)
     out = submit(db, parse_spec(ADAPTIVE_PLANE))
     assert out.n_runs == 12 and out.n_points == 13 * 9  # the coarse lattice: 4 x 3
     finish_adaptive(db, out.sweep_id)

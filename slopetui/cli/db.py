@@ -86,31 +86,33 @@ def handle(args: argparse.Namespace) -> int:
     )
 
     if args.db_action == "upgrade":
-        db = Database(args.db, upgrade=False)
+        db = Database(args.db)
         before, after = upgrade(db)
         print(f"{db.display_url}: {before or 'empty'} -> {after}"
               if before != after else f"{db.display_url}: already at {after}")
     elif args.db_action == "downgrade":
-        db = Database(args.db, upgrade=False)
+        db = Database(args.db)
         _confirm(db, args.revision, args.yes)
         before, after, copy = downgrade(db, args.revision)
         print(f"{db.display_url}: {before} -> {after}"
               + (f"; backup copy {copy}" if copy else ""))
         print("note: any command of this slopetui upgrades it again")
     elif args.db_action == "current":
-        db = Database(args.db, upgrade=False)
+        db = Database(args.db)
         rev = current_revision(db)
         state = "current" if rev == head_revision() else f"head is {head_revision()}"
         print(f"{db.display_url}: revision {rev or 'none (empty)'} ({state})")
     elif args.db_action == "check":
         try:
-            db = Database(args.db, upgrade=False)
+            db = Database(args.db)
         except StoreError as exc:  # a file SQLite cannot even open is damaged too
             print(exc)
             return 1
         return _check(db)
     else:
         from alembic import command
-        db = Database(args.db)
+
+        from slopetui.store.open import open_store
+        db = open_store(args.db)  # autogenerate compares the models with the head schema
         command.revision(alembic_config(db), message=args.message, autogenerate=True)
     return 0

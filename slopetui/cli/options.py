@@ -31,8 +31,8 @@ def add_db_option(parser: argparse.ArgumentParser) -> None:
 
 
 def open_db(args: argparse.Namespace) -> Database:
-    from slopetui.store.database import Database
-    return Database(args.db)
+    from slopetui.store.open import open_store
+    return open_store(args.db)
 
 
 def int_arg(flag: str, text: str, low: int, high: int = MAX_SQL_INT, note: str = "") -> int:

@@ -104,8 +104,11 @@ def render_text(r: PointResult) -> str:
         f"regime     {s.regime} ({s.detail})",
         f"lambda_max {lam}",
         f"amplitude  {s.amplitude:.6g}  (peak-to-peak of m_y)",
-        f"period     {s.period:.6g}  ({s.period_count} peak cluster{'s' if s.period_count > 1 else ''})"
+        f"period     {s.period:.6g}  (return time: {s.period_count} basic period"
+        f"{'s' if s.period_count > 1 else ''}, {s.maxima_per_period} maxima)"
         if s.period_count > 0 else f"period     {s.period:.6g}",
+        f"attractor  {s.attractor}, {'settled' if s.settled else 'not settled'}"
+        + (f"; flags {', '.join(s.flags)}" if s.flags else ""),
         f"peaks      {peaks}",
         f"frequency  {s.frequency:.6g}",
         f"drift      {s.drift:.6g}  (mean dm_x/dt over the window)",

@@ -133,8 +133,8 @@ def _detach(args: argparse.Namespace, db: Database, log: Path) -> int:
 
 def handle(args: argparse.Namespace) -> int:
     _check(args)
-    from slopetui.store.database import Database
-    db = Database(args.db)  # open (and migrate) now: a bad URL fails here, in the foreground
+    from slopetui.store.open import open_store
+    db = open_store(args.db)  # open (and migrate) now: a bad URL fails here, in the foreground
     if args.stop:
         from slopetui.cli.workers import stop_pools
         return stop_pools(db, now=args.now)

@@ -48,6 +48,7 @@ from slopetui.queue.worker_process import (
 )
 from slopetui.store.database import Database
 from slopetui.store.integrity import integrity_problems
+from slopetui.store.open import open_store
 
 __all__ = ["DeathWindow", "Pool", "default_jobs", "run_pool"]
 
@@ -200,7 +201,7 @@ class Pool:
     def run(self) -> int:
         """Run until stopped (or, with exit_when_idle, until the queue is drained).
         Returns the exit status: 0, or 1 if it gave up (see the module docstring)."""
-        db = Database(self.opts.db_url)  # migrates a new or old database, under a lock
+        db = open_store(self.opts.db_url)  # migrates a new or old database, under a lock
         damage = integrity_problems(db, quick=True)
         if damage:  # results written into a damaged file could be lost with it
             log.error("the database file %s is damaged (%s): the pool does not start; "

@@ -26,7 +26,8 @@ def warm_up() -> None:
     """Compile (or load from numba's cache) every kernel a run can use, with a short run
     of each method, so the first real job does not pay for compilation."""
     from core import Params, SolverSettings, run_batch, run_point
-    for method in ("euler", "rk4"):
+    # stiff: the fallback of every explicit run that blows up (core.point)
+    for method in ("euler", "rk4", "stiff"):
         settings = SolverSettings(method=method, t_end=20.0, window=10.0)
         run_point(Params(tau=1.0), settings)
         run_batch([Params(tau=1.0), Params(tau=2.0)], settings)

@@ -48,15 +48,12 @@ from concurrent.futures import wait as wait_futures
 from dataclasses import dataclass
 from typing import Any
 
-from sqlalchemy import func
-from sqlalchemy import select as sql_select
-
 from slopetui.queue import defaults, jobs
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
 from slopetui.queue.warm_up import watched_warm_up
+from slopetui.store.claims import queue_drained
 from slopetui.store.database import Database
-from slopetui.store.db_time import db_now
-from slopetui.store.models import Run, Sweep, Worker
+from slopetui.store.worker_rows import register_worker, unregister_worker
 
 log = logging.getLogger("slopetui.worker")
 
@@ -184,34 +181,6 @@ class Control:
             if left <= 0:
                 return
             select.select([self.signals.fileno()], [], [], min(left, TICK_S))
-
-
-def _register(db: Database, worker_id: str) -> None:
-    with db.transaction() as s:
-        worker = s.get(Worker, worker_id)
-        if worker is None:
-            s.add(Worker(id=worker_id, host=socket.gethostname(), pid=os.getpid()))
-        else:  # a pid reused on the same host
-            worker.stopped_at, worker.run_id, worker.jobs_done = None, None, 0
-            worker.started_at = worker.heartbeat_at = db_now()
-
-
-def _unregister(db: Database, worker_id: str) -> None:
-    with db.transaction() as s:
-        worker = s.get(Worker, worker_id)
-        if worker is not None:
-            worker.stopped_at, worker.run_id = db_now(), None
-
-
-def queue_drained(db: Database) -> bool:
-    """Nothing left that a worker could still have to do: no queued run of an active
-    sweep and no running run (a running run may come back if its worker dies)."""
-    with db.sessions() as s:
-        waiting = s.scalar(sql_select(func.count()).select_from(Run).join(Sweep)
-                           .where(Run.status == "queued", Sweep.status == "active"))
-        running = s.scalar(sql_select(func.count()).select_from(Run)
-                           .where(Run.status == "running"))
-    return waiting == 0 and running == 0
 
 
 class _Heartbeat(threading.Thread):
@@ -375,8 +344,8 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
         control.say(wid)  # nothing claimed, nothing registered: just leave
         logging.shutdown()
         os._exit(0)
-    db = Database(opts.db_url, upgrade=False)  # the pool migrated it before spawning us
-    _register(db, wid)
+    db = Database(opts.db_url)  # not open_store: the pool migrated it before spawning us
+    register_worker(db, wid, socket.gethostname(), os.getpid())
     hb = _Heartbeat(db, wid, opts)
     hb.start()
     log.info("worker %s started", wid)
@@ -399,7 +368,7 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
             control.say(wid)
     finally:
         hb.halt.set()
-        _unregister(db, wid)
+        unregister_worker(db, wid)
         log.info("worker %s stopped", wid)
     # os._exit, not a return: the interpreter's finalisation puts SIGTERM's default action
     # back, and a late SIGTERM (the second of a stop) would then kill the worker with -15,

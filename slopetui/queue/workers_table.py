@@ -7,13 +7,11 @@ The queue's own view of who is working (the pool finds its workers here, and ``s
 from __future__ import annotations
 
 from dataclasses import dataclass
-from datetime import datetime, timedelta
-
-from sqlalchemy import select
+from datetime import datetime
 
 from slopetui.queue.defaults import LEASE_S
 from slopetui.store.database import Database
-from slopetui.store.models import Worker
+from slopetui.store.worker_rows import live_worker_rows
 
 
 @dataclass(frozen=True)
@@ -29,11 +27,7 @@ class WorkerInfo:
 
 def live_workers(db: Database) -> list[WorkerInfo]:
     """Workers that have not stopped and sent a heartbeat within the lease."""
-    with db.sessions() as s:
-        now = db.now(s)
-        rows = s.scalars(select(Worker).where(Worker.stopped_at.is_(None),
-                                              Worker.heartbeat_at >= now - timedelta(seconds=LEASE_S))
-                         .order_by(Worker.started_at))
-        return [WorkerInfo(w.id, w.host, w.pid, w.started_at,
-                           (now - w.heartbeat_at).total_seconds(), w.run_id, w.jobs_done)
-                for w in rows]
+    now, rows = live_worker_rows(db, LEASE_S)
+    return [WorkerInfo(w.id, w.host, w.pid, w.started_at,
+                       (now - w.heartbeat_at).total_seconds(), w.run_id, w.jobs_done)
+            for w in rows]

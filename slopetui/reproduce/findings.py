@@ -14,8 +14,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from core import SolverSettings, run_point
-from core.classify import find_peaks, peak_period
+from core.classify import find_peaks
 from core.lyapunov import format_with_error
+from core.returns import find_return
 from slopetui.reproduce import measures as m
 from slopetui.sweeps.diagram import RunPoint, SweepDiagram
 from slopetui.sweeps.presets import BY_KEY
@@ -113,9 +114,11 @@ def _extrema_counts(diag: SweepDiagram, k: float) -> tuple[int, int]:
     r = run_point(diag.spec.base.with_(k=k), settings)
     t, y = r.trajectory.window_t, r.trajectory.window[1]
     amp = float(y.max() - y.min())
-    _, maxima = find_peaks(t, y)
-    _, minima = find_peaks(t, -y)
-    return peak_period(maxima, amp), peak_period(minima, amp)
+    returns = []
+    for sign in (1.0, -1.0):  # maxima, then minima: their numbers in one return
+        ret = find_return(*find_peaks(t, sign * y), amp, math.nan)
+        returns.append(ret.maxima if ret else 0)
+    return returns[0], returns[1]
 
 
 def fig4b(d: Diagrams) -> Finding:

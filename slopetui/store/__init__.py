@@ -1,6 +1,8 @@
 """The experiment store: SQLAlchemy models of sweeps, runs and workers, the one module
-that owns engines, sessions and transactions, the Alembic migrations applied on open, and
-the named queries the faces call (``slopetui.store.queries``).
+that owns engines, sessions and transactions, the Alembic migrations ``open_store``
+applies, and every SQL statement behind a name: the faces' reads
+(``slopetui.store.queries``), the queue's (``claims``, ``cached_results``,
+``worker_rows``) and the sweeps' (``sweep_rows``, ``sweep_reads``, ``adaptive_rows``).
 
 The names below are imported on first use (PEP 562), so that a light submodule
 (``slopetui.store.location``) can be imported without SQLAlchemy.
@@ -12,7 +14,8 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 _EXPORTS = {
-    "Database": "slopetui.store.database", "default_url": "slopetui.store.location",
+    "Database": "slopetui.store.database", "open_store": "slopetui.store.open",
+    "default_url": "slopetui.store.location",
     "RUN_STATUSES": "slopetui.store.statuses", "SWEEP_STATUSES": "slopetui.store.statuses",
     "Base": "slopetui.store.models", "Run": "slopetui.store.models",
     "Sweep": "slopetui.store.models", "Worker": "slopetui.store.models",
@@ -34,4 +37,5 @@ if TYPE_CHECKING:
     from slopetui.store.database import Database
     from slopetui.store.location import default_url
     from slopetui.store.models import Base, Run, Sweep, Worker
+    from slopetui.store.open import open_store
     from slopetui.store.statuses import RUN_STATUSES, SWEEP_STATUSES

@@ -1,6 +1,7 @@
 """The one module that owns engines, sessions and transactions.
 
-``Database(url)`` opens (and creates, and migrates) a store. Every write goes through
+``Database(url)`` opens (and creates) a store; ``open_store(url)`` (``slopetui.store.open``)
+opens it and migrates it to the current schema. Every write goes through
 ``Database.transaction()``; on SQLite that is a ``BEGIN IMMEDIATE`` transaction, so two
 processes never both hold a read lock they then try to upgrade (that upgrade ignores
 busy_timeout and fails at once with "database is locked").
@@ -22,7 +23,6 @@ from sqlalchemy.engine import URL, CursorResult, Result, make_url
 from sqlalchemy.exc import ArgumentError, DBAPIError
 from sqlalchemy.orm import Session, sessionmaker
 
-import migrations
 from slopetui.store.db_time import db_now
 from slopetui.store.failures import StoreError, describe, os_failure
 from slopetui.store.location import DB_ENV, default_url
@@ -167,13 +167,14 @@ def _postgres_read_only_begin(conn: Any) -> None:
 
 
 class Database:
-    """A store at ``url`` (default: ``default_url()``), migrated to the current schema.
-
-    upgrade : apply pending migrations on open (under a file lock). ``slopetui db upgrade``
-              opens with the default; ``False`` is for tools that inspect an old schema.
+    """A store at ``url`` (default: ``default_url()``), at whatever schema it has: nothing
+    is migrated here. ``open_store`` (``slopetui.store.open``) opens one and migrates it;
+    ``Database`` alone is for the tools that inspect or change an old schema
+    (``slopetui db``), and for the workers, whose pool migrated the store before it
+    spawned them.
     """
 
-    def __init__(self, url: str | None = None, *, upgrade: bool = True) -> None:
+    def __init__(self, url: str | None = None) -> None:
         explicit = url or os.environ.get(DB_ENV)
         self.url = parse_url(explicit or default_url())
         self.path = sqlite_path(self.url)
@@ -186,11 +187,9 @@ class Database:
         #: Sessions for reading (``with db.sessions() as s``); writes use transaction().
         self.sessions = sessionmaker(self.reader, expire_on_commit=False)
         self._write_sessions = sessionmaker(self.engine, expire_on_commit=False)
-        revision = self._first_read()
-        if upgrade and revision != migrations.HEAD:
-            # only a stale schema pays for Alembic and the migration lock
-            from slopetui.store.migrate import upgrade as upgrade_schema
-            upgrade_schema(self)
+        #: The schema revision the store was at when opened (None: no schema yet), read
+        #: once: open_store compares it with the head before it pays for Alembic.
+        self.opened_revision = self._first_read()
 
     def stored_revision(self) -> str | None:
         """The schema revision the store is at, read in plain SQL (None: no schema yet)."""

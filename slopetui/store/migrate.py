@@ -1,5 +1,6 @@
 """Alembic, configured in code: the scripts in ``migrations/`` (shipped as a package, so a
-non-editable install carries them), applied when a database is opened.
+non-editable install carries them), applied when a database is opened
+(``slopetui.store.open.open_store``).
 
 Every change of schema, up or down, first copies a SQLite store aside
 (``slopetui.db.bak-<revision before>``), and runs with SQLite's foreign keys off: Alembic's

@@ -139,6 +139,11 @@ class Run(Base):
     amplitude: Mapped[float | None] = mapped_column(Measure)
     period: Mapped[float | None] = mapped_column(Measure)
     period_count: Mapped[int | None] = mapped_column(Integer)
+    maxima_per_period: Mapped[int | None] = mapped_column(Integer)
+    attractor: Mapped[str | None] = mapped_column(String(16))
+    settled: Mapped[bool | None] = mapped_column(Boolean)
+    #: Comma-separated words (core.result_fields): query them with LIKE '%uphill%'.
+    flags: Mapped[str | None] = mapped_column(String(160))
     #: Peak clusters of m_y in the analysis window (JSON list of floats).
     peaks: Mapped[list[float] | None]
     frequency: Mapped[float | None] = mapped_column(Measure)

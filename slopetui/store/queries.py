@@ -3,7 +3,10 @@ each behind a name: the faces call these and import no SQLAlchemy (import-linter
 ``faces-no-sqlalchemy`` contract), the way Optuna's RDB storage owns every query.
 
 Reads only, on ``Database.sessions()``. What belongs to a sweeps-level concept (a
-diagram, the progress of a sweep, pause/resume/cancel) stays in ``slopetui.sweeps``.
+diagram, the progress of a sweep, pause/resume/cancel) is read and written by the
+modules of the store named after it (``sweep_reads``, ``sweep_rows``, ``adaptive_rows``),
+which ``slopetui.sweeps`` calls; the queue's statements are in ``claims``,
+``cached_results`` and ``worker_rows``.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ from sqlalchemy import Engine, func, select
 from slopetui.store.database import Database
 from slopetui.store.models import Run, Sweep
 
-__all__ = ["Engine", "database_now", "newest_sweep_id", "runs_matching", "runs_of",
+__all__ = ["Engine", "database_now", "newest_sweep_id", "run_by_id", "runs_matching", "runs_of",
            "runtime_total", "sweep_exists", "unfinished_runs"]
 
 # ``Engine`` is named here for the faces' annotations (the SQL console's read-only engine),
@@ -35,6 +38,13 @@ def runs_matching(db: Database, *, sweep: int | None = None, regime: str | None 
         query = query.limit(limit)
     with db.sessions() as s:
         return list(s.scalars(query))
+
+
+def run_by_id(db: Database, run_id: int) -> Run | None:
+    """The run with this id (its columns loaded, the session closed), or None if the store
+    has no such run. The run detail's copy of a run (``slopetui.sweeps.recompute``)."""
+    with db.sessions() as s:
+        return s.get(Run, run_id)
 
 
 def sweep_exists(db: Database, sweep_id: int) -> bool:

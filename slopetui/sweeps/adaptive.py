@@ -17,10 +17,12 @@ Decisions, and why:
   the corners of active cells, known when their level completes), so ``advance``
   replays it from the stored labels instead of keeping cells in the database. Workers
   call ``advance_all`` after each batch and when idle; any process may call ``advance``.
-- *One transaction, re-checked inside.* ``advance`` runs in one ``db.transaction()``
+- *One transaction, re-checked inside.* ``advance`` runs in one write transaction
   (BEGIN IMMEDIATE on SQLite, the sweep's row locked FOR UPDATE on PostgreSQL) and
   re-reads the condition there: two workers that both see a level complete queue the
   next one once. Calling it again, or on a sweep that is not ready, changes nothing.
+  The store opens that transaction and makes the check
+  (``slopetui.store.adaptive_rows.advance_if_ready``); the step it calls back is here.
 - *A level is complete when none of its runs is queued or running.* A failed run is
   complete: its label is ``failed``, so the cells around it refine (the failure is
   surrounded by computed points) and an inferred point never takes a failed label
@@ -46,29 +48,19 @@ from __future__ import annotations
 
 import logging
 
-from sqlalchemy import exists, insert, select
-from sqlalchemy.orm import Session
-
 from core.jit_cache import source_digest
+from slopetui.store.adaptive_rows import LockedSweep, advance_if_ready, ready_sweeps
 from slopetui.store.database import Database
-from slopetui.store.models import Run, Sweep
 from slopetui.sweeps.refinement import FAILED, Point, Refinement, RefinementError
-from slopetui.sweeps.run_rows import insert_runs, run_rows
+from slopetui.sweeps.run_rows import run_rows
 from slopetui.sweeps.spec import SweepSpec, parse_spec
+
+__all__ = ["FAILED_CELL_ERROR", "advance", "advance_all", "ready_sweeps"]
 
 log = logging.getLogger("slopetui.adaptive")
 
 #: What an inferred run of a cell whose corners all failed says in ``runs.error``.
 FAILED_CELL_ERROR = "inferred, not computed: the 4 corners of its cell failed"
-
-_UNFINISHED = ("queued", "running")
-#: Adaptive sweeps whose current level is complete: the cheap check of advance_all (one
-#: indexed query, well under a millisecond, when there is nothing to do).
-_READY = (select(Sweep.id)
-          .where(Sweep.adaptive_levels.is_not(None), Sweep.refined.is_(False),
-                 Sweep.status == "active",
-                 ~exists().where(Run.sweep_id == Sweep.id, Run.status.in_(_UNFINISHED)))
-          .order_by(Sweep.id))
 
 
 def advance(db: Database, sweep_id: int) -> int:
@@ -79,28 +71,24 @@ def advance(db: Database, sweep_id: int) -> int:
     Raises RefinementError when the stored runs do not fit the sweep's level (a corner
     of an active cell has no computed run), which only a hand-edited store can do.
     """
-    with db.transaction() as s:
-        sweep = s.get(Sweep, sweep_id, with_for_update=True)
-        if (sweep is None or sweep.adaptive_levels is None or sweep.refined
-                or sweep.status != "active" or sweep.level is None):
-            return 0
-        if s.scalar(select(exists().where(Run.sweep_id == sweep_id,
-                                          Run.status.in_(_UNFINISHED)))):
-            return 0
-        return _advance(s, sweep, parse_spec(sweep.spec))
+    return advance_if_ready(db, sweep_id, _step)
 
 
-def _advance(s: Session, sweep: Sweep, spec: SweepSpec) -> int:
-    assert spec.y is not None and sweep.adaptive_levels is not None and sweep.level is not None
-    nx, ny, levels = spec.x.num, spec.y.num, sweep.adaptive_levels
-    labels = _known_labels(s, sweep.id)
+def _step(sweep: LockedSweep) -> int:
+    return _advance(sweep, parse_spec(sweep.spec))
+
+
+def _advance(sweep: LockedSweep, spec: SweepSpec) -> int:
+    assert spec.y is not None
+    nx, ny, levels = spec.x.num, spec.y.num, sweep.levels
+    labels = _known_labels(sweep)
     engine = source_digest()
     while True:
         refinement = Refinement(nx, ny, levels, labels, sweep.level)
         plan = refinement.next_level()
         if plan is None:
-            _insert_inferred(s, sweep.id, spec, refinement.fill(), engine)
-            sweep.refined = True
+            _insert_inferred(sweep, spec, refinement.fill(), engine)
+            sweep.mark_refined()
             return 0
         sweep.level = plan.level
         if not plan.new:
@@ -108,23 +96,20 @@ def _advance(s: Session, sweep: Sweep, spec: SweepSpec) -> int:
         rows = run_rows(spec, engine, plan.new)
         for row in rows:
             row["level"] = plan.level
-        n_cached = insert_runs(s, sweep.id, rows)
+        n_cached = sweep.insert_runs(rows)
         if n_cached < len(rows):
             return len(rows) - n_cached
         labels.update({(r["ix"], r["iy"]): str(r["regime"]) for r in rows})  # type: ignore[misc]
 
 
-def _known_labels(s: Session, sweep_id: int) -> dict[Point, str]:
+def _known_labels(sweep: LockedSweep) -> dict[Point, str]:
     """The label of every computed run of the sweep that finished: its regime, or
     FAILED."""
-    rows = s.execute(select(Run.ix, Run.iy, Run.status, Run.regime)
-                     .where(Run.sweep_id == sweep_id, Run.status.in_(("done", "failed")),
-                            Run.inferred.is_(False)))
     return {(ix, iy): (str(regime) if status == "done" else FAILED)
-            for ix, iy, status, regime in rows}
+            for ix, iy, status, regime in sweep.finished_runs()}
 
 
-def _insert_inferred(s: Session, sweep_id: int, spec: SweepSpec,
+def _insert_inferred(sweep: LockedSweep, spec: SweepSpec,
                      fill: dict[Point, tuple[str, int]], engine: str) -> None:
     if not fill:
         return
@@ -132,18 +117,12 @@ def _insert_inferred(s: Session, sweep_id: int, spec: SweepSpec,
     rows = run_rows(spec, engine, points)
     for row, point in zip(rows, points, strict=True):
         label, level = fill[point]
-        row.update(sweep_id=sweep_id, inferred=True, level=level)
+        row.update(sweep_id=sweep.id, inferred=True, level=level)
         if label == FAILED:
             row.update(status="failed", regime=None, error=FAILED_CELL_ERROR)
         else:
             row.update(status="done", regime=label, error=None)
-    s.execute(insert(Run), rows)
-
-
-def ready_sweeps(db: Database) -> list[int]:
-    """Adaptive sweeps that are active, not refined, and have no run queued or running."""
-    with db.reader.connect() as conn:
-        return list(conn.execute(_READY).scalars())
+    sweep.insert_inferred(rows)
 
 
 def advance_all(db: Database) -> int:

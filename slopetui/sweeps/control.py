@@ -3,10 +3,8 @@
 
 from __future__ import annotations
 
-from sqlalchemy import update
-
-from slopetui.store.database import Database, rows_changed
-from slopetui.store.models import Run, Sweep
+from slopetui.store.database import Database
+from slopetui.store.sweep_rows import cancel_sweep, set_sweep_status
 
 
 class UnknownSweep(LookupError):
@@ -15,13 +13,10 @@ class UnknownSweep(LookupError):
 
 
 def _set_status(db: Database, sweep_id: int, status: str, allowed_from: tuple[str, ...]) -> str:
-    with db.transaction() as s:
-        sweep = s.get(Sweep, sweep_id)
-        if sweep is None:
-            raise UnknownSweep(sweep_id)
-        if sweep.status in allowed_from:
-            sweep.status = status
-        return sweep.status
+    current = set_sweep_status(db, sweep_id, status, allowed_from)
+    if current is None:
+        raise UnknownSweep(sweep_id)
+    return current
 
 
 def pause(db: Database, sweep_id: int) -> str:
@@ -35,14 +30,10 @@ def resume(db: Database, sweep_id: int) -> str:
 
 def cancel(db: Database, sweep_id: int) -> int:
     """Cancel the sweep's queued runs (running ones finish); returns how many."""
-    with db.transaction() as s:
-        sweep = s.get(Sweep, sweep_id)
-        if sweep is None:
-            raise UnknownSweep(sweep_id)
-        sweep.status = "cancelled"
-        return rows_changed(s.execute(update(Run).where(Run.sweep_id == sweep_id,
-                                                        Run.status == "queued")
-                                      .values(status="cancelled")))
+    n = cancel_sweep(db, sweep_id)
+    if n is None:
+        raise UnknownSweep(sweep_id)
+    return n
 
 
 #: The actions by name, as the faces offer them.

@@ -8,11 +8,10 @@ listed by ``SweepDiagram.unqueued`` so that drawings show them as pending.
 from __future__ import annotations
 
 from dataclasses import dataclass
-
-from sqlalchemy import select
+from typing import Any
 
 from slopetui.store.database import Database
-from slopetui.store.models import Run, Sweep
+from slopetui.store.sweep_reads import diagram_rows
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.hopf_plane import Curve, hopf_boundary
 from slopetui.sweeps.spec import SweepSpec, parse_spec
@@ -83,22 +82,20 @@ def plane_hopf(spec: SweepSpec) -> Curve | None:
                          (min(y.start, y.stop), max(y.start, y.stop)))
 
 
+def _read_spec(stored: dict[str, Any]) -> tuple[SweepSpec, str, str | None]:
+    spec = parse_spec(stored)
+    return spec, spec.x.param, spec.y.param if spec.y else None
+
+
 def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
     """Everything a phase or bifurcation diagram of the sweep needs, in one read."""
-    with db.sessions() as s:
-        sweep = s.get(Sweep, sweep_id)
-        if sweep is None:
-            raise UnknownSweep(sweep_id)
-        spec = parse_spec(sweep.spec)
-        cols = (Run.id, Run.ix, Run.iy, getattr(Run, spec.x.param),
-                getattr(Run, spec.y.param) if spec.y else Run.iy, Run.status, Run.regime,
-                Run.peaks, Run.drift, Run.error, Run.detail, Run.period_count, Run.lambda_max,
-                Run.lambda_err, Run.inferred)
-        rows = s.execute(select(*cols).where(Run.sweep_id == sweep_id)
-                         .order_by(Run.iy, Run.ix)).all()
+    read = diagram_rows(db, sweep_id, _read_spec)
+    if read is None:
+        raise UnknownSweep(sweep_id)
+    spec = read.spec
     runs = []
     for rid, ix, iy, x, y, status, regime, peaks, drift, error, detail, count, lam, lam_err, \
-            inferred in rows:
+            inferred in read.rows:
         done = status == "done"
         # A sliding run has no peaks: it rests near the fixed point m_y = 0 (eqs. 14-17;
         # with noise d > 0 it drifts at a small constant m_y). It is drawn at its window
@@ -107,4 +104,4 @@ def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
         runs.append(RunPoint(rid, ix, iy, x, y if spec.y else None, status,
                              regime if done else None, shown, error, detail if done else None,
                              count if done else None, lam, lam_err, drift, bool(inferred)))
-    return SweepDiagram(sweep.id, sweep.name, spec, runs)
+    return SweepDiagram(read.sweep_id, read.name, spec, runs)

@@ -10,15 +10,12 @@ the next level is still to come. ``stage`` says where it is ("level 2/3", "refin
 
 from __future__ import annotations
 
-from collections import defaultdict
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 
-from sqlalchemy import func, select
-
 from slopetui.queue.workers_table import WorkerInfo, live_workers
 from slopetui.store.database import Database
-from slopetui.store.models import Run, Sweep
+from slopetui.store.sweep_reads import active_sweep_ids, sweep_tallies
 
 __all__ = ["RATE_WINDOW_MIN", "PoolProgress", "SweepProgress", "WorkerInfo", "format_eta",
            "live_workers", "sweep_progress"]
@@ -80,34 +77,11 @@ def format_eta(seconds: float | None) -> str:
 
 def sweep_progress(db: Database, sweep_ids: list[int] | None = None) -> list[SweepProgress]:
     """Progress of the given sweeps (default: all), newest first."""
-    with db.sessions() as s:
-        now = db.now(s)
-        q = select(Sweep).order_by(Sweep.id.desc())
-        if sweep_ids:
-            q = q.where(Sweep.id.in_(sweep_ids))
-        sweeps = list(s.scalars(q))
-        ids = [sw.id for sw in sweeps]
-        counts: dict[int, dict[str, int]] = defaultdict(dict)
-        for sid, status, n in s.execute(select(Run.sweep_id, Run.status, func.count())
-                                        .where(Run.sweep_id.in_(ids))
-                                        .group_by(Run.sweep_id, Run.status)):
-            counts[sid][status] = n
-        cached = dict(s.execute(select(Run.sweep_id, func.count())
-                                .where(Run.sweep_id.in_(ids), Run.cached_from.is_not(None))
-                                .group_by(Run.sweep_id)).all())
-        adaptive = [sw.id for sw in sweeps if sw.adaptive_levels is not None]
-        inferred = dict(s.execute(select(Run.sweep_id, func.count())
-                                  .where(Run.sweep_id.in_(adaptive), Run.inferred.is_(True))
-                                  .group_by(Run.sweep_id)).all()) if adaptive else {}
-        since = now - timedelta(minutes=RATE_WINDOW_MIN)
-        recent = {sid: (n, first) for sid, n, first in s.execute(
-            select(Run.sweep_id, func.count(), func.min(Run.started_at))
-            .where(Run.sweep_id.in_(ids), Run.status == "done", Run.cached_from.is_(None),
-                   Run.inferred.is_(False), Run.finished_at >= since)
-            .group_by(Run.sweep_id))}
+    t = sweep_tallies(db, sweep_ids, timedelta(minutes=RATE_WINDOW_MIN))
+    now, since, cached, inferred, recent = t.now, t.since, t.cached, t.inferred, t.recent
     out = []
-    for sw in sweeps:
-        c = counts[sw.id]
+    for sw in t.sweeps:
+        c = t.counts.get(sw.id, {})
         n, first = recent.get(sw.id, (0, None))
         minutes = max((now - max(first, since)).total_seconds() / 60.0, 1 / 60) if first else 0
         rate = n / minutes if minutes else 0.0
@@ -134,8 +108,7 @@ class PoolProgress:
         self.last: tuple[int, int] | None = None
 
     def __call__(self) -> str | None:
-        with self.db.sessions() as s:
-            self.sweeps |= set(s.scalars(select(Sweep.id).where(Sweep.status == "active")))
+        self.sweeps |= active_sweep_ids(self.db)
         if not self.sweeps:
             return None
         mine = sweep_progress(self.db, sorted(self.sweeps))

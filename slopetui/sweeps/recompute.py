@@ -40,7 +40,7 @@ T = TypeVar("T")
 #: The Python type of a stored result field of each kind, as a Run attribute gives it.
 _ANNOTATIONS: dict[Kind, str] = {"text": "str | None", "measure": "float",
                                  "count": "int | None", "list": "list[float] | None",
-                                 "optional": "float | None"}
+                                 "optional": "float | None", "flag": "bool | None"}
 
 
 @dataclass_transform(frozen_default=True)
@@ -106,11 +106,10 @@ class StoredRun:
 
 def load_run(db: Database, run_id: int) -> StoredRun | None:
     """The run's copy, or None if the store has no such run."""
-    from slopetui.store.models import Run
+    from slopetui.store.queries import run_by_id
 
-    with db.sessions() as session:
-        row = session.get(Run, run_id)
-        return StoredRun.of(row) if row is not None else None
+    row = run_by_id(db, run_id)
+    return StoredRun.of(row) if row is not None else None
 
 
 @dataclass(frozen=True, slots=True)

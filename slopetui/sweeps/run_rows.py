@@ -1,16 +1,13 @@
-"""Rows of the runs table for a sweep's lattice points, and their insertion with the
-cache: what submission and adaptive refinement share."""
+"""Rows of the runs table for a sweep's lattice points, with their cache keys: what
+submission and adaptive refinement share (the store inserts them,
+``slopetui.store.sweep_rows.insert_runs``)."""
 
 from __future__ import annotations
 
 from collections.abc import Iterable
 
-from sqlalchemy import insert
-from sqlalchemy.orm import Session
-
 from core import PARAM_NAMES
-from slopetui.queue.cache import cache_key, finished_results, result_of
-from slopetui.store.models import Run
+from slopetui.queue.cache import cache_key
 from slopetui.sweeps.spec import SweepSpec
 
 Row = dict[str, object]
@@ -29,21 +26,3 @@ def run_rows(spec: SweepSpec, engine: str,
         rows.append(row)
     return rows
 
-
-def insert_runs(s: Session, sweep_id: int, rows: list[Row]) -> int:
-    """Insert the rows into the sweep, queued, or done with the result of an earlier
-    computed run with the same cache key. Returns how many took a cached result."""
-    cached = finished_results(s, (r["cache_key"] for r in rows))  # type: ignore[misc]
-    for row in rows:
-        row["sweep_id"] = sweep_id
-        hit = cached.get(str(row["cache_key"]))
-        if hit is not None:
-            row.update(result_of(hit), status="done", cached_from=hit.id)
-        else:
-            row["status"] = "queued"
-    done = [r for r in rows if r["status"] == "done"]
-    # Two bulk inserts, one per column set: executemany needs uniform rows.
-    for group in (done, [r for r in rows if r["status"] == "queued"]):
-        if group:
-            s.execute(insert(Run), group)
-    return len(done)

@@ -11,10 +11,10 @@ from dataclasses import dataclass
 
 from core.jit_cache import source_digest
 from slopetui.store.database import Database
-from slopetui.store.models import Sweep
+from slopetui.store.sweep_rows import insert_sweep
 from slopetui.sweeps.adaptive import advance
 from slopetui.sweeps.refinement import coarse_points
-from slopetui.sweeps.run_rows import insert_runs, run_rows
+from slopetui.sweeps.run_rows import run_rows
 from slopetui.sweeps.spec import SweepSpec
 
 __all__ = ["Submitted", "run_rows", "submit"]
@@ -41,13 +41,10 @@ def submit(db: Database, spec: SweepSpec) -> Submitted:
         rows = run_rows(spec, engine, coarse_points(spec.x.num, spec.y.num, levels))
         for row in rows:
             row["level"] = 0
-    with db.transaction() as s:
-        sweep = Sweep(name=spec.name, spec=spec.to_dict(), x_param=spec.x.param,
-                      y_param=spec.y.param if spec.y else None, n_runs=spec.n_runs,
-                      adaptive_levels=levels, level=None if levels is None else 0)
-        s.add(sweep)
-        s.flush()
-        n_cached = insert_runs(s, sweep.id, rows)
+    sweep_id, n_cached = insert_sweep(
+        db, name=spec.name, spec=spec.to_dict(), x_param=spec.x.param,
+        y_param=spec.y.param if spec.y else None, n_runs=spec.n_runs, adaptive_levels=levels,
+        rows=rows)
     if levels is not None:
-        advance(db, sweep.id)  # the whole coarse level may have come from the cache
-    return Submitted(sweep.id, len(rows), n_cached, spec.n_runs, levels)
+        advance(db, sweep_id)  # the whole coarse level may have come from the cache
+    return Submitted(sweep_id, len(rows), n_cached, spec.n_runs, levels)

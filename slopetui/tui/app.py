@@ -12,6 +12,7 @@ from textual.app import App
 from textual.binding import Binding
 
 from slopetui.store.database import Database
+from slopetui.store.open import open_store
 from slopetui.tui.screens.error import ErrorScreen
 from slopetui.tui.screens.queue import QueueScreen
 from slopetui.tui.screens.sql import SqlScreen
@@ -52,7 +53,7 @@ class SlopeApp(App[None]):
     def open_store(self) -> None:
         """Open (and migrate) the store off the UI thread; then attach to or start a pool."""
         try:
-            db = Database(self.db_url)
+            db = open_store(self.db_url)  # the store module's function, not this method
         except Exception as exc:  # any failure to open is shown, never a traceback
             self.call_from_thread(self.push_screen, ErrorScreen(
                 "The database cannot be opened", f"{type(exc).__name__}: {exc}"))

@@ -15,7 +15,7 @@ import pytest
 from sqlalchemy import select
 
 from slopetui.queue.worker_process import WorkerOptions
-from slopetui.store import Database
+from slopetui.store import open_store
 from slopetui.store.models import Sweep
 from slopetui.sweeps.adaptive import advance_all
 from slopetui.sweeps.progress import PoolProgress
@@ -56,7 +56,7 @@ def test_the_hooks_pickle_by_reference():
 
 def test_a_worker_pool_refines_an_adaptive_sweep_through_its_hook(tmp_path):
     url = f"sqlite:///{tmp_path / 'store.db'}"
-    db = Database(url)
+    db = open_store(url)
     spec = {"name": "adaptive", "x": {"param": "k", "start": 2, "stop": 20, "num": 7},
             "y": {"param": "tau", "start": 0.5, "stop": 10, "num": 5},
             "adaptive": {"levels": 1}, "solver": {**QUICK_SOLVER, "lyap": False}}

@@ -11,7 +11,7 @@ from collections import Counter
 
 from sqlalchemy import select
 
-from slopetui.store import Database, Run
+from slopetui.store import Run, open_store
 from slopetui.sweeps.progress import sweep_progress
 from tests.integration.pool_support import (
     MEDIUM,
@@ -66,7 +66,7 @@ def test_two_pools_and_a_reader_on_one_file(tmp_path, db, db_url):
     stop = threading.Event()
 
     def reader() -> None:
-        other = Database(db_url)
+        other = open_store(db_url)
         while not stop.is_set():
             try:
                 sweep_progress(other)

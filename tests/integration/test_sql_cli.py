@@ -19,7 +19,7 @@ import pytest
 from slopetui import sql_results
 from slopetui.cli import main
 from slopetui.cli import sql as cli_sql
-from slopetui.store import Database
+from slopetui.store import open_store
 from tests.support import ENDLESS, SLOW, submit_quick
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 @pytest.fixture
 def store(db_url: str) -> str:
-    db = Database(db_url)
+    db = open_store(db_url)
     submit_quick(db, 3)
     db.dispose()
     return db_url
@@ -264,7 +264,7 @@ def test_the_console_reads_rows_as_the_cli_does(store: str) -> None:
     also counts the rest."""
     from slopetui.store.read_query import QueryError, ReadQuery
 
-    db = Database(store)
+    db = open_store(store)
     engine = db.read_only_engine()
     try:
         chunks: list[list[tuple]] = []

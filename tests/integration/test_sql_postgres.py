@@ -16,7 +16,7 @@ from collections.abc import Iterator
 import pytest
 from sqlalchemy import Engine
 
-from slopetui.store import Database
+from slopetui.store import open_store
 from slopetui.store.read_query import QueryCancelled, QueryError, QueryTimedOut, ReadQuery
 
 PG_URL = os.environ.get("SLOPETUI_TEST_PG")
@@ -45,7 +45,7 @@ def pg_store() -> Iterator[str]:
 
 @pytest.fixture
 def engine(pg_store: str) -> Iterator[Engine]:
-    db = Database(pg_store)
+    db = open_store(pg_store)
     engine = db.read_only_engine()
     yield engine
     engine.dispose()

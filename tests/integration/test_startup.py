@@ -31,7 +31,7 @@ def test_building_every_parser_loads_no_heavy_module():
 
 
 def test_status_loads_the_database_driver_only(db_url):
-    from slopetui.store import Database
-    Database(db_url).dispose()  # an up-to-date store: no migration to run
+    from slopetui.store import open_store
+    open_store(db_url).dispose()  # an up-to-date store: no migration to run
     loaded = loaded_after(f"from slopetui.cli import main; main(['status', '--db', {db_url!r}])")
     assert loaded == {"sqlalchemy"}

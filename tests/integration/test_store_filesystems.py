@@ -12,7 +12,7 @@ import pytest
 from sqlalchemy import select
 
 from slopetui.cli import main
-from slopetui.store import Database, Run
+from slopetui.store import Run, open_store
 
 
 @pytest.fixture
@@ -52,5 +52,5 @@ def test_a_full_disk_is_named_and_nothing_is_half_written(tmpfs, capsys):
     assert code == 1
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "the disk is full" in err and "x.db" in err
-    with Database(url).sessions() as s:
+    with open_store(url).sessions() as s:
         assert s.scalars(select(Run)).first() is None  # the submit was rolled back whole

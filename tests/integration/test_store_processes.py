@@ -12,7 +12,7 @@ from pathlib import Path
 
 from sqlalchemy import inspect
 
-from slopetui.store import Database
+from slopetui.store import Database, open_store
 from slopetui.store.migrate import current_revision, head_revision
 from tests.support import slopetui_cli
 
@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_an_empty_database_upgrades_to_head(db_url):
-    db = Database(db_url, upgrade=False)
+    db = Database(db_url)
     assert current_revision(db) is None
     assert slopetui_cli("db", "upgrade", "--db", db_url).returncode == 0
     assert current_revision(db) == head_revision()
@@ -30,7 +30,7 @@ def test_an_empty_database_upgrades_to_head(db_url):
 
 
 def _open(url: str) -> str | None:
-    return current_revision(Database(url))
+    return current_revision(open_store(url))
 
 
 def test_processes_opening_a_new_file_at_once_do_not_race(tmp_path):

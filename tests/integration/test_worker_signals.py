@@ -16,7 +16,7 @@ from pathlib import Path
 
 from sqlalchemy import select
 
-from slopetui.store import Database, Run
+from slopetui.store import Database, Run, open_store
 from tests.integration.pool_support import (
     LONG,
     MEDIUM,
@@ -56,7 +56,7 @@ class Case:
         self.dir = root / self.name
         self.dir.mkdir()
         url = f"sqlite:///{self.dir / 'store.db'}"
-        self.db = Database(url)
+        self.db = open_store(url)
         if self.state == "busy":
             submit_quick(self.db, 3, **MEDIUM)  # one batch of 3, computed one by one
         elif self.state == "twice":

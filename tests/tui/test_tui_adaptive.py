@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from sqlalchemy import func, select
 
-from slopetui.store import Database
+from slopetui.store import open_store
 from slopetui.store.models import Run, Sweep
 from slopetui.sweeps.diagram import load_diagram
 from slopetui.tui.app import SlopeApp
@@ -18,7 +18,7 @@ from tests.tui.support import fill, open_form, run, wait_until
 def test_the_application_draws_an_adaptive_sweep_and_the_form_submits_one(refined):
     # it adds a sweep to the module's store: the last (only) test that uses it
     url, sweep_id = refined
-    db = Database(url)
+    db = open_store(url)
     diagram = load_diagram(db, sweep_id)
 
     async def scenario():

@@ -26,7 +26,7 @@ from slopetui.plots.run_plots import (
     render_time_series,
 )
 from slopetui.queue import jobs
-from slopetui.store import Database
+from slopetui.store import Database, open_store
 from slopetui.store.models import Run
 from slopetui.tui.app import SlopeApp
 from slopetui.tui.screens.run_detail import (
@@ -97,7 +97,7 @@ async def open_run(app: SlopeApp, pilot: Pilot, run_id: int) -> RunDetailScreen:
 @pytest.fixture
 def done_store(db_url: str) -> list[int]:
     """Two finished runs (k = 4: sliding at rest; k = 12: oscillating), RK4 to t_end = 600."""
-    db = Database(db_url)
+    db = open_store(db_url)
     submit_quick(db, 2, t_end=600.0)
     finish_all(db)
     ids = run_ids(db)
@@ -106,7 +106,7 @@ def done_store(db_url: str) -> list[int]:
 
 
 def test_a_done_run_shows_its_summary_four_plots_and_the_match(db_url, done_store):
-    db = Database(db_url)
+    db = open_store(db_url)
     with db.sessions() as s:
         stored = s.get(Run, done_store[-1])
         regime, k = stored.regime, stored.k
@@ -150,7 +150,7 @@ def test_a_fixed_point_says_so_in_the_phase_portrait(db_url, done_store):
 
 
 def test_a_result_that_differs_from_the_stored_one_is_a_warning(db_url, done_store):
-    db = Database(db_url)
+    db = open_store(db_url)
     with db.transaction() as s:
         s.execute(update(Run).where(Run.id == done_store[-1])
                   .values(regime="mixed", lambda_max=0.5, lambda_err=0.001, engine="0123456789abcdef"))
@@ -181,7 +181,7 @@ def test_a_missing_run_is_an_error_on_screen_not_a_crash(db_url, done_store):
 
 
 def test_a_recomputation_that_raises_shows_its_cause(db_url, done_store):
-    db = Database(db_url)
+    db = open_store(db_url)
     with db.transaction() as s:  # dt > tau: the solver refuses the grid (in the worker)
         s.execute(update(Run).where(Run.id == done_store[0]).values(dt=5.0))
     db.dispose()
@@ -197,7 +197,7 @@ def test_a_recomputation_that_raises_shows_its_cause(db_url, done_store):
 
 
 def test_a_failed_run_shows_its_error_and_computes_only_on_request(db_url):
-    db = Database(db_url)
+    db = open_store(db_url)
     submit_quick(db, 1)
     job = jobs.claim(db, "w")
     traceback = "Traceback (most recent call last):\n  File \"x.py\", line 1\nRuntimeError: boom"

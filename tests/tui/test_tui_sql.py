@@ -18,7 +18,7 @@ from textual.screen import Screen
 from textual.widgets import DataTable, OptionList, Static, TextArea, Tree
 
 from slopetui.sql_history import read_history
-from slopetui.store import Database
+from slopetui.store import Database, open_store
 from slopetui.tui.app import SlopeApp
 from slopetui.tui.screens import sql as sql_screen
 from slopetui.tui.screens.sql import (
@@ -45,7 +45,7 @@ def history_path(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
 @pytest.fixture
 def store(db_url: str) -> str:
     """A store with one sweep of N_RUNS queued runs."""
-    db = Database(db_url)
+    db = open_store(db_url)
     submit_quick(db, N_RUNS)
     db.dispose()
     return db_url
@@ -211,7 +211,7 @@ def test_waits_for_the_database(store: str, monkeypatch: pytest.MonkeyPatch) -> 
             assert status(pilot) == "opening the database…"
             assert (await run_sql(pilot, "SELECT count(*) AS n FROM runs")) == \
                 "opening the database…"
-            app.db = Database(store)
+            app.db = open_store(store)
             try:
                 app.refresh_active_screen()
                 await settle(pilot)

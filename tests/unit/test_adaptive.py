@@ -17,8 +17,8 @@ from sqlalchemy import func, select, text
 
 from core.jit_cache import source_digest
 from slopetui.cli import main
-from slopetui.queue.cache import finished_results
-from slopetui.store import Database
+from slopetui.store import Database, open_store
+from slopetui.store.cached_results import finished_results
 from slopetui.store.migrate import (
     alembic_config,
     current_revision,
@@ -198,7 +198,7 @@ def rows(db: Database, sweep_id: int) -> list[Run]:
 
 def test_every_lattice_point_ends_with_exactly_one_run(refined):
     url, sweep_id = refined
-    db = Database(url)
+    db = open_store(url)
     runs = rows(db, sweep_id)
     assert sorted((r.ix, r.iy) for r in runs) == [(ix, iy) for ix in range(13) for iy in range(9)]
     inferred = [r for r in runs if r.inferred]
@@ -215,7 +215,7 @@ def test_every_lattice_point_ends_with_exactly_one_run(refined):
 
 def test_the_store_refines_as_the_pure_geometry_does(refined):
     url, sweep_id = refined
-    runs = rows(Database(url), sweep_id)
+    runs = rows(open_store(url), sweep_id)
     computed = {(r.ix, r.iy): r.regime for r in runs if not r.inferred}
     # label_of raises KeyError on a point the store did not compute
     expected = refine_in_memory(13, 9, 2, lambda ix, iy: computed[ix, iy])
@@ -226,7 +226,7 @@ def test_the_store_refines_as_the_pure_geometry_does(refined):
 
 def test_advance_is_idempotent(refined):
     url, sweep_id = refined
-    db = Database(url)
+    db = open_store(url)
     before = [(r.id, r.status, r.regime, r.inferred) for r in rows(db, sweep_id)]
     assert advance(db, sweep_id) == 0 and advance(db, sweep_id) == 0
     assert advance_all(db) == 0 and ready_sweeps(db) == []
@@ -234,7 +234,7 @@ def test_advance_is_idempotent(refined):
 
 
 def test_two_workers_advancing_at_once_queue_a_level_once(db_url):
-    db = Database(db_url)
+    db = open_store(db_url)
     sweep_id = submit(db, parse_spec(PLANE)).sweep_id
     finish_all(db)
     assert ready_sweeps(db) == [sweep_id]
@@ -242,7 +242,7 @@ def test_two_workers_advancing_at_once_queue_a_level_once(db_url):
     barrier = threading.Barrier(2)
 
     def worker() -> None:
-        other = Database(db_url)
+        other = open_store(db_url)
         barrier.wait()
         results.append(advance(other, sweep_id))
         other.dispose()
@@ -260,7 +260,7 @@ def test_two_workers_advancing_at_once_queue_a_level_once(db_url):
 
 
 def test_progress_says_the_level_until_refined(db_url):
-    db = Database(db_url)
+    db = open_store(db_url)
     sweep_id = submit(db, parse_spec(PLANE)).sweep_id
     finish_all(db)  # level 0 done, level 1 not queued yet: not "done"
     p = sweep_progress(db, [sweep_id])[0]
@@ -272,7 +272,7 @@ def test_progress_says_the_level_until_refined(db_url):
 
 
 def test_a_paused_sweep_does_not_advance(db_url):
-    db = Database(db_url)
+    db = open_store(db_url)
     sweep_id = submit(db, parse_spec(PLANE)).sweep_id
     finish_all(db)
     with db.transaction() as s:
@@ -303,7 +303,7 @@ def test_an_inferred_run_is_never_a_cache_hit(db, monkeypatch):
 
 def test_show_draws_an_adaptive_sweep_with_its_counts(refined, capsys):
     url, sweep_id = refined
-    diagram = load_diagram(Database(url), sweep_id)
+    diagram = load_diagram(open_store(url), sweep_id)
     assert diagram.n_inferred > 0 and diagram.n_computed + diagram.n_inferred == 13 * 9
     assert main(["show", str(sweep_id), "--width", "80", "--height", "24", "--color",
                  "never", "--db", url]) == 0
@@ -313,7 +313,7 @@ def test_show_draws_an_adaptive_sweep_with_its_counts(refined, capsys):
 
 
 def test_show_draws_the_levels_to_come_as_pending(db_url, capsys):
-    db = Database(db_url)
+    db = open_store(db_url)
     sweep_id = submit(db, parse_spec(PLANE)).sweep_id
     assert main(["show", str(sweep_id), "--width", "80", "--height", "24", "--color",
                  "never", "--db", db_url]) == 0
@@ -337,7 +337,7 @@ def test_exports_and_listings_mark_inferred_runs(refined, capsys):
 
 def test_the_run_detail_says_an_inferred_run_was_not_computed(refined):
     url, sweep_id = refined
-    with Database(url).sessions() as s:
+    with open_store(url).sessions() as s:
         run = StoredRun.of(s.scalars(select(Run).where(Run.sweep_id == sweep_id,
                                                        Run.inferred)).first())
     text_ = summary_text(run)
@@ -352,7 +352,7 @@ def test_the_run_detail_says_an_inferred_run_was_not_computed(refined):
 # -- the migration -------------------------------------------------------------------------
 
 def test_a_0001_database_upgrades_and_keeps_its_runs(db_url):
-    db = Database(db_url, upgrade=False)
+    db = Database(db_url)
     command.upgrade(alembic_config(db), "0001")
     assert current_revision(db) == "0001"
     with db.engine.begin() as conn:

@@ -9,13 +9,12 @@ import pytest
 
 from core import LyapunovEstimate, Params, SolverSettings, classify, run_point
 from core.classify import (
-    RETURN_NOISE,
     dominant_frequency,
     fast_fft_length,
     find_peaks,
-    peak_period,
     zero_one_test,
 )
+from core.returns import RETURN_NOISE, find_return
 
 T = np.arange(0.0, 1000.0, 0.01)
 
@@ -52,18 +51,74 @@ def test_steady_cycle_is_oscillatory_with_its_period_and_frequency():
     assert len(s.peaks) == 1 and s.peaks[0] == pytest.approx(true_max, abs=1e-7)
 
 
-def test_two_close_maxima_per_period_are_period_2():
-    # alternate peak heights 1.0 and 1.0003: a gap of 1.5e-4 of the amplitude
+def test_two_close_maxima_with_equal_spacing_are_period_2():
+    # alternate peak heights 1.0 and 1.0003 (a gap of 1.5e-4 of the amplitude), evenly
+    # spaced: a period doubling of a cycle of period 5, i.e. 2 basic periods of 5
     y = np.sin(2 * np.pi * T / 5.0) * (1 + 1.5e-4 * np.cos(np.pi * T / 5.0 + 0.1))
-    s = classify(T, window(y))
-    assert s.regime == "complex" and s.detail == "period-2"
-    assert s.period == pytest.approx(10.0, rel=1e-3)
+    ret = find_return(*find_peaks(T, y), float(np.ptp(y)), basic_period=5.0)
+    assert ret is not None and (ret.maxima, ret.count) == (2, 2)
+    assert ret.time == pytest.approx(10.0, rel=1e-3)
+
+
+def test_a_period_1_orbit_with_three_maxima_is_oscillatory():
+    # one return every 10 time units with three maxima of different heights at uneven
+    # times (the orbits at k = 22-24, tau = 10): counting height clusters called it
+    # period-3; it returns after one basic period
+    def orbit(t):
+        ph = 2 * np.pi * t / 10.0
+        return np.sin(ph) + 0.5 * np.sin(3 * ph + 0.4) + 0.2 * np.sin(2 * ph)
+
+    y = orbit(T)
+    s = classify(T[T >= 500], window(y)[:, T >= 500], mid_t=T[T < 500], mid=window(y)[:, T < 500],
+                 p=_with_basic_period(10.3))
+    assert (s.regime, s.period_count, s.maxima_per_period) == ("oscillatory", 1, 3), s
+    assert s.period == pytest.approx(10.0, rel=1e-6) and s.settled
+
+
+def _with_basic_period(period: float) -> Params:
+    """Parameters whose Hopf period (the basic period) is ``period``, with F' = 3.456."""
+    from core.stability import hopf_period
+    lo, hi = 0.1, 100.0
+    p = Params()
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if hopf_period(mid, p.F1) < period else (lo, mid)
+    return p.with_(tau=lo)
+
+
+def test_a_decaying_alternation_is_not_complex():
+    # maxima alternating by 1e-3 A in the middle of the run and by 1e-4 A at its end, at
+    # equal spacing (a transient toward the period-1 orbit): oscillatory, not period-2
+    def alternation(t, size):
+        return np.sin(2 * np.pi * t / 5.0) * (1 + size * np.cos(np.pi * t / 5.0 + 0.1))
+
+    p = _with_basic_period(5.0)
+    s = classify(T, window(alternation(T, 1e-4)), mid_t=T, mid=window(alternation(T, 1e-3)), p=p)
+    assert s.regime == "oscillatory" and s.period_count == 1 and not s.settled, s
+    assert "decaying-alternation" in s.flags
+    # the same alternation, unchanged since the middle of the run, is a period doubling
+    s = classify(T, window(alternation(T, 1e-3)), mid_t=T, mid=window(alternation(T, 1e-3)), p=p)
+    assert s.regime == "complex" and s.period_count == 2 and s.settled, s
+
+
+def test_a_tiny_linear_oscillation_is_a_transient_not_complex():
+    # the echoes of the history's kink at tau = 60, k = 6, delta = 1e-6: a few pulses per
+    # delay of peak-to-peak ~5e-6 about the fixed point, fading slowly
+    rng = np.random.default_rng(1)
+    pulses = sum(a * np.exp(-((T % 60.0) - c) ** 2) for a, c in zip(rng.uniform(1e-6, 3e-6, 3),
+                                                                      (10.0, 25.0, 41.0), strict=True))
+    p = Params(k=6.0, tau=60.0, delta=1e-6)
+    s = classify(T + 9.9e4, window(pulses * 0.9), mid_t=T + 4.9e4, mid=window(pulses), p=p)
+    assert s.regime == "sliding" and s.attractor == "fixed-point", s
+    assert "linear-transient" in s.flags and not s.settled
+    assert s.detail.startswith("linear -")     # decaying at the measured rate
 
 
 def test_quasi_periodic_is_a_continuum_but_not_chaos():
     y = np.sin(2 * np.pi * T / 10.0) + 0.2 * np.sin(2 * np.pi * T / (10.0 * math.sqrt(2)))
     s = classify(T, window(y), lyap=LyapunovEstimate(1e-5, 2e-5, 5e4, 20))
     assert s.regime == "complex" and s.detail == "quasi-periodic" and s.period_count == -1
+    assert s.attractor == "torus" and s.settled
 
 
 def test_significant_positive_lambda_on_a_continuum_is_chaos():
@@ -108,15 +163,19 @@ def test_settled_cycle_at_small_tau_is_period_one():
     r = run_point(Params(k=2 + 45 * 18 / 63, tau=0.5 + 5 * 9.5 / 63), SolverSettings(method="rk4", dt=0.01,
                                                                t_end=2000.0, window=500.0,
                                                                lyap=False))
-    assert (r.summary.regime, r.summary.detail) == ("oscillatory", "period-1")
+    assert (r.summary.regime, r.summary.period_count, r.summary.maxima_per_period) == ("oscillatory", 1, 1)
 
 
-def test_peak_period_of_sequences():
-    assert peak_period(np.tile([1.0, 1.2], 50), 1.0) == 2
-    assert peak_period(np.tile([1.0, 1.1, 1.3], 50), 1.0) == 3
-    assert peak_period(np.full(100, 2.0) + 1e-12 * np.arange(100), 1.0) == 1
+def test_returns_of_sequences():
+    def maxima(heights):
+        ret = find_return(np.arange(len(heights), dtype=float), heights, 1.0, 1.0)
+        return ret.maxima if ret else 0
+
+    assert maxima(np.tile([1.0, 1.2], 50)) == 2
+    assert maxima(np.tile([1.0, 1.1, 1.3], 50)) == 3
+    assert maxima(np.full(100, 2.0) + 1e-12 * np.arange(100)) == 1
     rng = np.random.default_rng(0)
-    assert peak_period(rng.uniform(0, 1, 200), 1.0) == 0
+    assert maxima(rng.uniform(0, 1, 200)) == 0
 
 
 def test_zero_one_test_separates_chaos_from_order():

@@ -11,7 +11,7 @@ import sqlite3
 import pytest
 
 from slopetui.cli import main
-from slopetui.store import Database
+from slopetui.store import open_store
 from tests.support import finish_all
 
 GOOD_TOML = """
@@ -127,7 +127,7 @@ def test_status_runs_export_show_after_a_sweep(tmp_path, capsys):
     cli(capsys, "submit", str(spec), "--db", url)
     code, out, _ = cli(capsys, "status", "--db", url)
     assert code == 0 and "0/15" in out and "no live workers" in out
-    finish_all(Database(url))
+    finish_all(open_store(url))
     code, out, _ = cli(capsys, "status", "--all", "--json", "--db", url)
     sweep = json.loads(out)["sweeps"][0]
     assert sweep["status"] == "done" and sweep["counts"] == {"done": 15}
@@ -158,10 +158,9 @@ def test_cancel_pause_resume(tmp_path, capsys):
 
 def test_one_dispatch_of_sweep_actions(tmp_path):
     """The CLI and the application's keys both call control.apply, by name."""
-    from slopetui.store import Database
     from slopetui.sweeps import control
 
-    db = Database(f"sqlite:///{tmp_path / 's.db'}")
+    db = open_store(f"sqlite:///{tmp_path / 's.db'}")
     try:
         with pytest.raises(control.UnknownSweep):
             control.apply(db, "pause", 1)

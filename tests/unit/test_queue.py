@@ -8,6 +8,7 @@ from sqlalchemy import func, select, update
 
 from core import run_point
 from slopetui.queue import jobs
+from slopetui.store import claims
 from slopetui.store.models import Run
 from slopetui.sweeps import control
 from tests.support import finish_all, submit_quick
@@ -137,7 +138,7 @@ def test_the_claim_skips_locked_rows_on_postgresql():
     """No PostgreSQL server here: check the SQL the claim sends to one."""
     from sqlalchemy.dialects import postgresql
 
-    sql = str(jobs._CLAIM.compile(dialect=postgresql.dialect()))
+    sql = str(claims._CLAIM.compile(dialect=postgresql.dialect()))
     assert "FOR UPDATE OF runs SKIP LOCKED" in sql
     assert sql.startswith("UPDATE runs SET") and "RETURNING runs.id" in sql
     assert "statement_timestamp() AT TIME ZONE 'UTC'" in sql
@@ -237,7 +238,7 @@ def test_a_heartbeat_keeps_every_lease_of_a_batch(db):
 def test_the_batch_claim_skips_locked_rows_on_postgresql():
     from sqlalchemy.dialects import postgresql
 
-    sql = str(jobs._CLAIM_BATCH.compile(dialect=postgresql.dialect()))
+    sql = str(claims._CLAIM_BATCH.compile(dialect=postgresql.dialect()))
     assert "FOR UPDATE OF runs SKIP LOCKED" in sql and "LIMIT" in sql
     assert sql.startswith("UPDATE runs SET") and "RETURNING runs.id" in sql
 

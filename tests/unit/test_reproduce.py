@@ -65,13 +65,13 @@ def test_an_interrupted_report_draws_no_verdict_from_missing_runs(tmp_path, caps
     """Ctrl-C after a few hundred runs once wrote "5381 runs" and DISAGREE verdicts for
     figures that had no runs at all ("nan% of 0 runs agree")."""
     from slopetui.reproduce import report
-    from slopetui.store import Database, Run, Sweep
+    from slopetui.store import Run, Sweep, open_store
     from tests.support import finish_all
 
     url = f"sqlite:///{tmp_path / 's.db'}"
 
     def interrupted_pool(opts, n_workers):  # the pool stopped after the Fig. 2 points
-        db = Database(url)
+        db = open_store(url)
         with db.transaction() as s:
             for sweep in s.query(Sweep).filter(~Sweep.name.like("Fig. 2%")):
                 sweep.status = "paused"
@@ -87,7 +87,7 @@ def test_an_interrupted_report_draws_no_verdict_from_missing_runs(tmp_path, caps
     assert text.startswith("# The paper reproduced (INCOMPLETE)")
     assert "nan" not in text.lower()
     assert text.count("**Verdict: ") == 1  # Fig. 2 only: every other finding lacks runs
-    with Database(url).sessions() as s:
+    with open_store(url).sessions() as s:
         n_done = s.query(Run).filter(Run.status == "done").count()
         n_all = s.query(Run).count()
     assert f"{n_done} of {n_all} runs done" in text

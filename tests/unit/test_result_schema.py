@@ -7,7 +7,7 @@ import io
 import json
 from dataclasses import fields
 
-from sqlalchemy import JSON, Double, Integer, String
+from sqlalchemy import JSON, Boolean, Double, Integer, String
 from sqlalchemy import inspect as sa_inspect
 
 from core import Params, SolverSettings, run_point
@@ -29,7 +29,7 @@ NOT_RESULT = {"id", "sweep_id", "ix", "iy", "a", "b", "c", "d", "k", "v", "tau",
               "finished_at", "error", "cached_from", "level", "inferred"}
 #: The SQL type of each kind of result field.
 KIND_TYPES = {"measure": Measure, "count": Integer, "text": String, "list": JSON,
-              "optional": Double}
+              "optional": Double, "flag": Boolean}
 
 
 def test_the_table_the_exporters_the_detail_view_and_the_engine_agree(db, capsys):

@@ -12,7 +12,7 @@ import pytest
 from sqlalchemy import text
 
 from slopetui.cli import main
-from slopetui.store import Database, Run
+from slopetui.store import Database, Run, open_store
 from slopetui.store.failures import StoreError
 from slopetui.store.integrity import integrity_problems
 from slopetui.store.migrate import (
@@ -104,7 +104,7 @@ def _damage(path: Path) -> None:
 
 
 def test_db_check_finds_a_damaged_page(db_url, capsys, tmp_path):
-    db = Database(db_url)
+    db = open_store(db_url)
     sub = submit_quick(db, 2)
     with db.transaction() as s:  # enough rows for the file to have a middle
         for i in range(3000):
@@ -146,7 +146,7 @@ def test_a_pool_does_not_start_on_a_damaged_file(db_url, tmp_path, caplog):
     from slopetui.queue.pool import Pool
     from slopetui.queue.worker_process import WorkerOptions
 
-    db = Database(db_url)
+    db = open_store(db_url)
     sub = submit_quick(db, 2)
     with db.transaction() as s:
         for i in range(3000):

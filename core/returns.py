@@ -1,0 +1,97 @@
+"""When an orbit comes back: return times measured on the sequence of its maxima.
+
+The maxima of m_y (times t_i, heights p_i; core.classify.find_peaks) are a Poincaré
+section of the flow (dm_y/dt = 0, falling). An orbit that returns after n maxima repeats
+both their heights and their spacing at lag n: the defect
+
+    q_n = max( max_i |p_{i+n} - p_i| / A ,  max_i |(t_{i+n} - t_i) - T_n| / T_n ),
+
+(a spacing defect below TIME_NOISE counts as 0),
+with A the peak-to-peak amplitude of m_y and T_n the mean lag-n time, is then at the level
+of round-off. Heights alone are not enough: along tau = 10 at k = 17.2-20 the orbit has two
+maxima per period of almost equal height (2.2128 and 2.2133 at k = 20, RK4, t = 1e5:
+lag-1 height defect 2e-4 A) but spacings of 2.86 and 7.51, a lag-1 timing defect of 0.45.
+Counting height clusters called that orbit "period-2"; it returns after one period of
+10.36 (lag-2 defect 3e-7) and has no better return at 2 or 3 periods.
+
+The return time is a time, so it is counted in units of the *basic period* of the model's
+oscillation, the period 2 pi / omega_H born on the first Hopf branch at this tau and F'
+(core.stability.hopf_period): period-1 orbits return after 0.93-1.02 of it in every
+regime we measured, so a return after about 2 of it is a period doubling.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: The orbit returns at lag n when q_n <= RETURN_TOL. Settled orbits return to 1e-12 A in
+#: heights and 1e-7 in spacing (k = 15, 17.2 at tau = 10, RK4); orbits that are still slowly
+#: changing (k = 20-23, tau = 10) to 3e-7-5e-5; lags that are not a return have defects of
+#: 6e-3 and more (k = 23: the three maxima differ by 7e-3 A, their spacings by 20-40%).
+RETURN_TOL = 1e-3
+#: Among the lags that return, the smallest one within RETURN_MARGIN of the best defect
+#: (or below RETURN_NOISE, where all defects are round-off) wins: multiples of the
+#: period return as well as the period, a little worse where the orbit drifts.
+RETURN_MARGIN = 2.0
+RETURN_NOISE = 1e-6
+#: Spacing defects below this are timing noise and count as 0: the time of a flat maximum
+#: is uncertain (the square wave at k = 6, b = 15.5, tau = 21.3, RK4: 1.7e-6 at every lag,
+#: against height defects of 7e-11); settled rounded maxima show 2e-8-7e-8.
+TIME_NOISE = 1e-5
+#: Longer returns than this many maxima are not told from a continuum (quasi-periodic or
+#: chaotic); the three-hump orbits at tau = 10 need 3, the square waves at large tau ~6.
+MAX_MAXIMA = 16
+#: A return time within this distance of an integer number of basic periods counts as that
+#: number (measured period-1 ratios: 0.93-1.02, see core.stability.hopf_period).
+PERIOD_RATIO_TOL = 0.25
+
+
+@dataclass(frozen=True, slots=True)
+class Return:
+    """How an orbit returns: after ``maxima`` maxima and ``time`` time units, with the
+    defect of that return (0: exact); ``count`` is the return time in basic periods (0 if
+    the basic period is unknown) and ``ratio`` the unrounded one."""
+
+    maxima: int
+    time: float
+    defect: float
+    count: int
+    ratio: float
+
+
+def lag_defects(t_peaks: np.ndarray, peaks: np.ndarray, amplitude: float,
+                max_lag: int = MAX_MAXIMA) -> np.ndarray:
+    """q_n for n = 1..max_lag (fewer if the sequence is short): see the module docstring."""
+    max_lag = min(max_lag, max(1, (len(peaks) - 2) // 2))
+    out = np.empty(max_lag)
+    for n in range(1, max_lag + 1):
+        heights = np.max(np.abs(peaks[n:] - peaks[:-n])) / amplitude
+        spans = t_peaks[n:] - t_peaks[:-n]
+        mean = spans.mean()
+        timing = np.max(np.abs(spans - mean)) / mean
+        out[n - 1] = max(heights, timing if timing > TIME_NOISE else 0.0)
+    return out
+
+
+def find_return(t_peaks: np.ndarray, peaks: np.ndarray, amplitude: float,
+                basic_period: float) -> Return | None:
+    """The first return of the maxima sequence, or None if it has none within MAX_MAXIMA."""
+    q = lag_defects(t_peaks, peaks, amplitude)
+    best = float(q.min())
+    if not best <= RETURN_TOL:
+        return None
+    n = int(np.nonzero(q <= max(RETURN_MARGIN * best, RETURN_NOISE))[0][0]) + 1
+    time = float(np.mean(t_peaks[n:] - t_peaks[:-n]))
+    ratio = time / basic_period if basic_period > 0.0 else math.nan
+    count = 0
+    if math.isfinite(ratio):
+        count = max(1, round(ratio))
+    return Return(n, time, float(q[n - 1]), count, ratio)
+
+
+def clusters(peaks: np.ndarray, n: int) -> list[float]:
+    """The n maxima of one return, as the means over the window, ascending."""
+    return sorted(float(peaks[j::n].mean()) for j in range(n))
