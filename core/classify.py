@@ -60,8 +60,8 @@ QUIET_FRACTION = 0.05
 #: The pattern counts as settled when the maxima of a return and the return time in the
 #: middle of the run equal those at the end to this fraction of the amplitude and of the
 #: return time. Settled orbits agree to 1e-11 (k = 15, 17.2, tau = 10, RK4, t = 5e4 and
-#: 1e5); at k = 20 the two maxima moved by 1.7e-3 A between those times, the slow decaying
-#: modulation measured in docs/reproduction.md (Fig. 4B).
+#: 1e5); at k = 20 the two maxima moved by 1.7e-3 A between those times: a modulation that
+#: rotates with a period of ~1.5e5 and decays at ~1.5e-6/t (RK4, t_end = 2e4 to 2e6).
 SETTLE_TOL = 1e-5
 #: An alternation (a return after n >= 2 basic periods) decays when its defect at the
 #: basic period fell by more than this factor between the middle and the end of the run.
@@ -301,10 +301,10 @@ def _linear(t: np.ndarray, y: np.ndarray, early: tuple, amplitude: float, drift:
                    flags=("linear-transient",))
 
 
-def _settled(early: tuple, amplitude: float, basic: float, ret: Return, late_peaks: list[float]) -> bool:
+def _settled(early_peaks: tuple[np.ndarray, np.ndarray], amplitude: float, basic: float, ret: Return,
+             late_peaks: list[float]) -> bool:
     """Whether the early window returns as the late one, with the same maxima and time."""
-    et, ey, _, _ = early
-    pt, py = find_peaks(et, ey)
+    pt, py = early_peaks
     if len(py) < 4:
         return False
     then = find_return(pt, py, amplitude, basic)
@@ -314,20 +314,19 @@ def _settled(early: tuple, amplitude: float, basic: float, ret: Return, late_pea
     return moved <= SETTLE_TOL * amplitude and abs(then.time - ret.time) <= SETTLE_TOL * ret.time
 
 
-def _periodic(peak_t: np.ndarray, peak_y: np.ndarray, ret: Return, early: tuple, amplitude: float,
-              basic: float, frequency: float, drift: float) -> Summary:
+def _periodic(peak_t: np.ndarray, peak_y: np.ndarray, ret: Return, early_peaks: tuple[np.ndarray, np.ndarray],
+              amplitude: float, basic: float, frequency: float, drift: float) -> Summary:
     """An orbit that returns: oscillatory after one basic period, complex after n >= 2,
     unless the alternation that makes it n is dying out."""
     n = ret.maxima
     late = clusters(peak_y, n)
-    settled = _settled(early, amplitude, basic, ret, late)
+    settled = _settled(early_peaks, amplitude, basic, ret, late)
     flags: tuple[str, ...] = () if settled else ("slow-modulation",)
     count = ret.count or 1
     per = n // count if count > 1 and n % count == 0 else 0
     if count > 1 and per and not settled:
         # the defect of the return after one basic period, then and now
-        et, ey, _, _ = early
-        ept, epy = find_peaks(et, ey)
+        ept, epy = early_peaks
         q_then = lag_defects(ept, epy, amplitude, per)[-1] if len(epy) > 2 * per + 2 else math.nan
         q_now = lag_defects(peak_t, peak_y, amplitude, per)[-1]
         if q_now < ALTERNATION_DECAY * q_then:
@@ -345,8 +344,8 @@ def _periodic(peak_t: np.ndarray, peak_y: np.ndarray, ret: Return, early: tuple,
                    flags=flags)
 
 
-def _continuum(peak_y: np.ndarray, early: tuple, amplitude: float, frequency: float, drift: float,
-               lyap: LyapunovEstimate | None) -> Summary:
+def _continuum(peak_y: np.ndarray, early_peaks: tuple[np.ndarray, np.ndarray], amplitude: float,
+               frequency: float, drift: float, lyap: LyapunovEstimate | None) -> Summary:
     """Maxima that never return: chaos, a torus, or a slow transient (unsettled)."""
     k01 = zero_one_test(peak_y)
     if lyap is not None and math.isfinite(lyap.value):
@@ -355,7 +354,7 @@ def _continuum(peak_y: np.ndarray, early: tuple, amplitude: float, frequency: fl
     else:
         chaotic = k01 > 0.5
     kept = np.sort(peak_y)[np.linspace(0, len(peak_y) - 1, min(len(peak_y), MAX_PEAKS_KEPT)).astype(int)]
-    _, epy = find_peaks(early[0], early[1])
+    _, epy = early_peaks
     same_band = len(epy) > 0 and (abs(epy.min() - peak_y.min()) <= TORUS_TOL * amplitude
                                   and abs(epy.max() - peak_y.max()) <= TORUS_TOL * amplitude)
     if chaotic:
@@ -411,6 +410,7 @@ def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
                        maxima_per_period=len(peak_y), attractor="periodic", settled=False)
     basic = hopf_period(p.tau, p.F1) if p is not None else math.nan
     ret = find_return(peak_t, peak_y, amplitude, basic)
+    early_peaks = find_peaks(early[0], early[1])
     if ret is not None:
-        return _periodic(peak_t, peak_y, ret, early, amplitude, basic, frequency, drift)
-    return _continuum(peak_y, early, amplitude, frequency, drift, lyap)
+        return _periodic(peak_t, peak_y, ret, early_peaks, amplitude, basic, frequency, drift)
+    return _continuum(peak_y, early_peaks, amplitude, frequency, drift, lyap)

@@ -87,7 +87,6 @@ def run_batch(points: Sequence[Params], s: SolverSettings | None = None) -> list
 def analyse(tr: Trajectory, integration_s: float) -> PointResult:
     """lambda_max and the regime of an integrated trajectory (re-integrated with the
     stiff-safe scheme where an explicit one failed: see the module docstring)."""
-    t0 = time.perf_counter()
     flags: tuple[str, ...] = ()
     t_blowup = tr.t_blowup  # the explicit scheme's, kept beside the flag
     if tr.settings.method != "stiff" and (tr.blew_up or _negative_variance(tr)):
@@ -95,7 +94,7 @@ def analyse(tr: Trajectory, integration_s: float) -> PointResult:
         tr = simulate(tr.params, replace(tr.settings, method="stiff", dt=tr.grid.dt))
         integration_s += time.perf_counter() - t1
         flags = ("stiff-fallback",)
-        t0 += time.perf_counter() - t1
+    t0 = time.perf_counter()
     s = tr.settings
     lyap = estimate(tr.lyap_logs, tr.grid.renorm_interval) if s.lyap and not tr.blew_up else None
     summary = classify(tr.window_t, tr.window, tr.blew_up, lyap, tr.mid_t, tr.mid, tr.params)
