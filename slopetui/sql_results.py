@@ -7,8 +7,11 @@ SQL console run the same code (this module; no UI).
 this module owns what both faces do with it: the statement that returns no rows, the rows
 handed out a chunk at a time up to a limit, whether there are more (and, for the console,
 how many), the way a value is shown as text, and the one line that says why the database
-rejected a statement; and, for a console whose queries run in worker threads, one engine
-shared by them (SharedEngine).
+rejected a statement; and, for a console whose queries run in worker threads, one
+statement's outcome as plain data (run_query: done, failed or halted; it never raises)
+and one engine shared by the threads (SharedEngine).
+
+    outcome = run_query(engine, ReadQuery(sql), limit)   # QueryDone | QueryFailed | QueryHalted
 
 Light on purpose: ``slopetui --help`` builds the ``sql`` parser, which imports this.
 """
@@ -16,12 +19,22 @@ Light on purpose: ``slopetui --help`` builds the ``sql`` parser, which imports t
 from __future__ import annotations
 
 import threading
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from slopetui.store.read_query import FETCH_CHUNK, QueryError, QueryTimedOut, ReadQuery, Row, Rows
+from slopetui.store.read_query import (
+    DEFAULT_TIMEOUT_S,
+    FETCH_CHUNK,
+    QueryCancelled,
+    QueryError,
+    QueryTimedOut,
+    ReadQuery,
+    Row,
+    Rows,
+)
 
 if TYPE_CHECKING:
     from sqlalchemy import Engine
@@ -109,6 +122,73 @@ def cell_text(value: object) -> str:
     if isinstance(value, float):
         return f"{value:.6g}"
     return str(value)
+
+
+# -- one statement's outcome, for a console ------------------------------------------------
+
+@dataclass
+class QueryDone:
+    """A statement ran: its columns, its first rows as the database gave them, and how
+    many rows in all (``count_stopped``: why the counting stopped at ``total``, e.g.
+    "timed out after 30 s"). ``returns_rows`` False: the statement returns no rows at all."""
+
+    columns: list[str]
+    rows: list[Row]
+    total: int
+    elapsed_s: float
+    returns_rows: bool = True
+    count_stopped: str | None = None
+
+
+@dataclass
+class QueryFailed:
+    """A statement failed: ``message`` is the line to show (error_text); ``refused`` when
+    the database refused it as a write."""
+
+    message: str
+    refused: bool = False
+
+    @classmethod
+    def unexpected(cls, exc: Exception) -> QueryFailed:
+        """Any other error, shown with its cause rather than a traceback."""
+        return cls(f"error: {type(exc).__name__}: {exc}")
+
+
+@dataclass
+class QueryHalted:
+    """A statement did not finish: ``reason`` is "cancelled" or "timed out after N s"."""
+
+    reason: str
+    timed_out: bool
+
+
+QueryOutcome = QueryDone | QueryFailed | QueryHalted
+
+
+def run_query(engine: Engine, query: ReadQuery | str, limit: int) -> QueryOutcome:
+    """Run one statement through fetch, keeping the first limit rows and counting the
+    rest. Never raises on a database error, a cancel or the time limit: a console in a
+    worker thread reports the outcome, whatever it is (a str runs with the default time
+    limit)."""
+    if isinstance(query, str):
+        query = ReadQuery(query, DEFAULT_TIMEOUT_S)
+    rows: list[Row] = []
+    start = time.perf_counter()
+    try:
+        fetched = fetch(engine, query, rows.extend, limit, count_rest=True)
+    except QueryCancelled as exc:
+        return QueryHalted(str(exc), timed_out=False)
+    except QueryTimedOut as exc:
+        return QueryHalted(str(exc), timed_out=True)
+    except QueryError as exc:
+        return QueryFailed(error_text(exc), exc.refused)
+    except Exception as exc:
+        return QueryFailed.unexpected(exc)
+    elapsed = time.perf_counter() - start
+    if fetched.columns is None:
+        return QueryDone([], [], 0, elapsed, returns_rows=False)
+    return QueryDone(fetched.columns, rows, fetched.count + fetched.rest, elapsed,
+                     count_stopped=fetched.count_stopped)
 
 
 class SharedEngine:

@@ -9,6 +9,7 @@ import re
 import sys
 from typing import TYPE_CHECKING
 
+from core.lyapunov_bias import bias_note
 from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
 from core.result_fields import JSON_KEYS as RECORD_JSON_KEYS
 from core.solve import METHODS, SolverSettings, validate_run
@@ -127,9 +128,12 @@ def lambda_text(r: PointResult) -> str:
         interval = r.trajectory.grid.renorm_interval
         return (f"not estimated (the run is too short: one log-growth every {interval:g} "
                 "time units, and the first half of the run is discarded)")
+    note = bias_note(r.params, r.summary.attractor, r.settings.method, r.trajectory.grid.dt,
+                     r.lyap.value)
     if not math.isfinite(r.lyap.error):
-        return f"{r.lyap.format()}  (no error: {r.lyap.n_blocks} block of the run's second half)"
-    return r.lyap.format()
+        return (f"{r.lyap.format()}  (no error: {r.lyap.n_blocks} block of the run's second "
+                f"half; {note})")
+    return f"{r.lyap.format()}  ({note})"
 
 
 def handle(args: argparse.Namespace) -> int:

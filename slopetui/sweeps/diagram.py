@@ -34,6 +34,10 @@ class RunPoint:
     lambda_err: float = float("nan")
     drift: float = float("nan")  # window mean of m_y
     inferred: bool = False  # an adaptive sweep's regime taken from its cell's corners
+    attractor: str | None = None  # fixed-point, fast-branch, periodic, torus, ... (done runs)
+    flags: tuple[str, ...] = ()   # stiff-fallback, linear-transient, ... (core.classify)
+    maxima_per_period: int | None = None
+    settled: bool | None = None
 
 
 @dataclass(frozen=True)
@@ -95,7 +99,7 @@ def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
     spec = read.spec
     runs = []
     for rid, ix, iy, x, y, status, regime, peaks, drift, error, detail, count, lam, lam_err, \
-            inferred in read.rows:
+            inferred, attractor, flags, maxima, settled in read.rows:
         done = status == "done"
         # A sliding run has no peaks: it rests near the fixed point m_y = 0 (eqs. 14-17;
         # with noise d > 0 it drifts at a small constant m_y). It is drawn at its window
@@ -103,5 +107,8 @@ def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
         shown = ([drift] if regime == "sliding" else list(peaks or [])) if done else []
         runs.append(RunPoint(rid, ix, iy, x, y if spec.y else None, status,
                              regime if done else None, shown, error, detail if done else None,
-                             count if done else None, lam, lam_err, drift, bool(inferred)))
+                             count if done else None, lam, lam_err, drift, bool(inferred),
+                             attractor if done else None,
+                             tuple(flags.split(",")) if done and flags else (),
+                             maxima if done else None, settled if done else None))
     return SweepDiagram(read.sweep_id, read.name, spec, runs)

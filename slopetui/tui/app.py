@@ -3,16 +3,23 @@
 ``slopetui`` with no arguments opens it on the default database and starts a detached
 local worker pool, or attaches to the one already running on this host. The pool lives
 on after the application quits: queued work is never lost by quitting.
+
+The app's thread workers (opening the store, the pool, pausing a sweep) report back as the
+screens' do: with a message, handled on the UI thread.
 """
 
 from __future__ import annotations
 
-from textual import work
+from dataclasses import dataclass
+
+from textual import on, work
 from textual.app import App
 from textual.binding import Binding
+from textual.message import Message
 
 from slopetui.store.database import Database
 from slopetui.store.open import open_store
+from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.screens.error import ErrorScreen
 from slopetui.tui.screens.queue import QueueScreen
 from slopetui.tui.screens.sql import SqlScreen
@@ -46,6 +53,38 @@ class SlopeApp(App[None]):
         self.refresh_s = refresh_s
         self.db: Database | None = None
 
+    # -- messages from the app's workers --
+
+    @dataclass
+    class StoreOpened(Message):
+        db: Database
+
+    @dataclass
+    class StoreOpenFailed(Message):
+        cause: str
+
+    @dataclass
+    class PoolAttached(Message):
+        """Attached to this host's worker pool, or started one: what to tell the user."""
+
+        text: str
+
+    @dataclass
+    class PoolFailed(Message):
+        cause: str
+
+    @dataclass
+    class SweepControlled(Message):
+        """A sweep was paused, resumed or cancelled: ``text`` says so (control.apply)."""
+
+        text: str
+
+    @dataclass
+    class SweepControlFailed(Message):
+        action: str
+        sweep_id: int
+        cause: str
+
     def on_mount(self) -> None:
         self.open_store()
 
@@ -55,15 +94,14 @@ class SlopeApp(App[None]):
         try:
             db = open_store(self.db_url)  # the store module's function, not this method
         except Exception as exc:  # any failure to open is shown, never a traceback
-            self.call_from_thread(self.push_screen, ErrorScreen(
-                "The database cannot be opened", f"{type(exc).__name__}: {exc}"))
+            self.post_message(self.StoreOpenFailed(f"{type(exc).__name__}: {exc}"))
             return
-        self.db = db
-        self.call_from_thread(self.refresh_active_screen)
+        self.post_message(self.StoreOpened(db))
         if self.start_workers:
             self.attach_pool(db)
 
     def attach_pool(self, db: Database) -> None:
+        """In the store's worker: find or start the pool (it may take a few seconds)."""
         from slopetui.queue.local_pool import local_pools, start_detached_pool
         try:
             pools, _ = local_pools(db)  # a pool still warming up has no workers yet
@@ -75,15 +113,31 @@ class SlopeApp(App[None]):
                 pid, log = start_detached_pool(db)
                 message = f"worker pool started (pid {pid}, log {log}); it keeps running after you quit"
         except Exception as exc:
-            self.call_from_thread(self.notify, f"could not start workers: {exc}",
-                                  severity="error", timeout=10)
+            self.post_message(self.PoolFailed(str(exc)))
             return
-        self.call_from_thread(self.notify, message, timeout=6)
+        self.post_message(self.PoolAttached(message))
+
+    @on(StoreOpened)
+    def _store_opened(self, message: StoreOpened) -> None:
+        self.db = message.db  # on the UI thread, before the screen in view is told
+        self.refresh_active_screen()
+
+    @on(StoreOpenFailed)
+    def _store_open_failed(self, message: StoreOpenFailed) -> None:
+        self.push_screen(ErrorScreen("The database cannot be opened", message.cause))
+
+    @on(PoolAttached)
+    def _pool_attached(self, message: PoolAttached) -> None:
+        self.notify(message.text, timeout=6)
+
+    @on(PoolFailed)
+    def _pool_failed(self, message: PoolFailed) -> None:
+        self.notify(f"could not start workers: {message.cause}", severity="error", timeout=10)
 
     def refresh_active_screen(self) -> None:
-        refresh = getattr(self.screen, "refresh_data", None)
-        if refresh is not None:
-            refresh()
+        """Tell the screen in view that the store is open or has changed."""
+        if isinstance(self.screen, SlopeScreen):  # not an error or the command palette
+            self.screen.refresh_data()
 
     @work(thread=True, group="sweep-control")
     def control_sweep(self, action: str, sweep_id: int) -> None:
@@ -94,11 +148,19 @@ class SlopeApp(App[None]):
                 raise RuntimeError("the database is not open yet")
             text = control.apply(self.db, action, sweep_id)
         except Exception as exc:
-            self.call_from_thread(self.notify, f"{action} sweep {sweep_id}: {exc}",
-                                  severity="error", timeout=8)
+            self.post_message(self.SweepControlFailed(action, sweep_id, str(exc)))
             return
-        self.call_from_thread(self.notify, text)
-        self.call_from_thread(self.refresh_active_screen)
+        self.post_message(self.SweepControlled(text))
+
+    @on(SweepControlled)
+    def _sweep_controlled(self, message: SweepControlled) -> None:
+        self.notify(message.text)
+        self.refresh_active_screen()
+
+    @on(SweepControlFailed)
+    def _sweep_control_failed(self, message: SweepControlFailed) -> None:
+        self.notify(f"{message.action} sweep {message.sweep_id}: {message.cause}",
+                    severity="error", timeout=8)
 
     def action_new_sweep(self) -> None:
         from slopetui.tui.screens.new_sweep import NewSweepScreen

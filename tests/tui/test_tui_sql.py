@@ -18,16 +18,10 @@ from textual.screen import Screen
 from textual.widgets import DataTable, OptionList, Static, TextArea, Tree
 
 from slopetui.sql_history import read_history
-from slopetui.store import Database, open_store
+from slopetui.store import open_store
 from slopetui.tui.app import SlopeApp
 from slopetui.tui.screens import sql as sql_screen
-from slopetui.tui.screens.sql import (
-    QueryDone,
-    QueryFailed,
-    SqlScreen,
-    format_cell,
-    run_query,
-)
+from slopetui.tui.screens.sql import SqlScreen, format_cell
 from tests.support import submit_quick
 
 N_RUNS = 5
@@ -235,17 +229,6 @@ def test_format_cell() -> None:
     assert str(format_cell("[1.0, 2.0]")) == "[1.0, 2.0]"  # not read as markup
     assert str(format_cell("x" * 500)).endswith("…")
 
-
-def test_run_query_keeps_colons(db: Database) -> None:
-    engine = db.read_only_engine()
-    try:
-        done = run_query(engine, """SELECT json_extract('{"a":1}', '$.a') AS a, '12:30' AS t""")
-        assert isinstance(done, QueryDone)
-        assert [[str(c) for c in row] for row in done.rows] == [["1", "12:30"]]
-        failed = run_query(engine, "SELECT 1; SELECT 2")
-        assert isinstance(failed, QueryFailed) and not failed.refused
-    finally:
-        engine.dispose()
 
 
 # -- time limit and cancellation --------------------------------------------------------

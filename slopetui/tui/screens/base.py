@@ -37,3 +37,7 @@ class SlopeScreen(Screen[ResultT]):
     def db(self) -> Database | None:
         """The store, or None while the app is still opening it."""
         return self.app.db
+
+    def refresh_data(self) -> None:
+        """The app calls this on the screen in view once the store is open and after it
+        changed a sweep; a screen with live data reloads it (this one has none)."""

@@ -8,6 +8,7 @@ diagram adaptive (``[adaptive] levels``); empty means every point is computed.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from rich.text import Text
@@ -15,6 +16,7 @@ from textual import on, work
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal, VerticalScroll
+from textual.message import Message
 from textual.widgets import (
     Button,
     Checkbox,
@@ -72,6 +74,23 @@ class NewSweepScreen(SlopeScreen[int | None]):
         Binding("ctrl+s", "submit", "Submit", id="new_sweep.submit", priority=True),
         Binding("escape", "cancel", "Cancel", id="new_sweep.cancel"),
     ]
+
+    @dataclass
+    class WorkersCounted(Message):
+        """The live workers (or the pool's default) and the measured speeds, for the
+        estimate."""
+
+        n: int
+        speeds: dict[tuple[str, bool], float]
+
+    @dataclass
+    class Submitted(Message):
+        sweep_id: int
+        text: str  # what was queued, e.g. "sweep 3: 228 runs queued"
+
+    @dataclass
+    class SubmitFailed(Message):
+        cause: str
 
     def __init__(self) -> None:
         super().__init__()
@@ -135,36 +154,41 @@ class NewSweepScreen(SlopeScreen[int | None]):
             speeds = measured_speeds(db)
         except Exception:  # only the estimate depends on them
             return
-        self.app.call_from_thread(self._set_workers, n, speeds)
+        self.post_message(self.WorkersCounted(n, speeds))
 
-    def _set_workers(self, n: int, speeds: dict[tuple[str, bool], float]) -> None:
-        self.n_workers, self.speeds = n, speeds
+    @on(WorkersCounted)
+    def _workers_counted(self, message: WorkersCounted) -> None:
+        self.n_workers, self.speeds = message.n, message.speeds
         self.validate_form()
 
     # --- the form as a spec mapping ----------------------------------------------------
-    def _value(self, widget_id: str) -> Any:
-        return self.query_one(f"#{widget_id}").value  # type: ignore[attr-defined]
+    def _text(self, widget_id: str) -> str:
+        return self.query_one(f"#{widget_id}", Input).value
+
+    def _choice(self, widget_id: str) -> Any:
+        """A select's value (never blank: the form's selects have allow_blank=False)."""
+        return self.query_one(f"#{widget_id}", Select).value
 
     def form_data(self) -> dict[str, Any]:
         data: dict[str, Any] = {}
-        if self._value("name").strip():
-            data["name"] = self._value("name").strip()
+        if self._text("name").strip():
+            data["name"] = self._text("name").strip()
         swept = set()
         for axis in ("x", "y"):
-            param = self._value(f"{axis}-param")
+            param = self._choice(f"{axis}-param")
             if param == NO_AXIS:
                 continue
             swept.add(param)
-            data[axis] = {"param": param, "start": self._value(f"{axis}-start"),
-                          "stop": self._value(f"{axis}-stop"), "num": self._value(f"{axis}-num"),
-                          "spacing": self._value(f"{axis}-spacing")}
-        data["fixed"] = {n: self._value(f"fixed-{n}") for n in PARAM_NAMES if n not in swept}
-        data["solver"] = {"method": self._value("solver-method"), "dt": self._value("solver-dt"),
-                          "t_end": self._value("solver-t_end"),
-                          "window": self._value("solver-window"),
-                          "lyap": bool(self._value("solver-lyap"))}
-        if self._value("adaptive-levels").strip():
-            data["adaptive"] = {"levels": self._value("adaptive-levels").strip()}
+            data[axis] = {"param": param, "start": self._text(f"{axis}-start"),
+                          "stop": self._text(f"{axis}-stop"), "num": self._text(f"{axis}-num"),
+                          "spacing": self._choice(f"{axis}-spacing")}
+        data["fixed"] = {n: self._text(f"fixed-{n}") for n in PARAM_NAMES if n not in swept}
+        data["solver"] = {"method": self._choice("solver-method"), "dt": self._text("solver-dt"),
+                          "t_end": self._text("solver-t_end"),
+                          "window": self._text("solver-window"),
+                          "lyap": self.query_one("#solver-lyap", Checkbox).value}
+        if self._text("adaptive-levels").strip():
+            data["adaptive"] = {"levels": self._text("adaptive-levels").strip()}
         return data
 
     def validate_form(self) -> SweepSpec | None:
@@ -172,7 +196,7 @@ class NewSweepScreen(SlopeScreen[int | None]):
             widget.remove_class("-invalid")
         for name in PARAM_NAMES:  # a swept parameter's fixed value is not used
             self.query_one(f"#fixed-{name}").disabled = name in (
-                self._value("x-param"), self._value("y-param"))
+                self._choice("x-param"), self._choice("y-param"))
         error = self.query_one("#form-error", Static)
         try:
             # the admission checks of `slopetui submit` too (limits, characters of the name)
@@ -262,16 +286,21 @@ class NewSweepScreen(SlopeScreen[int | None]):
         try:
             out = submit(db, spec)
         except Exception as exc:  # shown in the form; nothing was written (one transaction)
-            self.app.call_from_thread(self._submit_failed, f"{type(exc).__name__}: {exc}")
+            self.post_message(self.SubmitFailed(f"{type(exc).__name__}: {exc}"))
             return
         cached = f", {out.n_cached} from the cache" if out.n_cached else ""
         what = "runs" if out.adaptive_levels is None else "coarse runs (adaptive)"
-        self.app.call_from_thread(self.app.notify,
-                                  f"sweep {out.sweep_id}: {out.n_runs} {what} queued{cached}")
-        self.app.call_from_thread(self.dismiss, out.sweep_id)
+        self.post_message(self.Submitted(
+            out.sweep_id, f"sweep {out.sweep_id}: {out.n_runs} {what} queued{cached}"))
 
-    def _submit_failed(self, error: str) -> None:
-        self.query_one("#form-error", Static).update(Text(f"✗ could not submit: {error}"))
+    @on(Submitted)
+    def _submitted(self, message: Submitted) -> None:
+        self.notify(message.text)
+        self.dismiss(message.sweep_id)
+
+    @on(SubmitFailed)
+    def _submit_failed(self, message: SubmitFailed) -> None:
+        self.query_one("#form-error", Static).update(Text(f"✗ could not submit: {message.cause}"))
         self.query_one("#submit", Button).disabled = False
 
     @on(Button.Pressed, "#cancel")

@@ -6,17 +6,17 @@ Queries run on ``Database.read_only_engine()``, so the database itself refuses w
 thread worker and reports back with a message; widgets are touched on the UI thread only.
 
 A query runs through ``slopetui.store.read_query.ReadQuery`` and
-``slopetui.sql_results.fetch``, the code ``slopetui sql`` runs: the same default time
-limit, the same rows, the same error lines. The screen cancels it when a new query starts,
-on ctrl+g, and when the screen is left or closed. The history file is
-``slopetui.sql_history``'s; the schema comes from ``slopetui.store.catalog``. This module
-keeps the widgets and their events.
+``slopetui.sql_results.run_query`` (``fetch``, the code ``slopetui sql`` runs: the same
+default time limit, the same rows, the same error lines), which says how it ended: done,
+failed or halted. The screen cancels it when a new query starts, on ctrl+g, and when the
+screen is left or closed. The history file is ``slopetui.sql_history``'s; the schema comes
+from ``slopetui.store.catalog``. This module keeps the widgets, their events and how values
+look in a cell.
 """
 
 from __future__ import annotations
 
 import contextlib
-import time
 from dataclasses import dataclass
 from decimal import Decimal
 from pathlib import Path
@@ -43,16 +43,16 @@ from textual.worker import get_current_worker
 
 from slopetui import sql_history
 from slopetui.sql_history import History
-from slopetui.sql_results import SharedEngine, cell_text, error_text, fetch
-from slopetui.store.catalog import Column, tables_and_columns
-from slopetui.store.read_query import (
-    DEFAULT_TIMEOUT_S,
-    QueryCancelled,
-    QueryError,
-    QueryTimedOut,
-    ReadQuery,
-    Row,
+from slopetui.sql_results import (
+    QueryDone,
+    QueryFailed,
+    QueryOutcome,
+    SharedEngine,
+    cell_text,
+    run_query,
 )
+from slopetui.store.catalog import Column, tables_and_columns
+from slopetui.store.read_query import DEFAULT_TIMEOUT_S, ReadQuery
 from slopetui.tui.messages import StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
 
@@ -105,73 +105,17 @@ def one_line(sql: str, width: int = 80) -> str:
     return flat if len(flat) <= width else flat[:width - 1] + "…"
 
 
-# -- queries (run in worker threads) -----------------------------------------------------
+# -- messages from the workers ----------------------------------------------------------
 
 @dataclass
-class QueryDone(Message):
-    """A statement ran: its columns, the first rows formatted, and how many rows in all
-    (``count_stopped``: why the counting stopped at ``total``, e.g. "timed out after 30
-    s")."""
+class QueryFinished(Message):
+    """How a query ended (sql_results.run_query). ``cells``: a result's rows formatted
+    for the table, in the worker: 1000 rows of 10 columns take 30-100 ms, a stall on the
+    UI thread."""
 
-    columns: list[str]
-    rows: list[tuple[Text, ...]]
-    total: int
-    elapsed_s: float
-    returns_rows: bool = True
-    count_stopped: str | None = None
-    query: ReadQuery | None = None
-
-
-@dataclass
-class QueryFailed(Message):
-    """A statement failed: ``message`` is the line to show (sql_results.error_text);
-    ``refused`` when the database refused it as a write."""
-
-    message: str
-    refused: bool
-    query: ReadQuery | None = None
-
-
-@dataclass
-class QueryHalted(Message):
-    """A statement did not finish: ``reason`` is "cancelled" or "timed out after N s"."""
-
-    reason: str
-    timed_out: bool
-    query: ReadQuery | None = None
-
-
-QueryOutcome = QueryDone | QueryFailed | QueryHalted
-
-
-def run_query(engine: Engine, query: ReadQuery | str,
-              limit: int = DISPLAY_LIMIT) -> QueryOutcome:
-    """Run one statement as ``slopetui sql`` does (sql_results.fetch), keeping the first
-    limit rows formatted and counting the rest; never raises on a database error, a
-    cancel or the time limit (a str runs with the default limit)."""
-    if isinstance(query, str):
-        query = ReadQuery(query, DEFAULT_TIMEOUT_S)
-    rows: list[tuple[Text, ...]] = []
-
-    def keep(chunk: list[Row]) -> None:
-        rows.extend(tuple(format_cell(v) for v in row) for row in chunk)
-
-    start = time.perf_counter()
-    try:
-        fetched = fetch(engine, query, keep, limit, count_rest=True)
-    except QueryCancelled as exc:
-        return QueryHalted(str(exc), timed_out=False, query=query)
-    except QueryTimedOut as exc:
-        return QueryHalted(str(exc), timed_out=True, query=query)
-    except QueryError as exc:
-        return QueryFailed(error_text(exc), exc.refused, query=query)
-    except Exception as exc:  # anything else is shown with its cause, not a traceback
-        return QueryFailed(f"error: {type(exc).__name__}: {exc}", refused=False, query=query)
-    elapsed = time.perf_counter() - start
-    if fetched.columns is None:
-        return QueryDone([], [], 0, elapsed, returns_rows=False, query=query)
-    return QueryDone(fetched.columns, rows, fetched.count + fetched.rest, elapsed,
-                     count_stopped=fetched.count_stopped, query=query)
+    query: ReadQuery
+    outcome: QueryOutcome
+    cells: list[tuple[Text, ...]]
 
 
 @dataclass
@@ -290,14 +234,17 @@ class SqlScreen(SlopeScreen[None]):
     @work(thread=True, exclusive=True, group="sql")
     def execute(self, query: ReadQuery) -> None:
         worker = get_current_worker()
+        outcome: QueryOutcome
         try:
             with self._engine.use() as engine:
                 outcome = run_query(engine, query, DISPLAY_LIMIT)
         except Exception as exc:  # e.g. an in-memory SQLite store cannot be reopened
-            outcome = QueryFailed(f"error: {type(exc).__name__}: {exc}", refused=False,
-                                  query=query)
-        if not worker.is_cancelled:  # a newer query replaced this one
-            self.post_message(outcome)
+            outcome = QueryFailed.unexpected(exc)
+        if worker.is_cancelled:  # a newer query replaced this one
+            return
+        cells = ([tuple(format_cell(v) for v in row) for row in outcome.rows]
+                 if isinstance(outcome, QueryDone) else [])
+        self.post_message(QueryFinished(query, outcome, cells))
 
     @work(thread=True, exclusive=True, group="sql-schema")
     def load_schema(self) -> None:
@@ -327,49 +274,37 @@ class SqlScreen(SlopeScreen[None]):
 
     # -- messages from the workers --
 
-    def _finished(self, outcome: QueryOutcome) -> bool:
-        """Is this the outcome of the query running now (not of one it replaced)?"""
-        if outcome.query is not None and outcome.query is not self._query:
-            return False
-        self._query = None
-        return True
-
-    @on(QueryDone)
-    def show_results(self, done: QueryDone) -> None:
-        if not self._finished(done):
+    @on(QueryFinished)
+    def show_outcome(self, finished: QueryFinished) -> None:
+        if finished.query is not self._query:  # the outcome of a query since replaced
             return
-        table = self.query_one("#sql-results", DataTable)
-        table.clear(columns=True)
+        self._query = None
+        self.query_one("#sql-results", DataTable).clear(columns=True)
+        outcome = finished.outcome
+        if isinstance(outcome, QueryDone):
+            self.show_results(outcome, finished.cells)
+        elif isinstance(outcome, QueryFailed):
+            self.set_status(outcome.message, "-error")
+        elif outcome.timed_out:
+            self.set_status(f"{outcome.reason}; nothing shown", "-error")
+        else:
+            self.set_status(outcome.reason, "-info")
+
+    def show_results(self, done: QueryDone, cells: list[tuple[Text, ...]]) -> None:
         elapsed = format_elapsed(done.elapsed_s)
         if not done.returns_rows:
             self.set_status(f"the statement returns no rows ({elapsed})", "-done")
             return
+        table = self.query_one("#sql-results", DataTable)
         table.add_columns(*(Text(c) for c in done.columns))
-        table.add_rows(done.rows)
+        table.add_rows(cells)
         noun = "row" if done.total == 1 else "rows"
-        shown = f" (first {len(done.rows)} shown)" if done.total > len(done.rows) else ""
+        shown = f" (first {len(cells)} shown)" if done.total > len(cells) else ""
         if done.count_stopped:
             self.set_status(f"at least {done.total} {noun}{shown}; counting "
                             f"{done.count_stopped}", "-done")
             return
         self.set_status(f"{done.total} {noun}{shown} in {elapsed}", "-done")
-
-    @on(QueryFailed)
-    def show_failure(self, failed: QueryFailed) -> None:
-        if not self._finished(failed):
-            return
-        self.query_one("#sql-results", DataTable).clear(columns=True)
-        self.set_status(failed.message, "-error")
-
-    @on(QueryHalted)
-    def show_halt(self, halted: QueryHalted) -> None:
-        if not self._finished(halted):
-            return
-        self.query_one("#sql-results", DataTable).clear(columns=True)
-        if halted.timed_out:
-            self.set_status(f"{halted.reason}; nothing shown", "-error")
-        else:
-            self.set_status(halted.reason, "-info")
 
     @on(SchemaLoaded)
     def show_schema(self, loaded: SchemaLoaded) -> None:
