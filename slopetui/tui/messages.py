@@ -1,4 +1,5 @@
-"""Small messages that carry data from thread workers to the screens."""
+"""Small messages shared by the screens: from thread workers (a failed store call) and
+from the diagram widgets (a run chosen)."""
 
 from __future__ import annotations
 

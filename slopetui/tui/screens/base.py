@@ -16,7 +16,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, TypeVar
 
+from textual import on
 from textual.screen import Screen
+
+from slopetui.tui.messages import StoreFailed
 
 if TYPE_CHECKING:
     from textual import getters
@@ -41,3 +44,10 @@ class SlopeScreen(Screen[ResultT]):
     def refresh_data(self) -> None:
         """The app calls this on the screen in view once the store is open and after it
         changed a sweep; a screen with live data reloads it (this one has none)."""
+
+    @on(StoreFailed)
+    def show_store_failure(self, failed: StoreFailed) -> None:
+        """A worker's database or file call failed: one notification, never a traceback
+        (every screen shows it the same way)."""
+        failed.stop()  # shown here; the app need not show it again
+        self.notify(f"could not {failed.action}: {failed.error}", severity="error", timeout=8)

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from rich.text import Text
-from textual import on, work
+from textual import work
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.message import Message
@@ -66,7 +66,7 @@ class QueueScreen(SlopeScreen[None]):
         try:
             self.post_message(self.Loaded(sweep_progress(db), live_workers(db)))
         except Exception as exc:
-            self.post_message(StoreFailed("reading the queue", f"{type(exc).__name__}: {exc}"))
+            self.post_message(StoreFailed("read the queue", f"{type(exc).__name__}: {exc}"))
 
     def on_queue_screen_loaded(self, message: Loaded) -> None:
         workers = self.query_one("#worker-table", DataTable)
@@ -89,10 +89,6 @@ class QueueScreen(SlopeScreen[None]):
                           key=str(p.id))
         if message.sweeps:
             table.move_cursor(row=min(row, len(message.sweeps) - 1), animate=False)
-
-    @on(StoreFailed)
-    def _failed(self, message: StoreFailed) -> None:
-        self.notify(f"{message.action}: {message.error}", severity="error", timeout=8)
 
     def action_control(self, action: str) -> None:
         table = self.query_one("#queue-table", DataTable)

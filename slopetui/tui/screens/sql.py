@@ -317,11 +317,6 @@ class SqlScreen(SlopeScreen[None]):
                                       (" pk", "dim italic") if primary else "")
                 node.add_leaf(label, data=name)
 
-    @on(StoreFailed)
-    def show_store_failure(self, failed: StoreFailed) -> None:
-        failed.stop()  # shown here; the app need not show it again
-        self.notify(f"could not {failed.action}: {failed.error}", severity="error", timeout=8)
-
     @on(HistoryLoaded)
     def merge_loaded_history(self, loaded: HistoryLoaded) -> None:
         unsaved = self.history.merge_read(loaded.queries)

@@ -98,7 +98,7 @@ class SweepsScreen(SlopeScreen[None]):
                 sweep_id = sweeps[0].id
             diagram = load_diagram(db, sweep_id) if sweep_id is not None else None
         except Exception as exc:  # a locked or vanished database: say so, keep running
-            self.post_message(StoreFailed("reading the sweeps", f"{type(exc).__name__}: {exc}"))
+            self.post_message(StoreFailed("read the sweeps", f"{type(exc).__name__}: {exc}"))
             return
         grid = None
         if diagram is not None and diagram.spec.y is not None:
@@ -110,9 +110,6 @@ class SweepsScreen(SlopeScreen[None]):
     def on_sweeps_screen_loaded(self, message: Loaded) -> None:
         self._fill_table(message.sweeps)
         self._show_diagram(message.diagram, message.grid)
-
-    def on_store_failed(self, message: StoreFailed) -> None:
-        self.notify(f"{message.action}: {message.error}", severity="error", timeout=8)
 
     def _fill_table(self, sweeps: list[SweepProgress]) -> None:
         table = self.query_one("#sweep-table", DataTable)
