@@ -9,10 +9,12 @@ from collections.abc import Sequence
 
 from slopetui import __version__
 from slopetui.cli import (
+    continuation,
     control,
     db,
     example,
     nblock,
+    orbit,
     reproduce,
     run,
     runs,
@@ -28,7 +30,7 @@ from slopetui.cli import (
 #: exit 2. Named by module rather than imported: a class whose module was never loaded
 #: cannot have raised, and importing them all (SQLAlchemy, numpy) would cost every
 #: command, `--help` included, the imports only some need (slopetui.cli.options).
-USER_ERRORS = (("core.params", "ParameterError"), ("slopetui.sweeps.spec", "SpecError"),
+USER_ERRORS = (("core.params", "ParameterError"), ("core.orbit", "OrbitError"), ("slopetui.sweeps.spec", "SpecError"),
                ("slopetui.store.failures", "StoreError"),
                ("slopetui.sweeps.control", "UnknownSweep"), ("slopetui.cli.options", "UsageError"))
 #: The database failed (disk full, damaged file...): one line naming the file, exit 1.
@@ -53,8 +55,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-workers", action="store_true",
                         help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for module in (run, submit, example, status, show, runs, control, sql, worker, workers, db,
-                   nblock, reproduce):
+    for module in (run, orbit, continuation, submit, example, status, show, runs, control, sql,
+                   worker, workers, db, nblock, reproduce):
         module.register(sub)
     return parser
 

@@ -37,6 +37,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="worker processes for --report (default: the cores available)")
     p.add_argument("--yes", action="store_true",
                    help=f"queue more than {CONFIRM_ABOVE_RUNS} runs")
+    p.add_argument("--no-orbits", dest="orbits", action="store_false",
+                   help="--report without the continuation analysis of the periodic orbits "
+                        "(the fold of cycles over tau takes a few minutes)")
     add_db_option(p)
     p.set_defaults(handler=handle)
 
@@ -71,7 +74,7 @@ def handle(args: argparse.Namespace) -> int:
         from slopetui.reproduce.report import write_report
         resolution = args.resolution or REPORT_RESOLUTION
         path, complete = write_report(open_db(args), resolution, args.t_end, Path(args.out),
-                                      args.jobs)
+                                      args.jobs, args.orbits)
         if not complete:
             print(f"report written to {path}, marked INCOMPLETE: some figures have runs "
                   "missing and no verdict; run the same command again to finish")

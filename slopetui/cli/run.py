@@ -56,7 +56,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     for name in PARAM_NAMES:
         p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="X", help=PARAM_HELP[name])
     p.add_argument("--method", choices=METHODS, default="euler",
-                   help="euler (paper-faithful, default) or rk4 (4th order)")
+                   help="euler (paper-faithful, default), rk4 (4th order) or stiff (linearly "
+                        "implicit: what euler and rk4 fall back to where they fail)")
     p.add_argument("--dt", metavar="X", help="time step (default 1e-3 for euler, 1e-2 for rk4)")
     p.add_argument("--t-end", dest="t_end", metavar="X", default="1e5",
                    help="end time of the run (default 1e5)")

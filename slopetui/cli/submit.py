@@ -39,7 +39,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                        help=f"fixed {PARAM_HELP[name]}")
     p.add_argument("--name", help="a name for the sweep (at most 200 characters; control "
                                   "characters such as ESC or bidi overrides are refused)")
-    p.add_argument("--method", choices=METHODS, help="euler (default) or rk4")
+    p.add_argument("--method", choices=METHODS, help="euler (default), rk4 or stiff")
     p.add_argument("--dt", metavar="X", help="time step (default 1e-3 euler, 1e-2 rk4)")
     p.add_argument("--t-end", dest="t_end", metavar="X", help="end time (default 1e5)")
     p.add_argument("--window", metavar="X",

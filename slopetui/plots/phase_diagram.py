@@ -18,6 +18,10 @@ from slopetui.plots.canvas import (
     visible,
 )
 from slopetui.plots.regime_colors import (
+    FOLD_COLOR,
+    FOLD_LABEL,
+    FOLD_LEGEND_MARKER,
+    FOLD_MARKER,
     HOPF_COLOR,
     HOPF_LABEL,
     HOPF_LEGEND_MARKER,
@@ -30,14 +34,16 @@ from slopetui.plots.regime_colors import (
 def render_phase_diagram(x_param: str, y_param: str, xs: Sequence[float], ys: Sequence[float],
                          regimes: Sequence[str | None], *, x_log: bool = False,
                          y_log: bool = False, hopf: tuple[np.ndarray, np.ndarray] | None = None,
-                         title: str = "", width: int = 80, height: int = 24,
-                         color: bool = True, notes: Sequence[str] = ()) -> str:
+                         fold: tuple[np.ndarray, np.ndarray] | None = None, title: str = "",
+                         width: int = 80, height: int = 24, color: bool = True,
+                         notes: Sequence[str] = ()) -> str:
     """The runs at (xs[i], ys[i]) (parameter values, model units) marked by regimes[i].
 
     One series per regime; regime None or "pending" (not finished) is drawn in the faint
     pending style. The legend under the plot names each regime with its run count, and
     counts the runs a log axis cannot show (values <= 0) or with non-finite values.
-    ``hopf`` is a curve from hopf_boundary, drawn last so no run hides it. ``notes`` are
+    ``hopf`` is a curve from hopf_boundary, drawn last so no run hides it; ``fold`` the
+    fold-of-cycles curve (core.fold_curve), drawn as dots, likewise. ``notes`` are
     added to the legend as they are (e.g. an adaptive sweep's computed and inferred
     counts). Returns exactly
     ``height`` lines of at most ``width`` columns; with ``color`` False, no ANSI escapes.
@@ -51,10 +57,14 @@ def render_phase_diagram(x_param: str, y_param: str, xs: Sequence[float], ys: Se
     shown = visible(x, x_log) & visible(y, y_log)
     series = _regime_series(x, y, keys, shown)
     legend = regime_legend(keys)
-    curve = _visible_curve(hopf, x_log, y_log)
+    curve = _visible_curve(hopf, x_log, y_log, HOPF_MARKER, HOPF_COLOR, line=True)
     if curve is not None:
         series.append(curve)
         legend.append(LegendEntry(HOPF_LEGEND_MARKER, HOPF_COLOR, HOPF_LABEL))
+    folds = _visible_curve(fold, x_log, y_log, FOLD_MARKER, FOLD_COLOR, line=False)
+    if folds is not None:
+        series.append(folds)
+        legend.append(LegendEntry(FOLD_LEGEND_MARKER, FOLD_COLOR, FOLD_LABEL))
     hidden = len(keys) - int(shown.sum())
     if hidden:
         why = "<= 0 on a log axis, or not finite" if x_log or y_log else "not finite"
@@ -79,13 +89,14 @@ def _regime_series(x: np.ndarray, y: np.ndarray, keys: list[str],
             for k in order]
 
 
-def _visible_curve(hopf: tuple[np.ndarray, np.ndarray] | None, x_log: bool,
-                   y_log: bool) -> Series | None:
-    """The Hopf curve as a line, without points a log axis cannot show; None if empty."""
-    if hopf is None:
+def _visible_curve(curve: tuple[np.ndarray, np.ndarray] | None, x_log: bool, y_log: bool,
+                   marker: str, color: str, *, line: bool) -> Series | None:
+    """A curve (the Hopf curve, the fold of cycles), without points a log axis cannot show
+    or that are not finite; None if empty."""
+    if curve is None:
         return None
-    hx, hy = (np.asarray(a, dtype=float) for a in hopf)
+    hx, hy = (np.asarray(a, dtype=float) for a in curve)
     keep = visible(hx, x_log) & visible(hy, y_log)
     if not keep.any():
         return None
-    return Series(hx[keep], hy[keep], HOPF_MARKER, HOPF_COLOR, line=True)
+    return Series(hx[keep], hy[keep], marker, color, line=line)

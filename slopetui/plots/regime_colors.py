@@ -49,6 +49,12 @@ HOPF_MARKER = "braille"
 #: Two braille cells that look like a short line, for the legend.
 HOPF_LEGEND_MARKER = "⠤⠤"
 HOPF_LABEL = "Hopf (exact)"
+#: The fold-of-cycles curve (core.fold_curve): the lower edge of the bistable band, in
+#: plotext's small dots so it reads apart from the Hopf curve with colour off too.
+FOLD_COLOR = "default"
+FOLD_MARKER = "•"
+FOLD_LEGEND_MARKER = "••"
+FOLD_LABEL = "fold of cycles"
 
 
 @dataclass(frozen=True, slots=True)

@@ -192,16 +192,17 @@ def render_spectrum(freq: np.ndarray, power: np.ndarray, *, title: str = "", wid
                   y_log=False, title=title, width=width, height=height, color=color)
 
 
-def render_lyapunov(t: np.ndarray, lam: np.ndarray, *, estimate: str = "", title: str = "",
-                    width: int = 80, height: int = 24, color: bool = True) -> str:
+def render_lyapunov(t: np.ndarray, lam: np.ndarray, *, estimate: str = "", note_text: str = "",
+                    title: str = "", width: int = 80, height: int = 24, color: bool = True) -> str:
     """The running estimate lambda(t) (core.lyapunov.running; 1 / time unit) against
     model time t on a log axis, over a dashed zero line.
 
     The log time axis gives the early transient and the late convergence comparable
     room. ``estimate`` (e.g. "0.0008(9)"), when given, is the block-averaged value
-    shown in the legend. Returns exactly ``height`` lines of at most ``width`` columns;
-    with ``color`` False, no ANSI escapes. Raises ValueError for arrays of unequal length
-    or a size too small.
+    shown in the legend; ``note_text`` a further legend line (which map the estimate
+    belongs to and its bias: core.lyapunov_bias.bias_note). Returns exactly ``height``
+    lines of at most ``width`` columns; with ``color`` False, no ANSI escapes. Raises
+    ValueError for arrays of unequal length or a size too small.
     """
     t, lam = _finite(t, lam)
     shown = t > 0.0
@@ -216,5 +217,7 @@ def render_lyapunov(t: np.ndarray, lam: np.ndarray, *, estimate: str = "", title
     legend = [_trace_legend("running λ(t)"), LegendEntry(ZERO_MARKER, ZERO_COLOR, "0")]
     if estimate:
         legend.append(note(f"λmax = {estimate}"))
+    if note_text:
+        legend.append(note(note_text))
     return render([zero, curve], legend, x_label="t", y_label="", x_log=True, y_log=False,
                   title=title, width=width, height=height, color=color)

@@ -16,6 +16,8 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from slopetui.display_text import terminal_safe
 from slopetui.plots.bifurcation import render_bifurcation
 from slopetui.plots.phase_diagram import render_phase_diagram
@@ -25,10 +27,12 @@ if TYPE_CHECKING:  # slopetui.sweeps.diagram loads the store: imported where use
 
 
 def render_sweep(diagram: SweepDiagram, *, width: int, height: int, color: bool,
-                 hopf: bool = True, title: str | None = None) -> str:
+                 hopf: bool = True, fold: tuple[np.ndarray, np.ndarray] | None = None,
+                 title: str | None = None) -> str:
     """The sweep's phase diagram (2-D) or bifurcation diagram (1-D), ``height`` lines of
     at most ``width`` columns, ANSI-coloured when ``color``. ``hopf`` draws the exact Hopf
-    curve over a phase diagram whose plane has one. ``title`` defaults to the sweep's id,
+    curve over a phase diagram whose plane has one; ``fold`` is a fold-of-cycles curve in
+    the plane's (x, y) values to draw over it (core.fold_curve). ``title`` defaults to the sweep's id,
     name (escaped: it is stored text) and progress. Raises ValueError as the renderers do
     (e.g. a size too small)."""
     spec = diagram.spec
@@ -55,7 +59,7 @@ def render_sweep(diagram: SweepDiagram, *, width: int, height: int, color: bool,
     plane_ys = [math.nan if v is None else v for v in ys]  # every run of a 2-D sweep has y
     return render_phase_diagram(x.param, y.param, xs, plane_ys, regimes,
                                 x_log=x.spacing == "log", y_log=y.spacing == "log",
-                                hopf=plane_hopf(spec) if hopf else None, title=title,
+                                hopf=plane_hopf(spec) if hopf else None, fold=fold, title=title,
                                 width=width, height=height, color=color,
                                 notes=adaptive_notes(diagram))
 

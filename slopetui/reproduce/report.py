@@ -12,6 +12,7 @@ from slopetui.plots import render_sweep
 from slopetui.queue.pool import default_jobs, run_pool
 from slopetui.queue.worker_process import WorkerOptions
 from slopetui.reproduce.findings import FINDINGS, Diagrams, Finding
+from slopetui.reproduce.orbit_analysis import OrbitAnalysis, analyse
 from slopetui.store.database import Database
 from slopetui.store.queries import runtime_total, unfinished_runs
 from slopetui.sweeps.diagram import SweepDiagram, load_diagram
@@ -40,9 +41,19 @@ def compute(db: Database, resolution: int, t_end: float | None, jobs: int | None
     return ids, time.perf_counter() - t0
 
 
-def diagram_text(d: SweepDiagram) -> str:
-    """The figure's diagram as plain text (the one render path of show and the TUI)."""
-    return render_sweep(d, width=WIDTH, height=HEIGHT, color=False,
+def diagram_text(d: SweepDiagram, orbits: OrbitAnalysis | None = None) -> str:
+    """The figure's diagram as plain text (the one render path of show and the TUI), with
+    the fold-of-cycles curve over a (k, tau) plane when the orbits were analysed."""
+    y = d.spec.y
+    fold = None
+    if orbits is not None and y is not None and (d.spec.x.param, y.param) == ("k", "tau"):
+        # the curve's points inside the plane only: the table goes on to tau = 60, and a
+        # point outside would stretch the axes
+        k, tau = orbits.curve()
+        xs, ys = d.spec.x.values(), y.values()
+        inside = (k >= min(xs)) & (k <= max(xs)) & (tau >= min(ys)) & (tau <= max(ys))
+        fold = (k[inside], tau[inside])
+    return render_sweep(d, width=WIDTH, height=HEIGHT, color=False, fold=fold,
                         title=f"{d.name} ({d.n_done}/{len(d.runs)} runs)")
 
 
@@ -61,7 +72,7 @@ def section(f: Finding, diagrams: Diagrams) -> str:
     single = all(len(diagrams[k].runs) == 1 for k in f.keys)
     if not single:
         for k in f.keys:
-            out += ["```text", diagram_text(diagrams[k]).rstrip(), "```", ""]
+            out += ["```text", diagram_text(diagrams[k], diagrams.orbits).rstrip(), "```", ""]
     out += [f"**Verdict: {f.verdict}.** {f.reason}", ""]
     return "\n".join(out)
 
@@ -70,7 +81,7 @@ class Unfinished(KeyError):
     """A finding asked for a diagram whose runs are not all done."""
 
 
-class FinishedDiagrams(dict[str, SweepDiagram]):
+class FinishedDiagrams(Diagrams):
     """The diagrams a finding may read: an unfinished one raises Unfinished, so that no
     verdict is ever drawn from a figure with runs missing (an interrupted report once
     said "nan% of 0 runs agree" and DISAGREE for figures that had no runs at all)."""
@@ -91,6 +102,7 @@ def finished(d: SweepDiagram) -> bool:
 def evaluate(diagrams: Diagrams) -> list[Finding | Unfinished]:
     """Each finding, or Unfinished naming the first diagram it lacked."""
     complete = FinishedDiagrams(diagrams)
+    complete.orbits = diagrams.orbits
     out: list[Finding | Unfinished] = []
     for f in FINDINGS:
         try:
@@ -113,14 +125,49 @@ def _duration(seconds: float) -> str:
     return f"{seconds:.0f} s" if seconds < 120 else f"{seconds / 60:.0f} min"
 
 
+def orbit_analysis(diagrams: Diagrams) -> OrbitAnalysis:
+    """Continuation at tau = 10 and the fold of cycles at the taus of Fig. 5's axis (and
+    beyond it), held against Figs. 5A/5B when they are complete."""
+    near, far = diagrams["fig5a"], diagrams["fig5b"]
+    assert near.spec.y is not None
+    both = finished(near) and finished(far)
+    return analyse(near.spec.base, [float(t) for t in near.spec.y.values()],
+                   near if both else None, far if both else None)
+
+
+def orbit_section(o: OrbitAnalysis) -> str:
+    out = ["## Periodic orbits, their bifurcations and the bistable band (continuation)", "",
+           "What the paper could only see by simulating, computed: periodic orbits by "
+           "Newton-Krylov shooting on the discretised delay equation (RK4, dt = 0.01), their "
+           "Floquet multipliers by Arnoldi, branches by pseudo-arclength continuation "
+           "(`slopetui orbit`, `slopetui continue`). The fold of cycles bounds, with the Hopf "
+           "curve, the band where a stable cycle and the stable steady state coexist: there "
+           "the initial state decides, the paper's conditionally stable slopes.", "",
+           "**At tau = 10 (Figs. 4A, 4B):**", "", *[f"- {line}" for line in o.tau10_lines()],
+           *[f"- {line}" for line in o.pulse_lines()], "",
+           "**The fold of cycles over tau** (each value an independent continuation from the "
+           "Hopf point, at the defaults of eq. 8):", "", *o.fold_table(), ""]
+    if o.band is not None:
+        from slopetui.reproduce.findings import band_lines
+        out += ["**Against Figs. 5A/5B:**", "", *[f"- {line}" for line in band_lines(o.band)], ""]
+    out += [f"The analysis took {o.runtime_s:.0f} s of CPU.", ""]
+    return "\n".join(out)
+
+
 def write_report(db: Database, resolution: int, t_end: float | None, out: Path,
-                 jobs: int | None = None) -> tuple[Path, bool]:
+                 jobs: int | None = None, orbits: bool = True) -> tuple[Path, bool]:
     """Compute and write the report; returns its path and whether every figure was
     complete (an interrupted computation writes a report marked INCOMPLETE, with verdicts
-    only for the figures whose runs are all done)."""
+    only for the figures whose runs are all done). ``orbits`` adds the continuation
+    analysis to a complete report (a few minutes of CPU: the fold curve at large
+    delays)."""
     out.parent.mkdir(parents=True, exist_ok=True)
     ids, wall = compute(db, resolution, t_end, jobs, out.with_suffix(".log"))
-    diagrams = {k: load_diagram(db, i) for k, i in ids.items()}
+    diagrams = Diagrams({k: load_diagram(db, i) for k, i in ids.items()})
+    # Only for a complete report: an interrupted one is run again, and the analysis (a few
+    # minutes) does not depend on the runs except for its comparison with Figs. 5A/5B.
+    if orbits and all(finished(d) for d in diagrams.values()):
+        diagrams.orbits = orbit_analysis(diagrams)
     results = evaluate(diagrams)
     findings = [f for f in results if isinstance(f, Finding)]
     complete = len(findings) == len(results)
@@ -154,7 +201,9 @@ def write_report(db: Database, resolution: int, t_end: float | None, out: Path,
         "",
         "Diagram legend: `.` sliding, `o` oscillatory, `*` complex, `+` mixed, `x` unstable; "
         "the braille line is the exact Hopf curve of the fixed point (linear stability, "
-        "`core.stability`). Sliding runs of a bifurcation diagram are drawn at their mean m_y.",
+        "`core.stability`, without noise), and `•` over a (k, tau) plane the fold of cycles "
+        "(continuation, last section). Sliding runs of a bifurcation diagram are drawn at "
+        "their mean m_y.",
         "",
         "| figure | verdict |",
         "|---|---|",
@@ -165,5 +214,7 @@ def write_report(db: Database, resolution: int, t_end: float | None, out: Path,
     ]
     body = [section(f, diagrams) if isinstance(f, Finding) else unfinished_section(f, diagrams)
             for f in results]
+    if diagrams.orbits is not None:
+        body.append(orbit_section(diagrams.orbits))
     out.write_text("\n".join(head + body), encoding="utf-8")
     return out, complete

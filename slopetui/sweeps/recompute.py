@@ -19,6 +19,7 @@ import numpy as np
 from core import Params, SolverSettings, run_point
 from core.classify import Summary, power_spectrum
 from core.lyapunov import LyapunovEstimate, running
+from core.lyapunov_bias import bias_note
 from core.params import PARAM_NAMES
 from core.result_fields import RESULT_FIELDS, Kind
 
@@ -116,7 +117,9 @@ def load_run(db: Database, run_id: int) -> StoredRun | None:
 class Traces:
     """What a recomputation gives the plots, in model units: the analysis window
     (t, m_x, m_y), the spectrum of m_y (frequency in 1/time), the running lambda_max
-    (lam_t, lam in 1/time), and the recomputed summary."""
+    (lam_t, lam in 1/time), the recomputed summary, and which map lambda_max belongs to
+    with its bias against the continuous model where theory gives it
+    (core.lyapunov_bias.bias_note; empty without lambda_max)."""
 
     t: np.ndarray
     m_x: np.ndarray
@@ -127,6 +130,7 @@ class Traces:
     lam: np.ndarray
     summary: Summary
     lyap: LyapunovEstimate | None
+    lambda_note: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -144,7 +148,9 @@ def compute_traces(params: Params, settings: SolverSettings) -> Traces:
     t, m_x, m_y = tr.window_t, tr.window[0], tr.window[1]
     freq, power = power_spectrum(t, m_y)
     lam_t, lam = running(tr.lyap_logs, tr.grid.renorm_interval)
-    return Traces(t, m_x, m_y, freq, power, lam_t, lam, result.summary, result.lyap)
+    note = (bias_note(params, result.summary.attractor, result.settings.method, tr.grid.dt,
+                      result.lyap.value) if result.lyap else "")
+    return Traces(t, m_x, m_y, freq, power, lam_t, lam, result.summary, result.lyap, note)
 
 
 def lambda_text(value: float, error: float) -> str:

@@ -10,7 +10,7 @@ from slopetui.cli import main
 def test_the_report_runs_end_to_end(tmp_path, capsys):
     out = tmp_path / "docs" / "reproduction.md"
     code = main(["reproduce", "--report", "--resolution", "2", "--t-end", "100", "-j", "2",
-                 "--out", str(out), "--db", f"sqlite:///{tmp_path / 's.db'}"])
+                 "--no-orbits", "--out", str(out), "--db", f"sqlite:///{tmp_path / 's.db'}"])
     assert code == 0
     text = out.read_text()
     for figure in ("Fig. 2A", "Fig. 3", "Fig. 4A", "Fig. 4B", "Fig. 4C", "Fig. 5A", "Fig. 6B",

@@ -37,3 +37,15 @@ def test_where_theory_is_silent_the_note_says_so():
     assert continuous_exponent(Params(), "chaotic") is None
     assert "not known here" in bias_note(Params(), "chaotic", "euler", 1e-3, 0.01)
 
+
+
+def test_the_run_detail_shows_the_note_beside_the_running_estimate():
+    """The recomputation the run detail draws carries the note, and the lambda_max plot
+    shows it in its legend."""
+    from slopetui.plots.run_plots import render_lyapunov
+    from slopetui.sweeps.recompute import compute_traces
+    traces = compute_traces(Params(k=5.0, tau=2.0), SolverSettings(t_end=400.0, lyap=True))
+    assert "linear theory" in traces.lambda_note and "euler map" in traces.lambda_note
+    text = render_lyapunov(traces.lam_t, traces.lam, estimate="-0.18", note_text="euler map at dt",
+                           width=100, height=16, color=False)
+    assert "euler map at dt" in text

@@ -186,8 +186,8 @@ def renderers(traces: Traces) -> dict[str, Renderer]:
         return render_spectrum(traces.freq, traces.power, width=w, height=h, color=c)
 
     def lyapunov(w: int, h: int, c: bool) -> str:
-        return render_lyapunov(traces.lam_t, traces.lam, estimate=estimate, width=w,
-                               height=h, color=c)
+        return render_lyapunov(traces.lam_t, traces.lam, estimate=estimate,
+                               note_text=traces.lambda_note, width=w, height=h, color=c)
 
     return {TAB_TIME: time_series, TAB_PHASE: phase, TAB_SPECTRUM: spectrum,
             TAB_LYAP: lyapunov}

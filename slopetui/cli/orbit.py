@@ -1,0 +1,116 @@
+"""``slopetui orbit``: the periodic orbit a point settles on, and its Floquet multipliers."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from typing import TYPE_CHECKING
+
+from core.params import PARAM_NAMES, ParameterError, Params
+from slopetui.cli.run import PARAM_HELP, accept_negative_numbers
+
+if TYPE_CHECKING:
+    from core.periodic_orbit import Orbit
+
+#: Multipliers printed and in --json (the leading ones, by modulus).
+SHOWN = 10
+
+
+def add_point_options(p: argparse.ArgumentParser) -> None:
+    """The parameter flags of ``run`` (--k, --tau, ...) and the orbit's step."""
+    accept_negative_numbers(p)
+    for name in PARAM_NAMES:
+        p.add_argument(f"--{name}", dest=name, metavar="X", help=PARAM_HELP[name])
+    p.add_argument("--dt", metavar="X", default="0.01",
+                   help="RK4 step of the orbit (default 0.01; tau = N dt exactly)")
+
+
+def point_of(args: argparse.Namespace) -> tuple[Params, float]:
+    """The validated parameters and step; raises ParameterError naming the field."""
+    params = Params(**{n: getattr(args, n) for n in PARAM_NAMES if getattr(args, n) is not None})
+    try:
+        dt = float(args.dt)
+    except ValueError:
+        raise ParameterError("dt", args.dt, "a number in (0, tau]") from None
+    if not (math.isfinite(dt) and 0 < dt <= max(params.tau, 0.0)):
+        raise ParameterError("dt", args.dt, f"a number in (0, tau = {params.tau:g}]")
+    if params.tau / dt > 1e5:
+        raise ParameterError("dt", args.dt, f"at least tau / 1e5 = {params.tau / 1e5:g} "
+                                            "(the orbit's state holds 2 tau / dt numbers)")
+    return params, dt
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("orbit", help="the periodic orbit at one point, with its Floquet multipliers",
+                       description="Simulate from eq. 19 (offset --delta), find where the state "
+                                   "returns, and correct the orbit by Newton-Krylov shooting; "
+                                   "print its period, amplitude, maxima per period, leading "
+                                   "Floquet multipliers and stability.")
+    add_point_options(p)
+    p.add_argument("--t-seed", dest="t_seed", metavar="X", type=float, default=3000.0,
+                   help="length of the seed simulation (default 3000)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(handler=handle)
+
+
+def record(o: Orbit, runtime_s: float) -> dict[str, object]:
+    """The --json object: the orbit, its multipliers and how it was found."""
+    m = o.multipliers
+    values = m.values[:SHOWN]
+    return {
+        "period": o.period,
+        "amplitude": o.amplitude,
+        "maxima_per_period": o.maxima_per_period,
+        "stable": o.stable,
+        "multipliers": [[float(v.real), float(v.imag)] for v in values],
+        "moduli": [float(abs(v)) for v in values],
+        "flow_multiplier": [m.flow.real, m.flow.imag],
+        "translation_multiplier": m.translation,
+        "dt": o.grid.dt,
+        "newton_steps": o.newton_steps,
+        "residual": o.residual,
+        "runtime_s": runtime_s,
+        "params": {n: getattr(o.params, n) for n in PARAM_NAMES},
+    }
+
+
+def render(o: Orbit, runtime_s: float) -> str:
+    m = o.multipliers
+    p = o.params
+    lines = [
+        f"point        a={p.a:g} b={p.b:g} c={p.c:g} d={p.d:g} k={p.k:g} v={p.v:g} tau={p.tau:g}",
+        f"orbit        period {o.period:.10g}, amplitude {o.amplitude:.6g} (peak-to-peak m_y), "
+        f"{o.maxima_per_period} maxima per period",
+        f"stability    {'stable' if o.stable else 'unstable'} "
+        f"({m.unstable_count} multipliers outside the unit circle)",
+        f"checks       flow multiplier {abs(m.flow - 1):.1e} from 1, translation multiplier "
+        f"{m.translation:.15g}",
+        f"newton       {o.newton_steps} steps, residual {o.residual:.1e}, RK4 at dt = {o.grid.dt:g}; "
+        f"{runtime_s:.2f} s",
+        "multipliers  (leading, by modulus; * the flow's)",
+    ]
+    for i, v in enumerate(m.values[:SHOWN]):
+        mark = "*" if i == m.flow_index else " "
+        lines.append(f"  {mark} {v.real:+.8f} {v.imag:+.8f}i   |mu| = {abs(v):.8f}")
+    return "\n".join(lines)
+
+
+def handle(args: argparse.Namespace) -> int:
+    try:
+        params, dt = point_of(args)
+    except ParameterError as exc:
+        print(f"slopetui orbit: error: {exc}", file=sys.stderr)
+        return 2
+    from core.periodic_orbit import OrbitError, find_orbit
+    t0 = time.process_time()
+    try:
+        orbit = find_orbit(params, dt, args.t_seed)
+    except OrbitError as exc:
+        print(f"slopetui orbit: no orbit: {exc}", file=sys.stderr)
+        return 1
+    took = time.process_time() - t0
+    print(json.dumps(record(orbit, took)) if args.json else render(orbit, took))
+    return 0
