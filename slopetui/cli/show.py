@@ -17,6 +17,8 @@ from slopetui.cli.options import UsageError, add_db_option, int_arg, open_db, sw
 
 if TYPE_CHECKING:
     from slopetui.store.database import Database
+    from slopetui.sweeps.fold_overlay import Curve
+    from slopetui.sweeps.spec import SweepSpec
 
 
 #: The smallest diagram that still has room for its axes, ticks and legend.
@@ -41,6 +43,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="auto: colour on a terminal unless NO_COLOR is set")
     p.add_argument("--no-hopf", dest="hopf", action="store_false",
                    help="do not draw the exact Hopf curve")
+    p.add_argument("--fold", action="store_true",
+                   help="also draw the fold of cycles over a (k, tau) plane, computed by "
+                        "continuation at each tau of the sweep (about a second a tau up to "
+                        "tau = 20, minutes at 60)")
     add_db_option(p)
     p.set_defaults(handler=handle)
 
@@ -68,9 +74,23 @@ def handle(args: argparse.Namespace) -> int:
     if sweep is None:
         sweep = newest_sweep(db)
     diagram = load_diagram(db, sweep)
+    fold = fold_curve_of(diagram.spec) if args.fold else None
     print(render_sweep(diagram, width=width, height=height, color=use_color(args.color),
-                       hopf=args.hopf))
+                       hopf=args.hopf, fold=fold))
     return 0
+
+
+def fold_curve_of(spec: SweepSpec) -> Curve | None:
+    """The sweep's fold curve, with a line on stderr per tau (it takes a while)."""
+    from slopetui.sweeps.fold_overlay import fold_overlay, has_fold_plane
+    if not has_fold_plane(spec):
+        raise UsageError("--fold draws over a (k, tau) phase diagram only; this sweep is not one")
+
+    def say(tau: float, fold: float | None) -> None:
+        found = f"k = {fold:.5g}" if fold is not None else "none (supercritical Hopf point)"
+        print(f"fold of cycles at tau = {tau:.4g}: {found}", file=sys.stderr, flush=True)
+
+    return fold_overlay(spec, say)
 
 
 def newest_sweep(db: Database) -> int:

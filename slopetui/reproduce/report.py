@@ -16,6 +16,7 @@ from slopetui.reproduce.orbit_analysis import OrbitAnalysis, analyse
 from slopetui.store.database import Database
 from slopetui.store.queries import runtime_total, unfinished_runs
 from slopetui.sweeps.diagram import SweepDiagram, load_diagram
+from slopetui.sweeps.fold_overlay import has_fold_plane, inside
 from slopetui.sweeps.presets import BY_KEY, PRESETS
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
@@ -44,15 +45,8 @@ def compute(db: Database, resolution: int, t_end: float | None, jobs: int | None
 def diagram_text(d: SweepDiagram, orbits: OrbitAnalysis | None = None) -> str:
     """The figure's diagram as plain text (the one render path of show and the TUI), with
     the fold-of-cycles curve over a (k, tau) plane when the orbits were analysed."""
-    y = d.spec.y
-    fold = None
-    if orbits is not None and y is not None and (d.spec.x.param, y.param) == ("k", "tau"):
-        # the curve's points inside the plane only: the table goes on to tau = 60, and a
-        # point outside would stretch the axes
-        k, tau = orbits.curve()
-        xs, ys = d.spec.x.values(), y.values()
-        inside = (k >= min(xs)) & (k <= max(xs)) & (tau >= min(ys)) & (tau <= max(ys))
-        fold = (k[inside], tau[inside])
+    fold = (inside(d.spec, *orbits.curve()) if orbits is not None and has_fold_plane(d.spec)
+            else None)
     return render_sweep(d, width=WIDTH, height=HEIGHT, color=False, fold=fold,
                         title=f"{d.name} ({d.n_done}/{len(d.runs)} runs)")
 

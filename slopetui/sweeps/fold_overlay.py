@@ -1,0 +1,54 @@
+"""The fold-of-cycles curve over a sweep's (k, tau) plane, for the faces to draw beside the
+exact Hopf curve (``render_sweep(fold=...)``).
+
+The curve comes from continuation (core.fold_curve: one branch from the Hopf point per tau
+of the sweep's axis), 0.3-8 s a tau up to tau = 40 at the defaults and minutes at 60 (the
+report's table), so a face computes it on request, never on a redraw. Only (k, tau) planes:
+in the friction planes the fold would be continued in a, b or c, which core.fold_curve
+allows but whose Hopf points core.hopf_start finds from no exact formula yet.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from slopetui.sweeps.spec import SweepSpec
+
+Curve = tuple[np.ndarray, np.ndarray]
+
+
+def has_fold_plane(spec: SweepSpec) -> bool:
+    """Is the sweep a (k, tau) phase diagram, the plane the fold curve is drawn in?"""
+    return spec.y is not None and (spec.x.param, spec.y.param) == ("k", "tau")
+
+
+def inside(spec: SweepSpec, k: np.ndarray, tau: np.ndarray) -> Curve:
+    """The curve's points inside the sweep's plane (a point outside would stretch the
+    axes: the report's table goes on to tau = 60)."""
+    assert spec.y is not None
+    xs, ys = spec.x.values(), spec.y.values()
+    keep = (k >= min(xs)) & (k <= max(xs)) & (tau >= min(ys)) & (tau <= max(ys))
+    return k[keep], tau[keep]
+
+
+def fold_overlay(spec: SweepSpec, progress: Callable[[float, float | None], None] | None = None
+                 ) -> Curve | None:
+    """The fold of cycles at each tau of the sweep's axis, at its fixed parameters, as
+    (k, tau) arrays inside its plane; None for a sweep that is not a (k, tau) plane.
+    ``progress(tau, fold_k)`` is called after each tau (fold_k None: no fold there, e.g. a
+    supercritical Hopf point)."""
+    if not has_fold_plane(spec):
+        return None
+    from core.fold_curve import fold_curve
+    assert spec.y is not None
+    found = []
+    for point in fold_curve(spec.base, [float(t) for t in spec.y.values()]):
+        if progress is not None:
+            progress(point.second, point.fold)
+        if point.fold is not None:
+            found.append((point.fold, point.second))
+    k = np.array([f for f, _ in found])
+    tau = np.array([t for _, t in found])
+    return inside(spec, k, tau)
