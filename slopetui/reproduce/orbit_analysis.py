@@ -83,37 +83,55 @@ def tau10(p: Params | None = None) -> Tau10:
     branch, hopf = Branch.from_hopf(p, "k", 0.01, 1e-3, 0.02, 0.5)
     points = list(walk(branch, lambda pt: pt.value > K_END and pt.stable, 400, 1e-7))
     found = bifurcations(branch)
-    stable = [q for q in points if q.stable and 10.0 <= q.value <= K_END]
-    mods = [abs(q.multipliers.leading) for q in stable]
-    g: Grid = branch.g0
+    mods = [abs(q.multipliers.leading) for q in points
+            if q.stable and 10.0 <= q.value <= K_END]
     fold = next((b.value for b in found if b.type == "fold"), None)
+    return Tau10(hopf.value, hopf.period, criticality(points), found,
+                 (min(mods), max(mods)) if mods else (math.nan, math.nan),
+                 _fold_checks(p, branch, fold), _pulse_checks(p, branch), len(points),
+                 _offset_checks(p, branch.g0))
+
+
+def _fold_checks(p: Params, branch: Branch, fold: float | None) -> list[SimulationCheck]:
+    """Simulations started on the stable orbit nearest the fold, just above and below it."""
+    if fold is None:
+        return []
+    g = branch.g0
+    start = min((q for q in branch.points if q.stable), key=lambda q: q.value)
     checks = []
-    if fold is not None:
-        start = min((q for q in points if q.stable), key=lambda q: q.value)
-        for dk in (FOLD_OFFSET, -FOLD_OFFSET):
-            traj = simulate_from(p.with_(k=fold + dk), g, start.z, 2000.0)
-            late = float(np.ptp(traj[1, -int(20.0 / g.dt):]))
-            checks.append(SimulationCheck(fold + dk, late, late > 0.1 * start.amplitude))
-    pulses = []
+    for dk in (FOLD_OFFSET, -FOLD_OFFSET):
+        traj = simulate_from(p.with_(k=fold + dk), g, start.z, 2000.0)
+        late = float(np.ptp(traj[1, -int(20.0 / g.dt):]))
+        checks.append(SimulationCheck(fold + dk, late, late > 0.1 * start.amplitude))
+    return checks
+
+
+def _pulse_checks(p: Params, branch: Branch) -> list[PulseCheck]:
+    """At each of PULSE_KS: the stable orbit's maxima per period against those of a
+    simulation from eq. 19, and how far the simulation is from the orbit."""
+    g = branch.g0
+    points = branch.points
+    out = []
     for k in PULSE_KS:
         near = min(points, key=lambda q: abs(q.value - k) if q.stable else math.inf)
-        i = points.index(near)
         orbit_y = branch.map_at(near.value).shoot(near.z, near.period).traj[1, g.n_delay:]
-        q = p.with_(k=near.value)
-        traj = simulate(q, g, 3000.0)
+        traj = simulate(p.with_(k=near.value), g, 3000.0)
         m = int(near.period / g.dt)
         sim_y = traj[1, -m:]
-        d = _distance(branch, i, traj, g)
-        pulses.append(PulseCheck(near.value, _maxima(orbit_y[:m], g.dt),
-                                 _maxima(np.roll(sim_y, -int(np.argmin(sim_y))), g.dt), d))
-    offsets = []
+        out.append(PulseCheck(near.value, _maxima(orbit_y[:m], g.dt),
+                              _maxima(np.roll(sim_y, -int(np.argmin(sim_y))), g.dt),
+                              _distance(branch, points.index(near), traj, g)))
+    return out
+
+
+def _offset_checks(p: Params, g: Grid) -> list[tuple[float, float, bool]]:
+    """Inside the band: which offsets delta of eq. 19 reach the cycle (RK4, t = 2000)."""
+    out = []
     for k in OFFSET_KS:
         for delta in OFFSET_DELTAS:
             traj = simulate(p.with_(k=k, delta=delta), g, 2000.0)
-            offsets.append((k, delta, float(np.ptp(traj[1, -int(20.0 / g.dt):])) > 0.1))
-    return Tau10(hopf.value, hopf.period, criticality(points), found,
-                 (min(mods), max(mods)) if mods else (math.nan, math.nan), checks, pulses,
-                 len(points), offsets)
+            out.append((k, delta, float(np.ptp(traj[1, -int(20.0 / g.dt):])) > 0.1))
+    return out
 
 
 def _distance(branch: Branch, i: int, traj: np.ndarray, g: Grid) -> float:
