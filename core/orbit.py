@@ -104,6 +104,17 @@ def reduce_at(traj: np.ndarray, g: Grid, col: int, w: np.ndarray) -> np.ndarray:
     return np.concatenate((now[1:], xs - now[0], ys))
 
 
+def integrate(coef: np.ndarray, g: Grid, traj: np.ndarray, what: str, then: str = "") -> np.ndarray:
+    """Fill ``traj`` with RK4 steps from its first N + 1 columns (core.period_map.flow) and
+    return it; OrbitError naming ``what`` (and ``then``, what that means) when it leaves
+    the finite range (|m_y| or |s_y| > 1e6)."""
+    filled = flow(coef, g.dt, g.n_delay, traj, traj, False)
+    if filled < traj.shape[1]:
+        raise OrbitError(f"{what} left the finite range (|m_y| or |s_y| > 1e6) at t = "
+                         f"{(filled - g.n_delay) * g.dt:.4g}" + (f": {then}" if then else ""))
+    return traj
+
+
 @dataclass
 class Shot:
     """One evaluation of the period map: P(z, T), dP/dT, and what the tangent needs."""
@@ -128,11 +139,8 @@ class PeriodMap:
 
     def shoot(self, z: np.ndarray, T: float) -> Shot:
         m, theta = self.steps(T)
-        traj = to_columns(z, self.g, m + 2)
-        filled = flow(self.coef, self.g.dt, self.g.n_delay, traj, traj, False)
-        if filled < traj.shape[1]:
-            raise OrbitError("the trajectory left the finite range (|m_y| or |s_y| > 1e6) "
-                             "within one period")
+        traj = integrate(self.coef, self.g, to_columns(z, self.g, m + 2),
+                         "the trajectory of one period")
         w, dw = lagrange(theta)
         col = self.g.n_delay + m
         value = reduce_at(traj, self.g, col, w)

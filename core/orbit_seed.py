@@ -15,9 +15,8 @@ import math
 import numpy as np
 
 from core.model import coefficients
-from core.orbit import Grid, OrbitError, lagrange, reduce_at
+from core.orbit import Grid, OrbitError, integrate, lagrange, reduce_at, to_columns
 from core.params import Params
-from core.period_map import flow
 
 #: The state returns when its weighted distance from the last section point is below
 #: this fraction of the orbit's amplitude (peak-to-peak m_y). Newton converges from much
@@ -39,11 +38,8 @@ def simulate(p: Params, g: Grid, t_end: float) -> np.ndarray:
     traj = np.zeros((5, g.n_delay + n_steps + 1))
     traj[0, :] = p.delta
     traj[:, g.n_delay] = p.delta  # (19)
-    filled = flow(coefficients(p), g.dt, g.n_delay, traj, traj, False)
-    if filled < traj.shape[1]:
-        raise OrbitError(f"the seed simulation left the finite range at t = "
-                         f"{(filled - g.n_delay) * g.dt:.4g}: no bounded orbit to start from")
-    return traj
+    return integrate(coefficients(p), g, traj, "the seed simulation",
+                     "no bounded orbit to start from")
 
 
 def state_at(traj: np.ndarray, g: Grid, t: float) -> tuple[np.ndarray, np.ndarray]:
@@ -93,10 +89,5 @@ def find_return(traj: np.ndarray, g: Grid, span: float) -> tuple[float, float]:
 def simulate_from(p: Params, g: Grid, z: np.ndarray, t_end: float) -> np.ndarray:
     """The trajectory from the reduced state z (an orbit's, for instance) to t_end: how a
     simulation checks what the multipliers predict (stay on the orbit, or leave it)."""
-    from core.orbit import to_columns
-    traj = to_columns(z, g, math.ceil(t_end / g.dt))
-    filled = flow(coefficients(p), g.dt, g.n_delay, traj, traj, False)
-    if filled < traj.shape[1]:
-        raise OrbitError(f"the simulation left the finite range at t = "
-                         f"{(filled - g.n_delay) * g.dt:.4g}")
-    return traj
+    return integrate(coefficients(p), g, to_columns(z, g, math.ceil(t_end / g.dt)),
+                     "the simulation")

@@ -10,11 +10,15 @@ allows but whose Hopf points core.hopf_start finds from no exact formula yet.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from slopetui.sweeps.spec import SweepSpec
+
+if TYPE_CHECKING:  # core.fold_curve loads scipy: imported where the curve is computed
+    from core.fold_curve import FoldPoint
 
 Curve = tuple[np.ndarray, np.ndarray]
 
@@ -43,12 +47,16 @@ def fold_overlay(spec: SweepSpec, progress: Callable[[float, float | None], None
         return None
     from core.fold_curve import fold_curve
     assert spec.y is not None
-    found = []
+    points = []
     for point in fold_curve(spec.base, [float(t) for t in spec.y.values()]):
         if progress is not None:
             progress(point.second, point.fold)
-        if point.fold is not None:
-            found.append((point.fold, point.second))
-    k = np.array([f for f, _ in found])
-    tau = np.array([t for _, t in found])
-    return inside(spec, k, tau)
+        points.append(point)
+    return inside(spec, *curve_of(points))
+
+
+def curve_of(points: Iterable[FoldPoint]) -> Curve:
+    """The (k, tau) arrays of the points that have a fold (core.fold_curve's points, the
+    second parameter being tau)."""
+    found = [(p.fold, p.second) for p in points if p.fold is not None]
+    return np.array([k for k, _ in found]), np.array([t for _, t in found])
