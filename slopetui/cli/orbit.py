@@ -31,11 +31,13 @@ def add_point_options(p: argparse.ArgumentParser) -> None:
 def point_of(args: argparse.Namespace) -> tuple[Params, float]:
     """The validated parameters and step; raises ParameterError naming the field."""
     params = Params(**{n: getattr(args, n) for n in PARAM_NAMES if getattr(args, n) is not None})
+    if params.tau <= 0.0:  # before dt, whose range it sets
+        raise ParameterError("tau", params.tau, "> 0 (periodic orbits of this model need a delay)")
     try:
         dt = float(args.dt)
     except ValueError:
         raise ParameterError("dt", args.dt, "a number in (0, tau]") from None
-    if not (math.isfinite(dt) and 0 < dt <= max(params.tau, 0.0)):
+    if not (math.isfinite(dt) and 0 < dt <= params.tau):
         raise ParameterError("dt", args.dt, f"a number in (0, tau = {params.tau:g}]")
     if params.tau / dt > 1e5:
         raise ParameterError("dt", args.dt, f"at least tau / 1e5 = {params.tau / 1e5:g} "

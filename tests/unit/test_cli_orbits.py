@@ -31,7 +31,7 @@ def test_no_orbit_is_an_error_that_says_why(capsys):
 
 
 @pytest.mark.parametrize("args,field", [
-    (["orbit", "--dt", "0"], "dt"), (["orbit", "--tau", "-1"], "tau"),
+    (["orbit", "--dt", "0"], "dt"), (["orbit", "--tau", "-1"], "tau"), (["orbit", "--tau", "0"], "tau"),
     (["continue", "--param", "d", "--to", "-1"], "d"), (["continue", "--param", "k", "--to", "x"], "to"),
     (["continue", "--param", "k", "--points", "1"], "points")])
 def test_bad_input_names_the_field(args, field, capsys):
