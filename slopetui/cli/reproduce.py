@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from slopetui.cli.options import UsageError, add_db_option, open_db
@@ -74,7 +75,7 @@ def handle(args: argparse.Namespace) -> int:
         from slopetui.reproduce.report import write_report
         resolution = args.resolution or REPORT_RESOLUTION
         path, complete = write_report(open_db(args), resolution, args.t_end, Path(args.out),
-                                      args.jobs, args.orbits)
+                                      args.jobs, args.orbits, say=progress_line)
         if not complete:
             print(f"report written to {path}, marked INCOMPLETE: some figures have runs "
                   "missing and no verdict; run the same command again to finish")
@@ -94,3 +95,9 @@ def handle(args: argparse.Namespace) -> int:
         cached = f" ({out.n_cached} from the cache)" if out.n_cached else ""
         print(f"{key}: sweep {out.sweep_id}, {out.n_runs} runs queued{cached}")
     return 0
+
+
+def progress_line(text: str) -> None:
+    """A step of the report's continuation analysis, on stderr (minutes pass between the
+    pool's last line and the report)."""
+    print(f"reproduce: {text}", file=sys.stderr, flush=True)

@@ -10,6 +10,7 @@ against the cells where Figs. 5A (delta = 1e-6) and 5B (delta = 0.1) disagree.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,6 +22,10 @@ from core.fold_curve import FoldPoint, fold_curve
 from core.orbit import Grid
 from core.orbit_seed import simulate, simulate_from
 from slopetui.sweeps.diagram import SweepDiagram
+from slopetui.sweeps.fold_overlay import curve_of
+
+#: Where the analysis tells of its progress (a line each step), if anywhere.
+Say = Callable[[str], None] | None
 
 #: tau = 10 (Fig. 4A/4B): the branch is followed from the Hopf point to this k.
 K_END = 25.0
@@ -150,9 +155,16 @@ def _distance(branch: Branch, i: int, traj: np.ndarray, g: Grid) -> float:
     return best
 
 
-def folds_over_tau(p: Params, taus: list[float]) -> list[FoldPoint]:
-    """The fold of cycles in k at each tau (and the Hopf point with noise)."""
-    return list(fold_curve(p, sorted(set(taus))))
+def folds_over_tau(p: Params, taus: list[float], say: Say = None) -> list[FoldPoint]:
+    """The fold of cycles in k at each tau (and the Hopf point with noise), each said as
+    it is found (the curve takes minutes: tau = 60 alone ~5)."""
+    out = []
+    for point in fold_curve(p, sorted(set(taus))):
+        if say is not None:
+            say(f"fold of cycles at tau = {point.second:.4g}: "
+                + (f"k = {point.fold:.5g}" if point.fold is not None else "none"))
+        out.append(point)
+    return out
 
 
 @dataclass(frozen=True)
@@ -241,17 +253,18 @@ class OrbitAnalysis:
 
     def curve(self) -> tuple[np.ndarray, np.ndarray]:
         """The fold curve as (k, tau) arrays, for a (k, tau) phase diagram."""
-        known = [(f.fold, f.second) for f in self.folds if f.fold is not None]
-        return np.array([k for k, _ in known]), np.array([t for _, t in known])
+        return curve_of(self.folds)
 
 
 def analyse(p: Params, taus: list[float], near: SweepDiagram | None,
-            far: SweepDiagram | None) -> OrbitAnalysis:
+            far: SweepDiagram | None, say: Say = None) -> OrbitAnalysis:
     """tau = 10, the fold curve at ``taus`` (and EXTRA_TAUS), and the band against Figs.
-    5A/5B when both are given."""
+    5A/5B when both are given; ``say`` hears of each step (a few minutes in all)."""
     import time
     t0 = time.process_time()
+    if say is not None:
+        say("continuation at tau = 10 and its checks by simulation")
     t10 = tau10(p.with_(tau=10.0, delta=0.1))
-    folds = folds_over_tau(p.with_(delta=0.1), [*taus, *EXTRA_TAUS])
+    folds = folds_over_tau(p.with_(delta=0.1), [*taus, *EXTRA_TAUS], say)
     band = band_comparison(near, far, folds) if near is not None and far is not None else None
     return OrbitAnalysis(t10, folds, band, time.process_time() - t0)

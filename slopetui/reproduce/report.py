@@ -12,7 +12,7 @@ from slopetui.plots import render_sweep
 from slopetui.queue.pool import default_jobs, run_pool
 from slopetui.queue.worker_process import WorkerOptions
 from slopetui.reproduce.findings import FINDINGS, Diagrams, Finding
-from slopetui.reproduce.orbit_analysis import OrbitAnalysis, analyse
+from slopetui.reproduce.orbit_analysis import OrbitAnalysis, Say, analyse
 from slopetui.store.database import Database
 from slopetui.store.queries import runtime_total, unfinished_runs
 from slopetui.sweeps.diagram import SweepDiagram, load_diagram
@@ -119,14 +119,14 @@ def _duration(seconds: float) -> str:
     return f"{seconds:.0f} s" if seconds < 120 else f"{seconds / 60:.0f} min"
 
 
-def orbit_analysis(diagrams: Diagrams) -> OrbitAnalysis:
+def orbit_analysis(diagrams: Diagrams, say: Say = None) -> OrbitAnalysis:
     """Continuation at tau = 10 and the fold of cycles at the taus of Fig. 5's axis (and
     beyond it), held against Figs. 5A/5B when they are complete."""
     near, far = diagrams["fig5a"], diagrams["fig5b"]
     assert near.spec.y is not None
     both = finished(near) and finished(far)
     return analyse(near.spec.base, [float(t) for t in near.spec.y.values()],
-                   near if both else None, far if both else None)
+                   near if both else None, far if both else None, say)
 
 
 def orbit_section(o: OrbitAnalysis) -> str:
@@ -149,19 +149,20 @@ def orbit_section(o: OrbitAnalysis) -> str:
 
 
 def write_report(db: Database, resolution: int, t_end: float | None, out: Path,
-                 jobs: int | None = None, orbits: bool = True) -> tuple[Path, bool]:
+                 jobs: int | None = None, orbits: bool = True, say: Say = None
+                 ) -> tuple[Path, bool]:
     """Compute and write the report; returns its path and whether every figure was
     complete (an interrupted computation writes a report marked INCOMPLETE, with verdicts
     only for the figures whose runs are all done). ``orbits`` adds the continuation
     analysis to a complete report (a few minutes of CPU: the fold curve at large
-    delays)."""
+    delays), whose steps ``say`` hears of."""
     out.parent.mkdir(parents=True, exist_ok=True)
     ids, wall = compute(db, resolution, t_end, jobs, out.with_suffix(".log"))
     diagrams = Diagrams({k: load_diagram(db, i) for k, i in ids.items()})
     # Only for a complete report: an interrupted one is run again, and the analysis (a few
     # minutes) does not depend on the runs except for its comparison with Figs. 5A/5B.
     if orbits and all(finished(d) for d in diagrams.values()):
-        diagrams.orbits = orbit_analysis(diagrams)
+        diagrams.orbits = orbit_analysis(diagrams, say)
     results = evaluate(diagrams)
     findings = [f for f in results if isinstance(f, Finding)]
     complete = len(findings) == len(results)

@@ -76,3 +76,13 @@ def test_the_fold_curve_is_drawn_inside_the_plane_only(db):
     labels = [float(line.split("┤")[0]) for line in text.splitlines()
               if "┤" in line and line.split("┤")[0].strip()]
     assert "fold of cycles" in text and labels and max(labels) <= 10.5
+
+
+def test_the_fold_curve_says_each_tau_as_it_goes():
+    """The report's analysis takes minutes; each fold is said when found."""
+    from core import Params
+    from slopetui.reproduce.orbit_analysis import folds_over_tau
+    said: list[str] = []
+    folds = folds_over_tau(Params(delta=0.1), [10.0, 5.0], said.append)
+    assert [f.second for f in folds] == [5.0, 10.0]
+    assert said == [f"fold of cycles at tau = {f.second:.4g}: k = {f.fold:.5g}" for f in folds]
