@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 from core.continuation import Branch, bifurcations, criticality
 from core.orbit import OrbitError
-from core.params import ParameterError, Params
+from core.params import Params
 
 #: Branch points a search for the fold may take before giving up (the fold at tau = 10
 #: is reached in ~30 points from the Hopf point).
@@ -38,9 +38,11 @@ class FoldPoint:
 
 
 def fold_of_cycles(p: Params, name: str = "k", dt: float = 0.01) -> FoldPoint:
-    """The Hopf point in ``name`` at p and the fold of cycles of the branch born there."""
-    branch, hopf = Branch.from_hopf(p, name, dt, 1e-3, 0.02 * STEP_FRACTION * abs(hopf_scale(p, name)),
-                                    STEP_FRACTION * abs(hopf_scale(p, name)))
+    """The Hopf point in ``name`` at p and the fold of cycles of the branch born there,
+    when it is subcritical: the fold that, with the Hopf point, bounds the band where
+    rest and oscillation coexist (None for a supercritical branch, see below)."""
+    first, largest = step_sizes(p, name)
+    branch, hopf = Branch.from_hopf(p, name, dt, 1e-3, first, largest)
     branch.first()
     turned = False
     try:
@@ -54,8 +56,33 @@ def fold_of_cycles(p: Params, name: str = "k", dt: float = 0.01) -> FoldPoint:
     except OrbitError as exc:
         return FoldPoint(p.tau, hopf.value, None, criticality(branch.points), str(exc))
     folds = [b.value for b in bifurcations(branch) if b.type == "fold"]
-    return FoldPoint(p.tau, hopf.value, folds[0] if folds else None,
-                     criticality(branch.points), "" if folds else "no turn within the search")
+    critical = criticality(branch.points)
+    if folds and critical == "supercritical":
+        # The stable cycles born at a supercritical Hopf point coexist with no stable rest:
+        # a turn further on bounds no band where the initial state decides, which is what
+        # this curve draws. (Found in (b, tau) at k = 12, tau = 2: Hopf b = 3.68, a turn at
+        # b = 22.3, where F(v+) <= 0, eq. 12.)
+        return FoldPoint(p.tau, hopf.value, None, critical,
+                         f"supercritical: the branch turns at {name} = {folds[0]:.6g}, "
+                         "which bounds no bistable band")
+    return FoldPoint(p.tau, hopf.value, folds[0] if folds else None, critical,
+                     "" if folds else "no turn within the search")
+
+
+#: The largest step of a branch in a friction parameter. A step measured in the
+#: parameter's own size let the branch jump sheets: in a at k = 12, tau = 5 (a_H = 46.6,
+#: steps up to 3.7) its second orbit landed on the stable sheet past the fold, 0.68 above
+#: the Hopf point, skipping the unstable orbits between them; with steps up to 0.5 it
+#: walks them (amplitude 0.002 to 0.083) to the fold at 47.2497.
+FRICTION_MAX_STEP = 0.5
+
+
+def step_sizes(p: Params, name: str) -> tuple[float, float]:
+    """The first and the largest step of a branch from the Hopf point in ``name``."""
+    largest = STEP_FRACTION * hopf_scale(p, name)
+    if name in ("a", "b", "c"):
+        largest = min(largest, FRICTION_MAX_STEP)
+    return 0.02 * largest, largest
 
 
 def hopf_scale(p: Params, name: str) -> float:
@@ -65,15 +92,20 @@ def hopf_scale(p: Params, name: str) -> float:
 
 def fold_curve(p: Params, values: Iterable[float], second: str = "tau", name: str = "k",
                dt: float = 0.01) -> Iterator[FoldPoint]:
-    """The fold of cycles in ``name`` for each value of ``second`` (tau by default)."""
+    """The fold of cycles in ``name`` for each value of ``second`` (tau by default), each
+    from the Hopf point in ``name`` there (the noise-free one seeds it: core.stability's
+    k_H for k, its friction curves for a, b and c)."""
     for value in values:
         try:
             q = p.with_(**{second: value})
             if name == "k":
                 from core.stability import hopf_k
                 q = q.with_(k=hopf_k(q.tau, q.F1))
+            elif name in ("a", "b", "c"):
+                from core.stability import hopf_friction
+                q = q.with_(**{name: hopf_friction(q, name)[0]})
             point = fold_of_cycles(q, name, dt)
-        except (OrbitError, ParameterError) as exc:
+        except ValueError as exc:  # OrbitError, ParameterError, or no Hopf point here
             yield FoldPoint(value, float("nan"), None, "", str(exc))
             continue
         yield FoldPoint(value, point.hopf, point.fold, point.criticality, point.note)

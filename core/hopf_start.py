@@ -14,6 +14,7 @@ eigenvector: the start of a continuation from the Hopf point.
 
 from __future__ import annotations
 
+import contextlib
 import math
 from dataclasses import dataclass
 
@@ -22,10 +23,13 @@ import numpy as np
 from core.model import rhs_tangent
 from core.orbit import Grid, OrbitError
 from core.params import Params
-from core.stability import hopf_k
+from core.stability import hopf_friction, hopf_k
 
-#: Newton's tolerance on |det| (scaled) for the Hopf point, and its step budget.
+#: Newton's tolerance on |det| (scaled) for the Hopf point, and its step budget. Newton
+#: also stops once its step is below HOPF_STEP_TOL relative: in b at k = 12, tau = 10
+#: (b_H = 0.17) |det| stalls at ~1e-11 from rounding, with steps of 1e-17.
 HOPF_TOL, HOPF_STEPS = 1e-13, 50
+HOPF_STEP_TOL = 1e-13
 
 
 @dataclass(frozen=True)
@@ -98,13 +102,18 @@ class HopfPoint:
 
 def hopf_point(p: Params, name: str = "k") -> HopfPoint:
     """The Hopf point of the noisy steady state in parameter ``name``, starting from the
-    noise-free Hopf point (core.stability) when the parameter is k, else from p itself."""
+    noise-free Hopf point (core.stability) when the parameter is k, a, b or c, else from p
+    itself."""
     if p.tau <= 0.0:
         raise OrbitError("tau must be > 0: there is no Hopf point without a delay")
     value = getattr(p, name)
+    w = 2 * math.pi / (p.tau + 1)
     if name == "k" and p.F1 > 0:
         value = hopf_k(p.tau, p.F1)
-    w = math.sqrt(max(2 * value - p.F1 ** 2, 1e-6)) if name == "k" else 2 * math.pi / (p.tau + 1)
+        w = math.sqrt(max(2 * value - p.F1 ** 2, 1e-6))
+    elif name in ("a", "b", "c"):
+        with contextlib.suppress(ValueError):  # none in reach: Newton from p itself
+            value, w = hopf_friction(p, name)
     x = np.array([value, w])
     for _ in range(HOPF_STEPS):
         q = p.with_(**{name: float(x[0])})
@@ -119,6 +128,8 @@ def hopf_point(p: Params, name: str = "k") -> HopfPoint:
             jac[:, i] = [(fh - f).real / h, (fh - f).imag / h]
         step = np.linalg.solve(jac, [-f.real, -f.imag])
         x = x + step
+        if np.all(np.abs(step) <= HOPF_STEP_TOL * np.maximum(1.0, np.abs(x))):
+            break
     else:
         raise OrbitError(f"no Hopf point in {name} near {getattr(p, name):g}")
     q = p.with_(**{name: float(x[0])})

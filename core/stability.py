@@ -187,17 +187,49 @@ def hopf_curve_friction(p: Params, name: str, n: int = 400) -> tuple[np.ndarray,
     omega = math.sqrt(2.0 * p.k) * np.sin(np.linspace(1e-4, 0.5 * math.pi * (1 - 1e-4), n)) ** 2
     f1_h = np.sqrt(2.0 * p.k - omega * omega)
     tau = np.array([hopf_tau(w, f, p.k) for w, f in zip(omega, f1_h, strict=True)])
-    v = p.v
-    if name == "a":
-        val = (f1_h + 2.0 * p.b * v - p.c) / (3.0 * v * v)
-    elif name == "b":
-        val = (3.0 * p.a * v * v + p.c - f1_h) / (2.0 * v)
-    elif name == "c":
-        val = f1_h - 3.0 * p.a * v * v + 2.0 * p.b * v
-    else:
-        raise ValueError(f"no Hopf curve in the ({name}, tau) plane: name must be a, b or c")
+    val = np.asarray(friction_for_slope(p, name, f1_h))
     order = np.argsort(tau)
     return val[order], tau[order]
+
+
+def friction_for_slope(p: Params, name: str, f1: np.ndarray | float) -> np.ndarray | float:
+    """The value of friction parameter ``name`` (a, b or c) that gives F'(v) = f1, the
+    others from p (F' = 3 a v^2 - 2 b v + c, eq. 10: linear in each)."""
+    v = p.v
+    if name == "a":
+        return (f1 + 2.0 * p.b * v - p.c) / (3.0 * v * v)
+    if name == "b":
+        return (3.0 * p.a * v * v + p.c - f1) / (2.0 * v)
+    if name == "c":
+        return f1 - 3.0 * p.a * v * v + 2.0 * p.b * v
+    raise ValueError(f"no Hopf curve in the ({name}, tau) plane: name must be a, b or c")
+
+
+def hopf_friction(p: Params, name: str) -> tuple[float, float]:
+    """The friction parameter ``name`` (a, b or c) on the Hopf curve at p's k and tau, and
+    the angular frequency omega there: one point of hopf_curve_friction. Along that curve
+    tau falls as omega rises from 0 to sqrt(2k), so omega is found by bisection. Raises ValueError when no F' > 0 puts
+    (k, tau) on the curve (k <= 0, or tau below the curve's reach pi / sqrt(2k))."""
+    if p.k <= 0.0 or p.tau <= 0.0:
+        raise ValueError("the Hopf curve in a friction parameter needs k > 0 and tau > 0")
+    top = math.sqrt(2.0 * p.k)
+
+    def tau_at(w: float) -> float:
+        return hopf_tau(w, math.sqrt(max(2.0 * p.k - w * w, 0.0)), p.k)
+
+    lo, hi = top * 1e-9, top * (1.0 - 1e-12)
+    if not tau_at(hi) < p.tau < tau_at(lo):
+        raise ValueError(f"no Hopf point in {name} at k = {p.k:g}, tau = {p.tau:g}")
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if tau_at(mid) > p.tau:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo < 1e-15 * top:
+            break
+    w = 0.5 * (lo + hi)
+    return float(friction_for_slope(p, name, math.sqrt(2.0 * p.k - w * w))), w
 
 
 def small_tau_k(tau: float | np.ndarray, f1: float) -> float | np.ndarray:

@@ -9,6 +9,7 @@ from collections.abc import Sequence
 
 from slopetui import __version__
 from slopetui.cli import (
+    branch,
     continuation,
     control,
     db,
@@ -55,7 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-workers", action="store_true",
                         help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for module in (run, orbit, continuation, submit, example, status, show, runs, control, sql,
+    for module in (run, orbit, continuation, branch, submit, example, status, show, runs, control, sql,
                    worker, workers, db, nblock, reproduce):
         module.register(sub)
     return parser

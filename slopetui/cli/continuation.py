@@ -8,14 +8,16 @@ import json
 import math
 import sys
 import time
-from typing import TYPE_CHECKING
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.cli.orbit import add_point_options, point_of
+from slopetui.sweeps.branch_records import bifurcation_record, point_record
 
 if TYPE_CHECKING:
-    from core.continuation import Bifurcation, Branch, BranchPoint
-    from core.hopf_start import HopfPoint
+    from core.branch_start import BranchSpec
+    from core.continuation import Bifurcation, BranchPoint
 
 #: Parameters a branch can follow: every parameter of the model but delta, which only
 #: places the seed (eq. 19), not the orbit.
@@ -44,7 +46,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="at most N points (default 300, from 2 to 5000)")
     p.add_argument("--max-step", dest="max_step", type=float, default=0.5, metavar="X",
                    help="largest step along the branch (default 0.5)")
-    p.add_argument("--db", metavar="URL", help="the store of --from-run (default as for run)")
+    p.add_argument("--submit", action="store_true",
+                   help="queue the continuation for the workers (`slopetui worker`, the "
+                        "application's pool) instead of computing it here; it is stored point "
+                        "by point, resumes where it stopped, and `slopetui branch ID` shows it")
+    p.add_argument("--db", metavar="URL",
+                   help="the store of --from-run and --submit (default as for run)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=handle)
 
@@ -81,34 +88,40 @@ def _params_of_run(args: argparse.Namespace, params: Params) -> Params:
     return params.with_(**{n: float(getattr(run, n)) for n in PARAM_NAMES if n not in given})
 
 
-def start(args: argparse.Namespace, params: Params, dt: float, end: float | None
-          ) -> tuple[Branch, HopfPoint | None]:
-    """The branch's first point: from the Hopf point, or from a simulated orbit heading
-    towards --to (down when --to is below the start, else up)."""
-    from core.continuation import Branch
-    from core.orbit import PeriodMap
-    from core.periodic_orbit import find_orbit
-    from core.shooting import Solution
-    if args.from_hopf:
-        return Branch.from_hopf(params, args.param, dt, 1e-3, 0.02, args.max_step)
-    orbit = find_orbit(params, dt)
-    shot = PeriodMap(params, orbit.grid).shoot(orbit.z, orbit.period)
-    value = getattr(params, args.param)
-    direction = -1.0 if end is not None and end < value else 1.0
-    sol = Solution(orbit.z, orbit.period, shot, orbit.newton_steps, orbit.residual, 0)
-    return Branch.from_orbit(params, orbit.grid, args.param, sol, direction,
-                             0.05 * args.max_step, args.max_step), None
-
-
 def _point_record(p: BranchPoint) -> dict[str, object]:
-    lead = p.multipliers.leading
-    return {"value": p.value, "period": p.period, "amplitude": p.amplitude, "stable": p.stable,
-            "leading_multiplier": [lead.real, lead.imag]}
+    return point_record(p.value, p.period, p.amplitude, p.stable, p.multipliers.leading)
 
 
 def _bif_record(b: Bifurcation) -> dict[str, object]:
-    return {"type": b.type, "value": b.value, "period": b.period,
-            "multiplier": [b.multiplier.real, b.multiplier.imag]}
+    return bifurcation_record(b.type, b.value, b.period, b.multiplier)
+
+
+def print_point(param: str, point: Mapping[str, Any]) -> None:
+    print(f"{param} = {point['value']:<12.8g} period {point['period']:<12.8g} amplitude "
+          f"{point['amplitude']:<10.6g} {'stable' if point['stable'] else 'unstable'}",
+          flush=True)
+
+
+def print_bifurcations(param: str, found: Sequence[Mapping[str, Any]]) -> None:
+    for b in found:
+        mu = b["multiplier"]
+        print(f"{b['type']:<16} {param} = {b['value']:.8g}, period {b['period']:.8g}"
+              + (f", multiplier {mu[0]:+.6f}{mu[1]:+.6f}i"
+                 if b["type"] not in ("fold", "hopf") else ""))
+    if not found:
+        print("no bifurcation on this branch")
+
+
+def _submit(args: argparse.Namespace, spec: BranchSpec) -> int:
+    from slopetui.cli.options import open_db
+    from slopetui.sweeps.branches import submit
+    cid = submit(open_db(args), spec, args.from_run)
+    if args.json:
+        print(json.dumps({"id": cid, "status": "queued"}))
+    else:
+        print(f"continuation {cid} queued: a worker computes it (`slopetui worker`, or the "
+              f"application's pool); `slopetui branch {cid}` shows it")
+    return 0
 
 
 def handle(args: argparse.Namespace) -> int:
@@ -121,31 +134,31 @@ def handle(args: argparse.Namespace) -> int:
     except ParameterError as exc:
         print(f"slopetui continue: error: {exc}", file=sys.stderr)
         return 2
+    from core.branch_start import MIN_STEP, BranchSpec, past_end, start
+    spec = BranchSpec(params, args.param, dt, args.from_hopf, end, args.points, args.max_step)
+    if args.submit:
+        return _submit(args, spec)
     from core.continuation import bifurcations, criticality, walk
     from core.orbit import OrbitError
     t0 = time.process_time()
     try:
-        branch, hopf = start(args, params, dt, end)
+        branch, hopf = start(spec)
     except OrbitError as exc:
         print(f"slopetui continue: no branch: {exc}", file=sys.stderr)
         return 1
 
-    def past_end(point: BranchPoint) -> bool:
-        first = branch.points[0].value
-        return end is not None and (point.value - end) * (end - first) >= 0
-
     quiet = args.json
-    for point in walk(branch, past_end, args.points, 1e-7):
+    for point in walk(branch, lambda q: past_end(spec, branch.points[0].value, q), spec.max_points,
+                      MIN_STEP):
         if not quiet:
-            print(f"{args.param} = {point.value:<12.8g} period {point.period:<12.8g} amplitude "
-                  f"{point.amplitude:<10.6g} {'stable' if point.stable else 'unstable'}",
-                  flush=True)
+            print_point(args.param, _point_record(point))
     found = bifurcations(branch)
+    bif_records = [_bif_record(b) for b in found]
     took = time.process_time() - t0
     out: dict[str, object] = {
         "param": args.param,
         "branch": [_point_record(p) for p in branch.points],
-        "bifurcations": [_bif_record(b) for b in found],
+        "bifurcations": bif_records,
         "end": branch.end,
         "dt": branch.g0.dt,
         "runtime_s": took,
@@ -161,10 +174,5 @@ def handle(args: argparse.Namespace) -> int:
     if hopf is not None:
         print(f"Hopf point: {args.param} = {hopf.value:.10g}, period {hopf.period:.10g}; "
               f"{critical}")
-    for b in found:
-        print(f"{b.type:<16} {args.param} = {b.value:.8g}, period {b.period:.8g}"
-              + (f", multiplier {b.multiplier.real:+.6f}{b.multiplier.imag:+.6f}i"
-                 if b.type not in ("fold", "hopf") else ""))
-    if not found:
-        print("no bifurcation on this branch")
+    print_bifurcations(args.param, bif_records)
     return 0

@@ -44,7 +44,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-hopf", dest="hopf", action="store_false",
                    help="do not draw the exact Hopf curve")
     p.add_argument("--fold", action="store_true",
-                   help="also draw the fold of cycles over a (k, tau) plane, computed by "
+                   help="also draw the fold of cycles over a (k, tau), (a, tau), (b, tau) or "
+                        "(c, tau) plane, computed by "
                         "continuation at each tau of the sweep (about a second a tau up to "
                         "tau = 20, minutes at 60)")
     add_db_option(p)
@@ -84,10 +85,12 @@ def fold_curve_of(spec: SweepSpec) -> Curve | None:
     """The sweep's fold curve, with a line on stderr per tau (it takes a while)."""
     from slopetui.sweeps.fold_overlay import fold_overlay, has_fold_plane
     if not has_fold_plane(spec):
-        raise UsageError("--fold draws over a (k, tau) phase diagram only; this sweep is not one")
+        raise UsageError("--fold draws over a (k, tau), (a, tau), (b, tau) or (c, tau) phase "
+                         "diagram only; this sweep is not one")
+    name = spec.x.param
 
     def say(tau: float, fold: float | None) -> None:
-        found = f"k = {fold:.5g}" if fold is not None else "none (supercritical Hopf point)"
+        found = f"{name} = {fold:.5g}" if fold is not None else "none (supercritical Hopf point)"
         print(f"fold of cycles at tau = {tau:.4g}: {found}", file=sys.stderr, flush=True)
 
     return fold_overlay(spec, say)

@@ -174,7 +174,7 @@ class Pool:
             return
         requeued, failed = jobs.requeue_worker(
             db, wid, f"worker {wid} died (exit code {proc.exitcode})", self.opts.max_attempts)
-        log.error("worker %s died (exit code %s): %d runs requeued, %d failed", wid,
+        log.error("worker %s died (exit code %s): %d jobs requeued, %d failed", wid,
                   proc.exitcode, requeued, failed)
         if self.stop.is_set():
             return

@@ -48,7 +48,7 @@ from concurrent.futures import wait as wait_futures
 from dataclasses import dataclass
 from typing import Any
 
-from slopetui.queue import defaults, jobs
+from slopetui.queue import branch_jobs, defaults, jobs
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
 from slopetui.queue.warm_up import watched_warm_up
 from slopetui.store.claims import queue_drained
@@ -198,7 +198,7 @@ class _Heartbeat(threading.Thread):
                 requeued, failed = jobs.requeue_expired(self.db, self.opts.lease_s,
                                                         self.opts.max_attempts)
                 if requeued or failed:
-                    log.warning("expired leases: %d runs requeued, %d failed", requeued, failed)
+                    log.warning("expired leases: %d jobs requeued, %d failed", requeued, failed)
             except Exception:  # a busy or briefly unreachable database: try again later
                 log.exception("heartbeat failed")
 
@@ -224,12 +224,19 @@ def _compute_together(batch: list[jobs.Job]) -> Records:
                                                        batch[0].settings)]
 
 
-def _wait(future: Future[Records], control: Control) -> bool:
+def _wait(future: Future[Any], control: Control) -> bool:
     """Wait for the computation; False if an abort came first (it is left running)."""
     while not wait_futures([future], timeout=TICK_S).done:
         if control.aborting():
             return False
     return True
+
+
+def _run(fn: Callable[[], Any], executor: ThreadPoolExecutor, control: Control
+         ) -> Future[Any] | None:
+    """``fn`` in the compute thread, waited for; None if an abort came first."""
+    future = executor.submit(fn)
+    return future if _wait(future, control) else None
 
 
 def _give_back(db: Database, wid: str, held: list[jobs.Job]) -> None:
@@ -352,6 +359,11 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
     executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="compute")
     try:
         while not control.stopping():
+            branch = branch_jobs.claim(db, wid)  # before runs: see branch_jobs
+            if branch is not None:
+                branch_jobs.compute(db, wid, branch, lambda fn: _run(fn, executor, control),
+                                    control, opts.max_attempts)
+                continue
             batch = jobs.claim_batch(db, wid, opts.batch, BATCHED_METHODS)
             if batch:
                 _process(db, wid, batch, executor, control, opts)

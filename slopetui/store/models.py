@@ -1,5 +1,6 @@
 """Typed SQLAlchemy 2.0 models of the store: sweeps, their runs (which are also the jobs of
-the queue) and the workers that run them. The README documents this schema for SQL users;
+the queue), continuations of periodic orbits (jobs too) with their branch points and
+bifurcations, and the workers that run them. The README documents this schema for SQL users;
 every change to it goes through a migration in ``migrations/versions``."""
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from sqlalchemy import (
     ForeignKey,
     Index,
     Integer,
+    LargeBinary,
     MetaData,
     String,
     Text,
@@ -181,3 +183,104 @@ class Worker(Base):
     stopped_at: Mapped[datetime | None] = mapped_column(DateTime)
     run_id: Mapped[int | None] = mapped_column(ForeignKey("runs.id", ondelete="SET NULL"))
     jobs_done: Mapped[int] = mapped_column(default=0)
+
+
+class Continuation(Base):
+    """A continuation of periodic orbits in one parameter (core.branch_start.BranchSpec):
+    a job of the queue like a run, whose branch points are saved as they are computed, so
+    that a worker taking it over resumes from the last one."""
+
+    __tablename__ = "continuations"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    #: The parameter continued in, and where the branch starts: "hopf" (the Hopf point of
+    #: the steady state in ``param``) or "orbit" (the orbit a simulation settles on).
+    param: Mapped[str] = mapped_column(String(8))
+    start: Mapped[str] = mapped_column(String(8))
+    # The starting point's parameters (eqs. 6a-6e, 8; delta places the seed of "orbit").
+    a: Mapped[float] = mapped_column(Double)
+    b: Mapped[float] = mapped_column(Double)
+    c: Mapped[float] = mapped_column(Double)
+    d: Mapped[float] = mapped_column(Double)
+    k: Mapped[float] = mapped_column(Double)
+    v: Mapped[float] = mapped_column(Double)
+    tau: Mapped[float] = mapped_column(Double)
+    delta: Mapped[float] = mapped_column(Double)
+    #: The stored run whose parameters it started from, if any.
+    from_run: Mapped[int | None] = mapped_column(ForeignKey("runs.id", ondelete="SET NULL"))
+    # What was asked: grid step, end value (NULL: none), point budget, largest step.
+    dt: Mapped[float] = mapped_column(Double)
+    end_value: Mapped[float | None] = mapped_column(Double)
+    max_points: Mapped[int]
+    max_step: Mapped[float] = mapped_column(Double)
+    engine: Mapped[str] = mapped_column(String(16))
+
+    # The queue (as for runs).
+    status: Mapped[str] = mapped_column(String(16), default="queued")
+    worker_id: Mapped[str | None] = mapped_column(String(128))
+    attempts: Mapped[int] = mapped_column(default=0)
+    created_at: Mapped[datetime] = mapped_column(DateTime, server_default=func.now())
+    started_at: Mapped[datetime | None] = mapped_column(DateTime)
+    heartbeat_at: Mapped[datetime | None] = mapped_column(DateTime)
+    finished_at: Mapped[datetime | None] = mapped_column(DateTime)
+    error: Mapped[str | None] = mapped_column(Text)
+
+    # The result: the Hopf point (of a "hopf" start), criticality, why the branch ended,
+    # points saved so far, compute time over every attempt (s).
+    hopf_value: Mapped[float | None] = mapped_column(Double)
+    hopf_period: Mapped[float | None] = mapped_column(Double)
+    criticality: Mapped[str | None] = mapped_column(String(16))
+    end_reason: Mapped[str | None] = mapped_column(Text)
+    n_points: Mapped[int] = mapped_column(default=0, server_default="0")
+    runtime_s: Mapped[float] = mapped_column(Double, default=0.0, server_default="0")
+
+    __table_args__ = (
+        CheckConstraint(_one_of("status", RUN_STATUSES), name="status"),
+        CheckConstraint(_one_of("start", ("hopf", "orbit")), name="start"),
+        Index(None, "status", "id"),
+    )
+
+
+class BranchPoint(Base):
+    """One periodic orbit of a continuation: parameter value, period, amplitude (peak to
+    peak of m_y), stability and multipliers, and the state it is resumed from."""
+
+    __tablename__ = "branch_points"
+
+    continuation_id: Mapped[int] = mapped_column(
+        ForeignKey("continuations.id", ondelete="CASCADE"), primary_key=True)
+    idx: Mapped[int] = mapped_column(primary_key=True)
+    value: Mapped[float] = mapped_column(Double)
+    period: Mapped[float] = mapped_column(Double)
+    amplitude: Mapped[float] = mapped_column(Double)
+    stable: Mapped[bool] = mapped_column(Boolean)
+    #: Nontrivial multipliers outside the unit circle.
+    unstable_count: Mapped[int]
+    #: The largest nontrivial multiplier (the one that crosses first).
+    leading_re: Mapped[float] = mapped_column(Double)
+    leading_im: Mapped[float] = mapped_column(Double)
+    #: The leading multipliers by modulus as [re, im] pairs, which one is the flow's, and
+    #: the translation multiplier (both exactly 1 in theory: the built-in check).
+    multipliers: Mapped[list[float]]
+    flow_index: Mapped[int]
+    translation: Mapped[float] = mapped_column(Double)
+    #: The step along the branch tried after this point, and the point's unknowns
+    #: y = (z, T, p) followed by its unit secant t, float64 little-endian.
+    step: Mapped[float] = mapped_column(Double)
+    state: Mapped[bytes] = mapped_column(LargeBinary)
+
+
+class Bifurcation(Base):
+    """A bifurcation located on a finished continuation's branch, in branch order."""
+
+    __tablename__ = "bifurcations"
+
+    continuation_id: Mapped[int] = mapped_column(
+        ForeignKey("continuations.id", ondelete="CASCADE"), primary_key=True)
+    idx: Mapped[int] = mapped_column(primary_key=True)
+    #: fold, period-doubling, torus, branch-point or hopf (core.continuation.Bifurcation).
+    type: Mapped[str] = mapped_column(String(16))
+    value: Mapped[float] = mapped_column(Double)
+    period: Mapped[float] = mapped_column(Double)
+    mu_re: Mapped[float] = mapped_column(Double)
+    mu_im: Mapped[float] = mapped_column(Double)

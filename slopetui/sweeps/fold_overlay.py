@@ -1,11 +1,11 @@
-"""The fold-of-cycles curve over a sweep's (k, tau) plane, for the faces to draw beside the
-exact Hopf curve (``render_sweep(fold=...)``).
+"""The fold-of-cycles curve over a sweep's (k, tau), (a, tau), (b, tau) or (c, tau) plane,
+for the faces to draw beside the exact Hopf curve (``render_sweep(fold=...)``).
 
-The curve comes from continuation (core.fold_curve: one branch from the Hopf point per tau
-of the sweep's axis), 0.3-8 s a tau up to tau = 40 at the defaults and minutes at 60 (the
-report's table), so a face computes it on request, never on a redraw. Only (k, tau) planes:
-in the friction planes the fold would be continued in a, b or c, which core.fold_curve
-allows but whose Hopf points core.hopf_start finds from no exact formula yet.
+The curve comes from continuation (core.fold_curve: one branch from the Hopf point in the
+plane's x parameter per tau of the sweep's axis), 0.3-8 s a tau up to tau = 40 at the
+defaults and minutes at 60 (the report's table), so a face computes it on request, never
+on a redraw. Planes with tau across (x) are not drawn: the sweeps and the paper put tau
+up the y axis.
 """
 
 from __future__ import annotations
@@ -23,32 +23,37 @@ if TYPE_CHECKING:  # core.fold_curve loads scipy: imported where the curve is co
 Curve = tuple[np.ndarray, np.ndarray]
 
 
+#: The x parameters of the planes (x, tau) the fold curve is drawn in.
+FOLD_PARAMS = ("k", "a", "b", "c")
+
+
 def has_fold_plane(spec: SweepSpec) -> bool:
-    """Is the sweep a (k, tau) phase diagram, the plane the fold curve is drawn in?"""
-    return spec.y is not None and (spec.x.param, spec.y.param) == ("k", "tau")
+    """Is the sweep an (x, tau) phase diagram with x in FOLD_PARAMS, a plane the fold
+    curve is drawn in?"""
+    return spec.y is not None and spec.y.param == "tau" and spec.x.param in FOLD_PARAMS
 
 
-def inside(spec: SweepSpec, k: np.ndarray, tau: np.ndarray) -> Curve:
+def inside(spec: SweepSpec, x: np.ndarray, tau: np.ndarray) -> Curve:
     """The curve's points inside the sweep's plane (a point outside would stretch the
     axes: the report's table goes on to tau = 60)."""
     assert spec.y is not None
     xs, ys = spec.x.values(), spec.y.values()
-    keep = (k >= min(xs)) & (k <= max(xs)) & (tau >= min(ys)) & (tau <= max(ys))
-    return k[keep], tau[keep]
+    keep = (x >= min(xs)) & (x <= max(xs)) & (tau >= min(ys)) & (tau <= max(ys))
+    return x[keep], tau[keep]
 
 
 def fold_overlay(spec: SweepSpec, progress: Callable[[float, float | None], None] | None = None
                  ) -> Curve | None:
     """The fold of cycles at each tau of the sweep's axis, at its fixed parameters, as
-    (k, tau) arrays inside its plane; None for a sweep that is not a (k, tau) plane.
-    ``progress(tau, fold_k)`` is called after each tau (fold_k None: no fold there, e.g. a
-    supercritical Hopf point)."""
+    (x, tau) arrays inside its plane; None for a sweep that is not such a plane (see
+    has_fold_plane). ``progress(tau, fold)`` is called after each tau (fold None: no fold
+    there, e.g. a supercritical Hopf point)."""
     if not has_fold_plane(spec):
         return None
     from core.fold_curve import fold_curve
     assert spec.y is not None
     points = []
-    for point in fold_curve(spec.base, [float(t) for t in spec.y.values()]):
+    for point in fold_curve(spec.base, [float(t) for t in spec.y.values()], name=spec.x.param):
         if progress is not None:
             progress(point.second, point.fold)
         points.append(point)
@@ -56,7 +61,7 @@ def fold_overlay(spec: SweepSpec, progress: Callable[[float, float | None], None
 
 
 def curve_of(points: Iterable[FoldPoint]) -> Curve:
-    """The (k, tau) arrays of the points that have a fold (core.fold_curve's points, the
+    """The (x, tau) arrays of the points that have a fold (core.fold_curve's points, the
     second parameter being tau)."""
     found = [(p.fold, p.second) for p in points if p.fold is not None]
     return np.array([k for k, _ in found]), np.array([t for _, t in found])

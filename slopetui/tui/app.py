@@ -1,4 +1,5 @@
-"""The slopetui application: sweeps, new sweep, run detail, queue and SQL console.
+"""The slopetui application: sweeps, new sweep, run detail, queue, SQL console and
+continuations (branches).
 
 ``slopetui`` with no arguments opens it on the default database and starts a detached
 local worker pool, or attaches to the one already running on this host. The pool lives
@@ -19,7 +20,9 @@ from textual.message import Message
 
 from slopetui.store.database import Database
 from slopetui.store.open import open_store
+from slopetui.sweeps.fold_overlay import Curve
 from slopetui.tui.screens.base import SlopeScreen
+from slopetui.tui.screens.branches import BranchesScreen
 from slopetui.tui.screens.error import ErrorScreen
 from slopetui.tui.screens.queue import QueueScreen
 from slopetui.tui.screens.sql import SqlScreen
@@ -35,12 +38,14 @@ class SlopeApp(App[None]):
     CSS_PATH = "slopetui.tcss"
     TITLE = "slopetui"
     SUB_TITLE = "mean-field spring-block landslide model"
-    MODES = {"sweeps": SweepsScreen, "queue": QueueScreen, "sql": SqlScreen}
+    MODES = {"sweeps": SweepsScreen, "queue": QueueScreen, "sql": SqlScreen,
+             "branches": BranchesScreen}
     DEFAULT_MODE = "sweeps"
     BINDINGS = [
         Binding("1", "switch_mode('sweeps')", "Sweeps", id="mode.sweeps"),
         Binding("2", "switch_mode('queue')", "Queue", id="mode.queue"),
         Binding("3", "switch_mode('sql')", "SQL", id="mode.sql"),
+        Binding("4", "switch_mode('branches')", "Branches", id="mode.branches"),
         Binding("n", "new_sweep", "New sweep", id="new_sweep"),
         Binding("q", "quit", "Quit", id="quit"),
     ]
@@ -52,6 +57,9 @@ class SlopeApp(App[None]):
         self.start_workers = start_workers
         self.refresh_s = refresh_s
         self.db: Database | None = None
+        #: Fold-of-cycles curves by sweep id, computed on request (seconds to minutes
+        #: each) and kept for the session: a sweep's spec never changes.
+        self.fold_curves: dict[int, Curve] = {}
 
     # -- messages from the app's workers --
 

@@ -51,7 +51,7 @@ def test_kill_9_mid_batch_keeps_the_finished_runs_and_charges_only_the_run_in_th
             assert run.attempts == (2 if run.id == frozen.computing else 1), run.id
     assert done_lines(log) == Counter(set(runs))  # each run written once
     text = log.read_text()
-    assert f"worker {frozen.worker_id} died (exit code -9): 1 runs requeued" in text
+    assert f"worker {frozen.worker_id} died (exit code -9): 1 jobs requeued" in text
     # the foreground pool shows progress on stderr, as plain lines fit for a log
     assert PROGRESS_LINE.search(err) and "\r" not in err, err
 

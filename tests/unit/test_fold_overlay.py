@@ -30,4 +30,4 @@ def test_fold_over_a_line_is_refused(db, db_url, capsys):
     finish_all(db)
     assert main(["show", str(sweep), "--fold", "--width", "80", "--height", "24",
                  "--db", db_url]) == 2
-    assert "(k, tau) phase diagram only" in capsys.readouterr().err
+    assert "(c, tau) phase diagram only" in capsys.readouterr().err

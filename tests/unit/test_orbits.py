@@ -108,3 +108,40 @@ def test_no_orbit_where_the_run_comes_to_rest():
 def test_no_orbit_without_a_delay():
     with pytest.raises(OrbitError, match="tau must be > 0"):
         find_orbit(Params(k=10.0, tau=0.0))
+
+
+def test_the_friction_hopf_point_inverts_the_friction_hopf_curve():
+    """core.stability.hopf_friction at one tau lies on hopf_curve_friction (sampled
+    densely: linear interpolation between samples is good to ~1e-5 here)."""
+    from core.stability import hopf_curve_friction, hopf_friction
+    p = Params(k=12.0)
+    for name in ("a", "b", "c"):
+        values, taus = hopf_curve_friction(p, name, 1600)
+        for tau in (2.0, 10.0, 30.0):
+            value, omega = hopf_friction(p.with_(tau=tau), name)
+            assert value == pytest.approx(float(np.interp(tau, taus, values)), rel=2e-5, abs=1e-5)
+            assert 0 < omega < math.sqrt(2 * p.k)
+
+
+@pytest.mark.slow
+def test_a_fold_in_a_friction_parameter_agrees_with_simulation():
+    """(c, tau) plane, k = 12, tau = 10: the Hopf point in c is subcritical and the branch
+    folds at c ~ 8.49 (sliding is stable at larger c, so the band lies above c_H). A
+    simulation started on the stable orbit nearest the fold stays on it just below the
+    fold, and falls to rest just above."""
+    from core.fold_curve import fold_curve
+    base = Params(k=12.0, tau=10.0)
+    (point,) = fold_curve(base, [10.0], name="c")
+    assert point.criticality == "subcritical" and point.fold is not None
+    assert point.hopf < point.fold
+    hopf = hopf_point(base.with_(c=point.hopf), "c")
+    branch, _ = Branch.from_hopf(base.with_(c=hopf.value), "c", 0.01, 1e-3, 0.02, 0.5)
+    points = list(walk(branch, lambda pt: pt.value < point.hopf - 1.0, 300, 1e-7))
+    stable = [p for p in points if p.stable]
+    nearest = max(stable, key=lambda p: p.value)
+    assert point.fold - nearest.value < 0.1
+    g = Grid.of(base, 0.01)
+    for dc, stays in ((-0.02, True), (+0.02, False)):
+        traj = simulate_from(base.with_(c=point.fold + dc), g, nearest.z, 3000.0)
+        late = float(np.ptp(traj[1, -2000:]))
+        assert (late > 0.5) is stays, (dc, late)

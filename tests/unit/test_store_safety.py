@@ -94,13 +94,18 @@ def test_downgrade_asks_for_confirmation_and_names_bad_revisions(populated, caps
 
 
 def _damage(path: Path) -> None:
-    """4 KB of garbage in the middle of the file (after a checkpoint moved the WAL in)."""
+    """4 KB of garbage over the middle leaf page of the runs table (after a checkpoint
+    moved the WAL in): a page every read of the runs must cross. The middle of the file
+    was used before, until new tables moved an index page of runs there, which a plain
+    listing never reads."""
     with sqlite3.connect(path) as conn:
         conn.execute("PRAGMA wal_checkpoint(TRUNCATE)")
-    size = path.stat().st_size
+        pages = [n for (n,) in conn.execute(
+            "SELECT pageno FROM dbstat WHERE name = 'runs' AND pagetype = 'leaf' ORDER BY pageno")]
+        page_size = conn.execute("PRAGMA page_size").fetchone()[0]
     with path.open("r+b") as f:
-        f.seek(size // 2 // 4096 * 4096)
-        f.write(os.urandom(4096))
+        f.seek((pages[len(pages) // 2] - 1) * page_size)
+        f.write(os.urandom(page_size))
 
 
 def test_db_check_finds_a_damaged_page(db_url, capsys, tmp_path):

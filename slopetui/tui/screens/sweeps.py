@@ -1,4 +1,5 @@
-"""Sweeps: the list with progress, and the selected sweep's diagram filling live."""
+"""Sweeps: the list with progress, and the selected sweep's diagram filling live; over a
+(k, tau) phase diagram (or (a|b|c, tau)), on request, the fold of cycles (key o)."""
 
 from __future__ import annotations
 
@@ -12,11 +13,14 @@ from textual.binding import Binding
 from textual.containers import Vertical
 from textual.message import Message
 from textual.widgets import ContentSwitcher, DataTable, Footer, Header, Static
+from textual.worker import get_current_worker
 
 from slopetui.display_text import terminal_safe
+from slopetui.sweeps import fold_overlay
 from slopetui.sweeps.diagram import SweepDiagram, load_diagram, plane_hopf
 from slopetui.sweeps.hopf_plane import Curve
 from slopetui.sweeps.progress import SweepProgress, format_eta, sweep_progress
+from slopetui.sweeps.spec import SweepSpec
 from slopetui.tui.messages import RunChosen, StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.widgets.bifurcation_view import BifurcationView
@@ -33,14 +37,19 @@ def progress_bar(done: int, total: int) -> Text:
                          f" {100 * done // max(total, 1):>3}%")
 
 
-def grid_data(d: SweepDiagram, hopf: Curve | None) -> GridData:
+def grid_data(d: SweepDiagram, hopf: Curve | None, fold: Curve | None = None) -> GridData:
     spec = d.spec
     assert spec.y is not None
     x, y = spec.x, spec.y
     return GridData(x.param, y.param, x.values(), y.values(), x.spacing == "log",
                     y.spacing == "log", {(r.ix, r.iy): (r.id, r.regime) for r in d.runs}, hopf,
                     frozenset((r.ix, r.iy) for r in d.runs if r.inferred),
-                    spec.adaptive_levels is not None)
+                    spec.adaptive_levels is not None, fold)
+
+
+class FoldCancelled(Exception):
+    """The fold's worker was cancelled (the app quits): stop between two values of tau,
+    not minutes later."""
 
 
 class SweepsScreen(SlopeScreen[None]):
@@ -52,6 +61,7 @@ class SweepsScreen(SlopeScreen[None]):
         Binding("r", "resume", "Resume", id="sweeps.resume"),
         Binding("c", "cancel", "Cancel sweep", id="sweeps.cancel"),
         Binding("d", "focus_diagram", "Diagram", id="sweeps.diagram"),
+        Binding("o", "fold_curve", "Fold curve", id="sweeps.fold"),
         Binding("escape", "focus_list", "Sweep list", show=False),
     ]
 
@@ -61,11 +71,38 @@ class SweepsScreen(SlopeScreen[None]):
         diagram: SweepDiagram | None
         grid: GridData | None  # for a 2-D sweep
 
+    @dataclass
+    class FoldProgress(Message):
+        """The fold of cycles was looked for at one more tau: ``fold`` is the value of
+        ``param`` (the plane's x) there, None if there is none."""
+
+        sweep_id: int
+        param: str
+        done: int
+        total: int
+        tau: float
+        fold: float | None
+
+    @dataclass
+    class FoldComputed(Message):
+        sweep_id: int
+        curve: Curve
+
+    @dataclass
+    class FoldFailed(Message):
+        sweep_id: int
+        cause: str
+
     def __init__(self) -> None:
         super().__init__()
         self.selected: int | None = None
         #: Hopf curves by sweep id: a spec never changes, and the curve costs ~0.1 s.
         self._hopf: dict[int, Curve | None] = {}
+        #: The diagram on show (its spec says whether a fold curve applies).
+        self._shown: SweepDiagram | None = None
+        #: The sweep whose fold curve is being computed, and how far it got (tau done, of).
+        self._fold_for: int | None = None
+        self._fold_done: tuple[int, int] = (0, 0)
 
     def compose(self) -> ComposeResult:
         yield Header()
@@ -104,11 +141,13 @@ class SweepsScreen(SlopeScreen[None]):
         if diagram is not None and diagram.spec.y is not None:
             if diagram.id not in self._hopf:
                 self._hopf[diagram.id] = plane_hopf(diagram.spec)
-            grid = grid_data(diagram, self._hopf[diagram.id])
+            grid = grid_data(diagram, self._hopf[diagram.id],
+                             self.app.fold_curves.get(diagram.id))
         self.post_message(self.Loaded(sweeps, diagram, grid))
 
     def on_sweeps_screen_loaded(self, message: Loaded) -> None:
         self._fill_table(message.sweeps)
+        self._shown = message.diagram
         self._show_diagram(message.diagram, message.grid)
 
     def _fill_table(self, sweeps: list[SweepProgress]) -> None:
@@ -185,3 +224,78 @@ class SweepsScreen(SlopeScreen[None]):
     def action_cancel(self) -> None:
         self._control("cancel")
 
+
+    # -- the fold of cycles over a (k, tau) plane --
+
+    def action_fold_curve(self) -> None:
+        """Compute the shown sweep's fold curve in a worker (once per session), then draw
+        it over the phase diagram."""
+        shown = self._shown
+        if self._fold_for is not None:  # one at a time: each takes a core for minutes
+            done, total = self._fold_done
+            self.notify(f"still computing the fold of cycles of sweep {self._fold_for} "
+                        f"(tau {done}/{total})")
+        elif shown is None:
+            self.notify("no sweep to draw the fold of cycles over", severity="warning")
+        elif not fold_overlay.has_fold_plane(shown.spec):
+            across = ", ".join(fold_overlay.FOLD_PARAMS)
+            self.notify(f"the fold of cycles is drawn over (x, tau) phase diagrams only, x one "
+                        f"of {across}; this sweep is not one", severity="warning")
+        elif shown.id in self.app.fold_curves:
+            self.notify(f"the fold of cycles of sweep {shown.id} is drawn (• in the diagram)")
+        else:
+            assert shown.spec.y is not None  # a (k, tau) plane
+            total = len(shown.spec.y.values())
+            self._fold_for, self._fold_done = shown.id, (0, total)
+            self.notify(f"computing the fold of cycles of sweep {shown.id}: one continuation "
+                        f"per tau ({total}), seconds to minutes")
+            self.compute_fold(shown.id, shown.spec, total)
+
+    @work(thread=True, group="fold-curve")
+    def compute_fold(self, sweep_id: int, spec: SweepSpec, total: int) -> None:
+        worker = get_current_worker()
+        done = 0
+
+        def progress(tau: float, fold: float | None) -> None:
+            nonlocal done
+            done += 1
+            self.post_message(self.FoldProgress(sweep_id, spec.x.param, done, total, tau, fold))
+            if worker.is_cancelled:
+                raise FoldCancelled
+
+        try:
+            curve = fold_overlay.fold_overlay(spec, progress)
+        except FoldCancelled:
+            return
+        except Exception as exc:  # a failed continuation is shown, never a traceback
+            self.post_message(self.FoldFailed(sweep_id, f"{type(exc).__name__}: {exc}"))
+            return
+        if curve is None:  # has_fold_plane was checked: not expected
+            self.post_message(self.FoldFailed(sweep_id, "not a (k, tau) plane"))
+            return
+        self.post_message(self.FoldComputed(sweep_id, curve))
+
+    @on(FoldProgress)
+    def _fold_progress(self, message: FoldProgress) -> None:
+        self._fold_done = (message.done, message.total)
+        found = (f"{message.param} = {message.fold:.5g}" if message.fold is not None
+                 else "no fold")
+        # in the header: a notification per tau would pile up
+        self.sub_title = (f"fold of cycles: tau {message.done}/{message.total} "
+                          f"(τ = {message.tau:.4g}: {found})")
+
+    @on(FoldComputed)
+    def _fold_computed(self, message: FoldComputed) -> None:
+        self._fold_for, self.sub_title = None, None
+        self.app.fold_curves[message.sweep_id] = message.curve
+        n = len(message.curve[0])
+        self.notify(f"fold of cycles of sweep {message.sweep_id}: "
+                    + (f"{n} points, drawn as •" if n else
+                       "none in this plane (supercritical Hopf points)"))
+        self.refresh_data()
+
+    @on(FoldFailed)
+    def _fold_failed(self, message: FoldFailed) -> None:
+        self._fold_for, self.sub_title = None, None
+        self.notify(f"could not compute the fold of cycles of sweep {message.sweep_id}: "
+                    f"{message.cause}", severity="error", timeout=10)

@@ -1,6 +1,7 @@
 """The live phase diagram of a 2-D sweep: one terminal cell per run (or per block of
 runs when the sweep is larger than the widget), a cursor that moves across the cells,
-and the exact Hopf curve rasterised over them.
+and the exact Hopf curve rasterised over them; once computed on request, the fold of
+cycles too (a '•' before the regime's marker in the cells it passes through).
 
 Unlike the plotext rendering of ``slopetui show``, every cell here maps back to runs,
 so the cursor can open the run under it.
@@ -25,7 +26,13 @@ from textual.reactive import reactive
 from textual.widget import Widget
 
 from slopetui.display_text import terminal_safe
-from slopetui.plots.regime_colors import LEGEND_ORDER, PENDING, REGIME_STYLES
+from slopetui.plots.regime_colors import (
+    FOLD_LABEL,
+    FOLD_MARKER,
+    LEGEND_ORDER,
+    PENDING,
+    REGIME_STYLES,
+)
 from slopetui.tui.messages import RunChosen
 
 #: plotext colour names (slopetui.plots) as Rich colours; "orange" is ANSI 3 there too.
@@ -55,6 +62,8 @@ class GridData:
     #: Adaptive sweeps: the grid points whose run was inferred, not computed.
     inferred: frozenset[tuple[int, int]] = frozenset()
     adaptive: bool = False
+    #: The fold-of-cycles curve (k, tau) of a (k, tau) plane, once computed.
+    fold: tuple[np.ndarray, np.ndarray] | None = None
 
     @property
     def n_unqueued(self) -> int:
@@ -149,14 +158,20 @@ class PhaseGrid(Widget, can_focus=True):
         return (min(col * sx + sx // 2, len(self.data.xs) - 1),
                 min(row * sy + sy // 2, len(self.data.ys) - 1))
 
-    def _hopf_cells(self, sx: int, sy: int) -> set[tuple[int, int]]:
-        """Display cells the exact Hopf curve passes through."""
+    def _curve_cells(self, curve: tuple[np.ndarray, np.ndarray] | None, sx: int, sy: int,
+                     *, join: bool = True) -> set[tuple[int, int]]:
+        """Display cells a curve passes through (the exact Hopf curve); with ``join``
+        False only the cells of its points (the fold of cycles, one point per tau)."""
         assert self.data is not None
-        d, hopf = self.data, self.data.hopf
-        if hopf is None or len(hopf[0]) == 0:
+        d = self.data
+        if curve is None or len(curve[0]) == 0:
             return set()
-        fx = np.array([_axis_position(d.xs, d.x_log, float(v)) for v in hopf[0]])
-        fy = np.array([_axis_position(d.ys, d.y_log, float(v)) for v in hopf[1]])
+        fx = np.array([_axis_position(d.xs, d.x_log, float(v)) for v in curve[0]])
+        fy = np.array([_axis_position(d.ys, d.y_log, float(v)) for v in curve[1]])
+        if not join:
+            return {(round(x) // sx, round(y) // sy) for x, y in zip(fx, fy, strict=True)
+                    if np.isfinite(x) and np.isfinite(y) and -0.5 <= x <= len(d.xs) - 0.5
+                    and -0.5 <= y <= len(d.ys) - 0.5}
         cells = set()
         for i in range(len(fx) - 1):  # interpolate, so that steep stretches stay joined
             steps = int(max(abs(fx[i + 1] - fx[i]) / sx, abs(fy[i + 1] - fy[i]) / sy, 1) * 2)
@@ -203,7 +218,8 @@ class PhaseGrid(Widget, can_focus=True):
             return Text("no sweep selected")
         d = self.data
         cell_w, sx, sy, cols, rows = layout
-        hopf = self._hopf_cells(sx, sy)
+        hopf = self._curve_cells(d.hopf, sx, sy)
+        folds = self._curve_cells(d.fold, sx, sy, join=False)
         cursor = (min(self.cursor[0], cols - 1), min(self.cursor[1], rows - 1))
         out = Text(no_wrap=True, overflow="crop")
         label_every = max(1, rows // 6)
@@ -225,7 +241,10 @@ class PhaseGrid(Widget, can_focus=True):
                 if (col, row) == cursor:
                     style = style + (Style(reverse=True, bold=True) if self.has_focus
                                      else Style(underline=True, bold=True))
-                out.append(marker.center(cell_w), style)
+                text = marker.center(cell_w)
+                if (col, row) in folds:  # beside the regime's marker when there is room
+                    text = FOLD_MARKER + (marker.center(cell_w - 1) if cell_w > 1 else "")
+                out.append(text, style)
             out.append("\n")
         out.append(self._x_ticks(cols, cell_w, sx)[:width] + "\n")
         counts = Counter(r or PENDING for _, r in d.runs.values())
@@ -238,6 +257,10 @@ class PhaseGrid(Widget, can_focus=True):
         if d.hopf is not None:
             out.append("  ", HOPF_STYLE)
             out.append(" Hopf (exact)")
+        if d.fold is not None and len(d.fold[0]):
+            used = len(out.plain) - out.plain.rfind("\n") - 1
+            label = f"  {FOLD_MARKER} {FOLD_LABEL}"
+            out.append(label if used + len(label) <= width else f"  {FOLD_MARKER} fold")
         out.append("\n")
         if d.adaptive:  # a line of its own: the legend line has no room left at 80 columns
             computed = sum(r is not None and p not in d.inferred

@@ -1,0 +1,103 @@
+"""``slopetui branch [ID]``: the stored continuations (``continue --submit`` queues them),
+or one of them with its points, its bifurcations and, with ``--plot``, its diagram."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import shutil
+from typing import TYPE_CHECKING, Any
+
+from slopetui.cli.continuation import print_bifurcations, print_point
+from slopetui.cli.options import UsageError, add_db_option, open_db
+
+if TYPE_CHECKING:
+    from slopetui.sweeps.branches import StoredBranch
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("branch", help="stored continuations of periodic orbits, or one of them",
+                       description="Without ID: every stored continuation (status, points, "
+                                   "what was found). With ID: its branch point by point, the "
+                                   "Hopf point and criticality when it started there, and "
+                                   "the bifurcations located on it once it is done.")
+    p.add_argument("id", nargs="?", type=int, metavar="ID", help="a continuation's id")
+    p.add_argument("--plot", action="store_true",
+                   help="with ID: draw the branch (amplitude against the parameter, stable "
+                        "and unstable orbits apart) instead of listing its points")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_db_option(p)
+    p.set_defaults(handler=handle)
+
+
+def _json_safe(value: Any) -> Any:
+    """NaN and infinities as null: a stored value is finite or absent."""
+    return None if isinstance(value, float) and not math.isfinite(value) else value
+
+
+def _found(branch: StoredBranch) -> str:
+    if branch.bifurcations:
+        return ", ".join(f"{b['type']} {branch.param}={b['value']:.6g}"
+                         for b in branch.bifurcations)
+    return "none" if branch.row["status"] == "done" else ""
+
+
+def _listing(args: argparse.Namespace) -> int:
+    from slopetui.sweeps.branches import listing
+    branches = listing(open_db(args))
+    if args.json:
+        print(json.dumps({"continuations": [
+            {k: _json_safe(v) for k, v in b.summary().items()} for b in branches]}))
+        return 0
+    if not branches:
+        print("no continuations yet: slopetui continue --help (with --submit)")
+        return 0
+    print(f"{'id':>4}  {'param':5} {'start':14} {'status':9} {'points':>6}  found")
+    for b in branches:
+        row = b.row
+        start = f"{row['start']} tau={row['tau']:g}" if b.param != "tau" else \
+            f"{row['start']} k={row['k']:g}"
+        print(f"{b.id:>4}  {b.param:5} {start:14} {row['status']:9} {row['n_points']:>6}  "
+              f"{_found(b)}")
+    return 0
+
+
+def _one(args: argparse.Namespace) -> int:
+    from slopetui.sweeps.branches import branch_of
+    branch = branch_of(open_db(args), args.id)
+    if branch is None:
+        raise UsageError(f"no continuation {args.id} in this store (slopetui branch lists them)")
+    row = branch.row
+    if args.json:
+        print(json.dumps({**{k: _json_safe(v) for k, v in branch.summary().items()},
+                          "branch": branch.points, "bifurcations": branch.bifurcations}))
+        return 0
+    if args.plot:
+        from slopetui.plots.branch_plot import render_branch
+        size = shutil.get_terminal_size((100, 30))
+        print(render_branch(branch.param, branch.points, branch.bifurcations,
+                            title=f"continuation {branch.id} in {branch.param}",
+                            width=size.columns, height=max(size.lines - 2, 12)))
+        return 0
+    print(f"continuation {branch.id} in {branch.param} from "
+          f"{'the Hopf point' if row['start'] == 'hopf' else 'a simulated orbit'}: "
+          f"{row['status']}, {row['n_points']} points, {row['runtime_s']:.1f} s")
+    for point in branch.points:
+        print_point(branch.param, point)
+    if row["hopf_value"] is not None:
+        print(f"Hopf point: {branch.param} = {row['hopf_value']:.10g}, period "
+              f"{row['hopf_period']:.10g}" + (f"; {row['criticality']}"
+                                              if row["criticality"] else ""))
+    if row["status"] == "done":
+        print(f"end: {row['end_reason']}")
+        print_bifurcations(branch.param, branch.bifurcations)
+    elif row["error"]:
+        print(f"{row['status']}: {row['error'].splitlines()[-1]}")
+    return 0
+
+
+def handle(args: argparse.Namespace) -> int:
+    if args.plot and args.id is None:
+        raise UsageError("--plot draws one continuation: give its ID")
+    return _listing(args) if args.id is None else _one(args)

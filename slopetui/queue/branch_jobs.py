@@ -1,0 +1,206 @@
+"""A continuation as a job of the queue: submitted, claimed by a worker under a lease,
+computed point by point with each point saved as soon as it is known, resumed from the
+saved points by whoever takes it over, finished with its bifurcations.
+
+The policy beside the runs' (slopetui.queue.jobs):
+
+* A worker claims a continuation before runs (slopetui.queue.worker_process): a branch is
+  asked for interactively and takes one worker for seconds to minutes, while a sweep's
+  runs keep the others busy.
+* Each point is saved by the lease holder only, as the next one (slopetui.store
+  .branch_rows.save_point): a killed worker loses at most the point it was computing.
+* A stop (SIGTERM, the pool stopping) comes between two points: the continuation goes
+  back to the queue with its attempt given back; an abort gives it back at once and
+  leaves the point in progress unsaved.
+* No orbit to start from (OrbitError at the start) is an answer, not a crash: the job
+  fails at once with the reason, no retry. Any other error is retried up to
+  max_attempts, as for runs.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+import traceback
+from collections.abc import Callable
+from concurrent.futures import Future
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Protocol, TypeVar
+
+import numpy as np
+
+from core.jit_cache import source_digest
+from core.params import PARAM_NAMES, Params
+from slopetui.store import branch_rows
+from slopetui.store.database import Database
+
+if TYPE_CHECKING:  # scipy and numba: loaded by the worker that computes a branch
+    from core.branch_start import BranchSpec, SavedPoint
+    from core.continuation import Branch
+
+log = logging.getLogger("slopetui.worker")
+
+T = TypeVar("T")
+#: Runs a function in the worker's compute thread and waits for it: its Future once done,
+#: None when an abort came first (the function is left running).
+Runner = Callable[[Callable[[], Any]], "Future[Any] | None"]
+
+
+class Stops(Protocol):
+    def stopping(self) -> bool: ...
+
+
+@dataclass(frozen=True)
+class BranchJob:
+    """A claimed continuation: what to compute; ``attempts`` counts this one."""
+
+    id: int
+    attempts: int
+    spec: BranchSpec
+
+
+def fields_of(spec: BranchSpec, from_run: int | None = None) -> dict[str, Any]:
+    """The continuations row of a spec (queued, with the engine's digest)."""
+    return {"param": spec.name, "start": "hopf" if spec.from_hopf else "orbit",
+            **{n: getattr(spec.params, n) for n in PARAM_NAMES}, "from_run": from_run,
+            "dt": spec.dt, "end_value": spec.end, "max_points": spec.max_points,
+            "max_step": spec.max_step, "engine": source_digest(), "status": "queued"}
+
+
+def submit(db: Database, spec: BranchSpec, from_run: int | None = None) -> int:
+    """Queue a continuation; returns its id."""
+    return branch_rows.submit(db, fields_of(spec, from_run))
+
+
+def spec_of(row: Any) -> BranchSpec:
+    """The spec a continuations row asks for."""
+    from core.branch_start import BranchSpec
+    return BranchSpec(Params(**{n: row[n] for n in PARAM_NAMES}), row["param"], row["dt"],
+                      row["start"] == "hopf", row["end_value"], row["max_points"],
+                      row["max_step"])
+
+
+def claim(db: Database, worker_id: str) -> BranchJob | None:
+    row = branch_rows.claim(db, worker_id)
+    return None if row is None else BranchJob(row["id"], row["attempts"], spec_of(row))
+
+
+def point_fields(branch: Branch) -> dict[str, Any]:
+    """The branch_points row of the branch's last point: what the faces read and what a
+    resumption needs (core.branch_start.SavedPoint)."""
+    from core.branch_start import SavedPoint
+    saved = SavedPoint.of(branch)
+    point = branch.points[-1]
+    mult = point.multipliers
+    lead = mult.leading
+    return {"idx": len(branch.points) - 1, "value": point.value, "period": point.period,
+            "amplitude": point.amplitude, "stable": point.stable,
+            "unstable_count": mult.unstable_count, "leading_re": lead.real,
+            "leading_im": lead.imag,
+            "multipliers": [[float(m.real), float(m.imag)] for m in mult.values],
+            "flow_index": mult.flow_index, "translation": float(mult.translation),
+            "step": saved.step,
+            "state": np.concatenate((saved.y, saved.t)).astype("<f8").tobytes()}
+
+
+def saved_of(row: Any) -> SavedPoint:
+    """A saved point back from its branch_points row."""
+    from core.branch_start import SavedPoint
+    from core.floquet import Multipliers
+    state = np.frombuffer(row["state"], dtype="<f8")
+    half = state.size // 2
+    values = np.array([complex(re, im) for re, im in row["multipliers"]])
+    return SavedPoint(state[:half].copy(), state[half:].copy(), row["amplitude"],
+                      Multipliers(values, row["flow_index"], row["translation"]), row["step"])
+
+
+def bifurcation_fields(bif: Any) -> dict[str, Any]:
+    return {"type": bif.type, "value": bif.value, "period": bif.period,
+            "mu_re": bif.multiplier.real, "mu_im": bif.multiplier.imag}
+
+
+def _timed(fn: Callable[[], T]) -> Callable[[], tuple[T, float]]:
+    """``fn`` returning also the CPU time its thread spent on it (s)."""
+    def run() -> tuple[T, float]:
+        t0 = time.thread_time()
+        out = fn()
+        return out, time.thread_time() - t0
+    return run
+
+
+def _error(db: Database, wid: str, job: BranchJob, error: BaseException,
+           max_attempts: int) -> None:
+    from core.orbit import OrbitError
+    give_up = isinstance(error, OrbitError) or job.attempts >= max_attempts
+    text = (f"no branch: {error}" if isinstance(error, OrbitError)
+            else "".join(traceback.format_exception(error)).strip())
+    if branch_rows.fail(db, job.id, wid, text, give_up=give_up):
+        log.error("continuation %d %s: %s", job.id,
+                  "failed" if give_up else "raised, back to the queue", error)
+
+
+def _give_back(db: Database, wid: str, job: BranchJob, why: str) -> None:
+    released = branch_rows.release(db, job.id, wid)
+    log.info("continuation %d given back to the queue (%s)%s", job.id, why,
+             "" if released else "; its lease had already been taken over")
+
+
+def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
+            max_attempts: int) -> None:
+    """Compute the claimed continuation to its end, saving each point (see the module
+    docstring for stops, aborts and errors)."""
+    from core.branch_start import MIN_STEP, past_end, resume, start
+    from core.continuation import bifurcations, check_end, criticality, step
+    spec = job.spec
+    saved = [saved_of(r) for r in branch_rows.saved_points(db, job.id)]
+
+    def begin() -> tuple[Branch, tuple[float, float] | None]:
+        if saved:
+            return resume(spec, saved), None
+        branch, hopf = start(spec)
+        return branch, None if hopf is None else (hopf.value, hopf.period)
+
+    future = run(_timed(begin))
+    if future is None:
+        return _give_back(db, wid, job, "abort")
+    if (error := future.exception()) is not None:
+        return _error(db, wid, job, error, max_attempts)
+    (branch, hopf), spent = future.result()
+    log.info("continuation %d in %s: %s (%d saved points)", job.id, spec.name,
+             "resumed" if saved else "started", len(saved))
+
+    def stop(point: Any) -> bool:
+        return past_end(spec, branch.points[0].value, point)
+
+    check_end(branch, stop)
+    while True:
+        if control.stopping():
+            return _give_back(db, wid, job, "shutdown")
+        future = run(_timed(lambda: step(branch, stop, spec.max_points, MIN_STEP)))
+        if future is None:
+            return _give_back(db, wid, job, "abort")
+        if (error := future.exception()) is not None:
+            return _error(db, wid, job, error, max_attempts)
+        point, took = future.result()
+        spent += took
+        if point is None:
+            break
+        if not branch_rows.save_point(db, job.id, wid, point_fields(branch), spent,
+                                      hopf if len(branch.points) == 1 else None):
+            log.warning("continuation %d: lease lost; the point is not saved", job.id)
+            return
+        spent = 0.0
+    future = run(_timed(lambda: bifurcations(branch)))
+    if future is None:
+        return _give_back(db, wid, job, "abort")
+    if (error := future.exception()) is not None:
+        return _error(db, wid, job, error, max_attempts)
+    found, took = future.result()
+    critical = criticality(branch.points) if spec.from_hopf else None
+    if branch_rows.finish(db, job.id, wid, branch.end, critical, spent + took,
+                          [bifurcation_fields(b) for b in found]):
+        log.info("continuation %d done: %d points, %s", job.id, len(branch.points),
+                 ", ".join(f"{b.type} at {spec.name} = {b.value:.6g}" for b in found)
+                 or "no bifurcation")
+    else:
+        log.warning("continuation %d finished after its lease was lost; discarded", job.id)

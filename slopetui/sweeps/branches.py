@@ -1,0 +1,74 @@
+"""Continuations for the faces (the CLI's ``continue --submit`` and ``branch``, the TUI's
+branches screen): queue one, list them, read one back with its points and bifurcations
+as plain records. No UI here, and no SQL (slopetui.store.branch_rows owns it)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from slopetui.queue import branch_jobs
+from slopetui.store import branch_rows
+from slopetui.store.database import Database
+from slopetui.sweeps.branch_records import (
+    BifurcationRecord,
+    PointRecord,
+    bifurcation_record,
+    point_record,
+)
+
+if TYPE_CHECKING:
+    from core.branch_start import BranchSpec
+
+@dataclass(frozen=True)
+class StoredBranch:
+    """A continuation as stored: its row (parameters, status, Hopf point, criticality,
+    why it ended), its points so far and, once done, its bifurcations."""
+
+    row: Any
+    points: list[PointRecord]
+    bifurcations: list[BifurcationRecord]
+
+    @property
+    def id(self) -> int:
+        return int(self.row["id"])
+
+    @property
+    def param(self) -> str:
+        return str(self.row["param"])
+
+    def summary(self) -> dict[str, Any]:
+        """The row's fields a reader wants (no worker bookkeeping)."""
+        keys = ("id", "param", "start", "status", "from_run", "dt", "end_value", "max_points",
+                "max_step", "hopf_value", "hopf_period", "criticality", "end_reason",
+                "n_points", "runtime_s", "error", "attempts", "a", "b", "c", "d", "k", "v",
+                "tau", "delta")
+        return {key: self.row[key] for key in keys}
+
+
+def submit(db: Database, spec: BranchSpec, from_run: int | None = None) -> int:
+    """Queue a continuation for the workers; returns its id."""
+    return branch_jobs.submit(db, spec, from_run)
+
+
+def listing(db: Database) -> list[StoredBranch]:
+    """Every continuation, newest first, without its points."""
+    return [StoredBranch(row, [], []) for row in branch_rows.continuations(db)]
+
+
+def branch_of(db: Database, cid: int) -> StoredBranch | None:
+    """Continuation ``cid`` with its points and bifurcations; None if there is none."""
+    row = branch_rows.continuation(db, cid)
+    if row is None:
+        return None
+    points = [point_record(p["value"], p["period"], p["amplitude"], p["stable"],
+                           complex(p["leading_re"], p["leading_im"]))
+              for p in branch_rows.points(db, cid)]
+    bifs = [bifurcation_record(b["type"], b["value"], b["period"], complex(b["mu_re"], b["mu_im"]))
+            for b in branch_rows.bifurcations(db, cid)]
+    return StoredBranch(row, points, bifs)
+
+
+def activity(db: Database) -> tuple[dict[str, int], dict[str, int]]:
+    """Continuations per status, and the one each worker computes (by worker id)."""
+    return branch_rows.status_counts(db), branch_rows.held(db)

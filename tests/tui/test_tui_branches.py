@@ -1,0 +1,186 @@
+"""Pilot tests of the branches screen (key 4: stored continuations and the highlighted
+one's diagram) and of the fold of cycles over a (k, tau) phase diagram (key o)."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+
+from core.branch_start import BranchSpec
+from core.params import Params
+from slopetui.queue.branch_jobs import fields_of
+from slopetui.store import Database, branch_rows
+from slopetui.sweeps import fold_overlay
+from slopetui.sweeps.spec import parse_spec
+from slopetui.sweeps.submit import submit
+from slopetui.tui.app import SlopeApp
+from slopetui.tui.screens.branches import BranchesScreen
+from slopetui.tui.widgets.bifurcation_view import BifurcationView
+from slopetui.tui.widgets.phase_grid import PhaseGrid
+from slopetui.tui.widgets.plot_view import PlotView
+from tests.support import QUICK_SOLVER, submit_quick
+from tests.tui.support import run, wait_until
+
+FOLD_K = 1.2139
+
+
+def point(idx: int, value: float, amplitude: float, stable: bool) -> dict:
+    return {"idx": idx, "value": value, "period": 25.0 + idx, "amplitude": amplitude,
+            "stable": stable, "unstable_count": 0 if stable else 1, "leading_re": 0.9,
+            "leading_im": 0.0, "multipliers": [[0.9, 0.0]], "flow_index": 0,
+            "translation": 0.0, "step": 0.1, "state": b"\0" * 16}
+
+
+def continuation(db: Database, *, finish: bool = True) -> int:
+    """A continuation in k from the Hopf point, with five points (two unstable, three
+    stable) and, once finished, a fold of cycles."""
+    cid = branch_rows.submit(db, fields_of(BranchSpec(params=Params(), name="k", dt=0.01,
+                                                      from_hopf=True)))
+    assert branch_rows.claim(db, "w1") is not None
+    shape = [(1.30, 0.2, False), (1.22, 0.6, False), (1.23, 1.0, True), (1.30, 1.4, True),
+             (1.40, 1.8, True)]
+    for i, (k, amplitude, stable) in enumerate(shape):
+        assert branch_rows.save_point(db, cid, "w1", point(i, k, amplitude, stable), 0.0,
+                                      hopf=(1.35, 24.0) if i == 0 else None)
+    if finish:
+        assert branch_rows.finish(db, cid, "w1", "reached the requested end", "subcritical",
+                                  1.0, [{"type": "fold", "value": FOLD_K, "period": 30.0,
+                                         "mu_re": 1.0, "mu_im": 0.0}])
+    return cid
+
+
+def app_for(db: Database) -> SlopeApp:
+    return SlopeApp(db.display_url, start_workers=False, refresh_s=0.2)
+
+
+def cells(table, row: int) -> list[str]:
+    return [str(c) for c in table.get_row_at(row)]
+
+
+def test_the_branches_screen_lists_and_draws_a_finished_continuation(db):
+    cid = continuation(db)
+
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await wait_until(pilot, lambda: app.db is not None)
+            await pilot.press("4")
+            await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen))
+            table = app.screen.query_one("#branch-table")
+            await wait_until(pilot, lambda: table.row_count == 1)
+            row = cells(table, 0)
+            assert row[0] == str(cid) and row[1] == "k" and row[3] == "done"
+            assert row[2].startswith("hopf k=1.35") and row[4] == "5"
+            assert row[5] == "subcritical" and row[6] == f"fold k={FOLD_K}"
+            plot = app.screen.query_one(PlotView)
+            await wait_until(pilot, lambda: "m_y amplitude" in str(plot.render()))
+            drawn = str(plot.render())
+            assert f"continuation {cid} in k" in drawn and "fold 1" in drawn
+            assert "stable 3" in drawn and "unstable 2" in drawn
+            detail = str(app.screen.query_one("#branch-detail").render())
+            assert f"fold k = {FOLD_K}" in detail and "period 30" in detail
+            assert "end: reached the requested end" in detail
+
+    run(scenario)
+
+
+def test_a_running_continuation_grows_as_its_points_are_saved(db):
+    cid = continuation(db, finish=False)
+
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await wait_until(pilot, lambda: app.db is not None)
+            await pilot.press("4")
+            await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen))
+            table = app.screen.query_one("#branch-table")
+            await wait_until(pilot, lambda: table.row_count == 1
+                             and cells(table, 0)[3] == "running")
+            detail = app.screen.query_one("#branch-detail")
+            await wait_until(pilot, lambda: "5 points so far" in str(detail.render()))
+            # a worker elsewhere saves the next point: the periodic refresh shows it
+            assert branch_rows.save_point(db, cid, "w1", point(5, 1.5, 2.2, True), 0.0)
+            await wait_until(pilot, lambda: cells(table, 0)[4] == "6"
+                             and "6 points so far" in str(detail.render()))
+            plot = app.screen.query_one(PlotView)
+            await wait_until(pilot, lambda: "stable 4" in str(plot.render()))
+
+    run(scenario)
+
+
+def test_no_continuations_says_how_to_queue_one(db):
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await wait_until(pilot, lambda: app.db is not None)
+            await pilot.press("4")
+            await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen))
+            detail = app.screen.query_one("#branch-detail")
+            await wait_until(pilot, lambda: "--submit" in str(detail.render()))
+
+    run(scenario)
+
+
+def said_by(app: SlopeApp) -> list[str]:
+    said: list[str] = []
+    notify = app.notify
+    app.notify = lambda message, **kw: (said.append(message), notify(message, **kw))[1]
+    return said
+
+
+def test_the_fold_curve_is_for_x_tau_planes_only(db):
+    submit_quick(db, 3)  # a 1-D sweep
+
+    async def scenario():
+        app = app_for(db)
+        said = said_by(app)
+        async with app.run_test(size=(80, 24)) as pilot:
+            view = app.query_one(BifurcationView)
+            await wait_until(pilot, lambda: view.diagram is not None)
+            await pilot.press("o")
+            await wait_until(pilot, lambda: any("(x, tau) phase diagrams only" in s
+                                                for s in said))
+            assert app.fold_curves == {}
+
+    run(scenario)
+
+
+def test_the_fold_curve_is_computed_once_and_drawn(db, monkeypatch):
+    spec = parse_spec({"x": {"param": "k", "start": 0.5, "stop": 3, "num": 6},
+                       "y": {"param": "tau", "start": 1, "stop": 4, "num": 3},
+                       "solver": QUICK_SOLVER})
+    sweep = submit(db, spec).sweep_id
+    release = threading.Event()
+    calls: list[int] = []
+
+    def fake_fold_overlay(spec, progress):  # the real one takes seconds per tau
+        calls.append(1)
+        taus = spec.y.values()
+        for tau in taus:
+            progress(float(tau), 1.0 + 0.1 * float(tau))
+            release.wait(10)
+        return np.array([1.0 + 0.1 * t for t in taus]), np.array(taus, dtype=float)
+
+    monkeypatch.setattr(fold_overlay, "fold_overlay", fake_fold_overlay)
+
+    async def scenario():
+        app = app_for(db)
+        said = said_by(app)
+        async with app.run_test(size=(80, 24)) as pilot:
+            grid = app.query_one(PhaseGrid)
+            await wait_until(pilot, lambda: grid.data is not None)
+            await pilot.press("o")
+            await wait_until(pilot, lambda: "fold of cycles: tau 1/3" in str(app.screen.sub_title))
+            await pilot.press("o")  # a second press while computing only says so
+            await wait_until(pilot, lambda: any("still computing" in s for s in said))
+            release.set()
+            await wait_until(pilot, lambda: sweep in app.fold_curves
+                             and grid.data.fold is not None)
+            assert "• fold" in str(grid.render())  # the legend; the cells carry a • too
+            assert app.screen.sub_title is None
+            await pilot.press("o")  # cached for the session: not computed again
+            await wait_until(pilot, lambda: any("is drawn" in s for s in said))
+            assert len(calls) == 1
+
+    run(scenario)

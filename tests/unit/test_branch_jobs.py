@@ -1,0 +1,160 @@
+"""Continuations as jobs (slopetui.queue.branch_jobs, slopetui.store.branch_rows): the lease
+guards every write, a stopped branch resumes where it stopped and ends as an uninterrupted
+one would, and a branch with no orbit to start from fails at once with the reason."""
+
+from __future__ import annotations
+
+from concurrent.futures import Future
+from typing import Any
+
+import numpy as np
+import pytest
+
+from core.branch_start import MIN_STEP, BranchSpec, past_end, resume, start
+from core.continuation import bifurcations, step
+from core.params import Params
+from slopetui.queue import branch_jobs, jobs
+from slopetui.store import branch_rows
+from slopetui.sweeps.branches import branch_of
+
+#: A short delay keeps the state small (N = 200) and a branch quick (~0.05 s a point).
+SPEC = BranchSpec(Params(tau=2.0), "k", 0.01, from_hopf=True, end=None, max_points=7,
+                  max_step=0.5)
+
+
+def inline(fn: Any) -> Future[Any]:
+    """A Runner that runs the function here (the worker runs it in its compute thread)."""
+    future: Future[Any] = Future()
+    try:
+        future.set_result(fn())
+    except BaseException as exc:  # a Future carries any exception
+        future.set_exception(exc)
+    return future
+
+
+class StopAfter:
+    """The worker's stop sources, saying stop once ``n`` points are saved."""
+
+    def __init__(self, db: Any, cid: int, n: int) -> None:
+        self.db, self.cid, self.n = db, cid, n
+
+    def stopping(self) -> bool:
+        row = branch_rows.continuation(self.db, self.cid)
+        return row is not None and row["n_points"] >= self.n
+
+
+class Never:
+    def stopping(self) -> bool:
+        return False
+
+
+def _uninterrupted(spec: BranchSpec) -> list[tuple[float, float, float]]:
+    branch, _ = start(spec)
+    while step(branch, lambda q: past_end(spec, branch.points[0].value, q), spec.max_points,
+               MIN_STEP) is not None:
+        pass
+    return [(p.value, p.period, p.amplitude) for p in branch.points]
+
+
+def _point(idx: int) -> dict[str, Any]:
+    return {"idx": idx, "value": 1.0 + idx, "period": 10.0, "amplitude": 0.1, "stable": True,
+            "unstable_count": 0, "leading_re": 0.5, "leading_im": 0.0,
+            "multipliers": [[1.0, 0.0], [0.5, 0.0]], "flow_index": 0, "translation": 1.0,
+            "step": 0.1, "state": np.zeros(4).tobytes()}
+
+
+def test_points_are_saved_by_the_lease_holder_only_and_in_order(db):
+    cid = branch_jobs.submit(db, SPEC)
+    assert branch_rows.claim(db, "w1")["id"] == cid
+    assert branch_rows.claim(db, "w2") is None  # one holder
+    assert branch_rows.save_point(db, cid, "w1", _point(0), 0.1)
+    assert not branch_rows.save_point(db, cid, "w1", _point(0), 0.1)  # not the next one
+    assert not branch_rows.save_point(db, cid, "w1", _point(2), 0.1)  # a gap
+    assert not branch_rows.save_point(db, cid, "w2", _point(1), 0.1)  # not the holder
+    assert branch_rows.save_point(db, cid, "w1", _point(1), 0.2)
+    row = branch_rows.continuation(db, cid)
+    assert (row["n_points"], row["attempts"]) == (2, 1)
+    assert row["runtime_s"] == pytest.approx(0.3)
+    # a shutdown gives it back with its attempt; the points stay
+    assert branch_rows.release(db, cid, "w1")
+    assert not branch_rows.finish(db, cid, "w1", "end", None, 0.0, [])  # no longer held
+    row = branch_rows.continuation(db, cid)
+    assert (row["status"], row["attempts"], row["n_points"]) == ("queued", 0, 2)
+    assert [p["idx"] for p in branch_rows.points(db, cid)] == [0, 1]
+
+
+def test_expired_and_dead_workers_continuations_go_back_or_fail(db):
+    first = branch_jobs.submit(db, SPEC)
+    second = branch_jobs.submit(db, SPEC)
+    branch_rows.claim(db, "w1")
+    branch_rows.claim(db, "w2")
+    assert jobs.requeue_worker(db, "w1", "worker died", max_attempts=3) == (1, 0)
+    assert branch_rows.continuation(db, first)["status"] == "queued"
+    # max_attempts 1: the second has used its one attempt
+    assert jobs.requeue_worker(db, "w2", "worker died", max_attempts=1) == (0, 1)
+    row = branch_rows.continuation(db, second)
+    assert row["status"] == "failed" and "gave up after 1 attempts" in row["error"]
+    branch_rows.claim(db, "w3")
+    assert jobs.requeue_expired(db, lease_s=3600.0, max_attempts=3) == (0, 0)  # still fresh
+
+
+def test_a_stopped_continuation_resumes_and_ends_as_an_uninterrupted_one(db):
+    reference = _uninterrupted(SPEC)
+    cid = branch_jobs.submit(db, SPEC)
+    job = branch_jobs.claim(db, "w1")
+    branch_jobs.compute(db, "w1", job, inline, StopAfter(db, cid, 3), max_attempts=3)
+    row = branch_rows.continuation(db, cid)
+    assert (row["status"], row["n_points"], row["attempts"]) == ("queued", 3, 0)
+    assert row["hopf_value"] == pytest.approx(reference[0][0], abs=1e-3)
+    job = branch_jobs.claim(db, "w2")  # another worker takes it over
+    branch_jobs.compute(db, "w2", job, inline, Never(), max_attempts=3)
+    stored = branch_of(db, cid)
+    assert stored is not None and stored.row["status"] == "done"
+    assert stored.row["criticality"] == "subcritical"
+    got = [(p["value"], p["period"], p["amplitude"]) for p in stored.points]
+    assert len(got) == len(reference) == SPEC.max_points
+    # the resumed branch predicts from the same y, t and step: the same points to rounding
+    np.testing.assert_allclose(np.array(got), np.array(reference), rtol=1e-9, atol=1e-12)
+
+
+def test_resume_rebuilds_the_branch_a_worker_left(db):
+    branch, _ = start(SPEC)
+    for _ in range(4):
+        step(branch, lambda q: False, 10, MIN_STEP)
+    cid = branch_jobs.submit(db, SPEC)
+    branch_rows.claim(db, "w1")
+    saved = []
+    for i in range(len(branch.points)):
+        part = _prefix(branch, i + 1)
+        assert branch_rows.save_point(db, cid, "w1", branch_jobs.point_fields(part), 0.0)
+    saved = [branch_jobs.saved_of(r) for r in branch_rows.saved_points(db, cid)]
+    again = resume(SPEC, saved)
+    assert again.g0 == branch.g0 and again.h == branch.h
+    np.testing.assert_array_equal(again.y, branch.y)
+    np.testing.assert_array_equal(again.t, branch.t)
+    assert [p.multipliers.unstable_count for p in again.points] == \
+        [p.multipliers.unstable_count for p in branch.points]
+    # and the bifurcation search reads the rebuilt states as it read the originals
+    assert [b.type for b in bifurcations(again)] == [b.type for b in bifurcations(branch)]
+
+
+def _prefix(branch: Any, n: int) -> Any:
+    """A view of ``branch`` as it was with its first n points (step h as saved then)."""
+    class View:
+        points = branch.points[:n]
+        states = branch.states[:n]
+        h = branch.h
+    return View()
+
+
+def test_no_orbit_to_start_from_fails_at_once_with_the_reason(db):
+    # k = 0.5, tau = 2: a run from eq. 19 comes to rest, so there is no orbit to continue
+    spec = BranchSpec(Params(k=0.5, tau=2.0, delta=1e-3), "k", 0.01, from_hopf=False,
+                      max_points=5)
+    cid = branch_jobs.submit(db, spec)
+    job = branch_jobs.claim(db, "w1")
+    branch_jobs.compute(db, "w1", job, inline, Never(), max_attempts=3)
+    row = branch_rows.continuation(db, cid)
+    assert row["status"] == "failed" and row["attempts"] == 1
+    assert row["error"].startswith("no branch: ")
+    assert branch_rows.points(db, cid) == []
