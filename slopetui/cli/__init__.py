@@ -14,6 +14,7 @@ from slopetui.cli import (
     control,
     db,
     example,
+    hysteresis,
     nblock,
     orbit,
     reproduce,
@@ -56,7 +57,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-workers", action="store_true",
                         help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for module in (run, orbit, continuation, branch, submit, example, status, show, runs, control, sql,
+    for module in (run, orbit, continuation, branch, hysteresis, submit, example, status, show, runs, control, sql,
                    worker, workers, db, nblock, reproduce):
         module.register(sub)
     return parser
