@@ -547,8 +547,13 @@ def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) ->
 
     Returns one Trajectory per point, in order, equal to ``core.solve.simulate(p, s)``.
     Each one's runtime_s is the batch's wall time shared in proportion to its steps.
+    The lanes start from eq. 19's constant history only (core.history): a run with
+    another history is computed alone (the queue batches runs of one history).
     """
     s = s or SolverSettings()
+    if s.history != "constant":
+        raise ValueError(f"the batched kernels start from the constant history only, not "
+                         f"{s.history!r}: compute such runs with core.solve.simulate")
     if not points:
         return []
     if s.method == "stiff":  # no batched kernel (core.stiff): one run after another

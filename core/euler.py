@@ -1,8 +1,8 @@
 """Forward Euler, exactly as the paper integrated eqs. 6a-6e (Section 3, dt = 1e-3).
 
 The delayed m_x(t - tau) is read from a ring buffer of the last N = tau/dt values of m_x.
-The buffer starts filled with delta, which *is* the initial history m_x(t) = delta for
-t <= 0 (eq. 19; see core.solve for why we chose a constant history).
+The buffer starts filled with the history before t = 0 (core.history: by default the
+constant m_x(t) = delta of eq. 19; see core.solve for why that is the default).
 
 With ``lyap`` the kernel co-iterates the tangent-linear map of this same Euler map (the
 exact derivative of the discrete map), with its own ring buffer, for lambda_max.
@@ -14,21 +14,26 @@ import numpy as np
 from numba import njit
 
 from core.model import JIT, rhs, rhs_tangent
-from core.recording import blown_up, renormalise, sample
+from core.recording import blown_up, hand_over, renormalise, sample
 
 
 @njit(**JIT)
 def euler(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_resume, trace, trace_stride,
-          lyap, renorm_steps, logs):
+          lyap, renorm_steps, logs, init, hx, final):
     """Integrate n_steps Euler steps; return the number of steps done (< n_steps on blow-up).
 
     coef: [a, q, F1, k, d, delta] (core.model.coefficients). n_delay = tau/dt (0: no delay).
     win, trace: (5, n) outputs for the samplers. logs: log-growth of the tangent per
-    renormalisation (every renorm_steps steps), filled only if lyap.
+    renormalisation (every renorm_steps steps), filled only if lyap. init: the five
+    variables at t = 0; hx: m_x before it at t = -tau + j dt / 2, j = 0..2N (core.history;
+    Euler reads the even j). final (5 + N): written at the end, the five variables and
+    m_x at t_end - tau + j dt, j = 0..N-1 (what a warm start hands over).
     """
-    a, q, f1, k, d, delta = coef[0], coef[1], coef[2], coef[3], coef[4], coef[5]
-    m_x = m_y = s_x = s_y = u = delta  # (19)
-    hist = np.full(n_delay, delta)     # m_x over (t - tau, t]; history = delta
+    a, q, f1, k, d = coef[0], coef[1], coef[2], coef[3], coef[4]
+    m_x, m_y, s_x, s_y, u = init[0], init[1], init[2], init[3], init[4]  # (19)
+    hist = np.empty(n_delay)           # m_x over (t - tau, t]
+    for j in range(n_delay):
+        hist[j] = hx[2 * j]            # the history, m_x(-tau + j dt)
     e_hist = np.zeros((1, n_delay))    # tangent m_x history
     e_x, e_y, e_sx, e_sy, e_u = 0.0, 1.0, 1.0, 1.0, 1.0
     pos = 0
@@ -70,4 +75,5 @@ def euler(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_
             next_r += renorm_steps
     sample(n_steps, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
     sample(n_steps, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
+    hand_over(final, m_x, m_y, s_x, s_y, u, hist, pos)
     return n_steps

@@ -21,6 +21,7 @@ import numpy as np
 from core.batch import simulate_batch
 from core.classify import Summary, classify
 from core.closure import CLOSURE_TOL, closure_flags, uphill_flags
+from core.history import CarriedState
 from core.lyapunov import LyapunovEstimate, estimate
 from core.params import Params
 from core.result_fields import RECORD_KEYS
@@ -68,11 +69,13 @@ class PointResult:
         return {name: values[name] for name in RECORD_KEYS}
 
 
-def run_point(p: Params, s: SolverSettings | None = None) -> PointResult:
-    """Run one point with settings s (defaults: Euler, dt 1e-3, t_end 1e5, window 1000)."""
+def run_point(p: Params, s: SolverSettings | None = None,
+              carried: CarriedState | None = None) -> PointResult:
+    """Run one point with settings s (defaults: Euler, dt 1e-3, t_end 1e5, window 1000),
+    from the history s.history (``carried``: the state it names, when it names one)."""
     s = s or SolverSettings()
     t0 = time.perf_counter()
-    return analyse(simulate(p, s), time.perf_counter() - t0)
+    return analyse(simulate(p, s, carried), time.perf_counter() - t0)
 
 
 def run_batch(points: Sequence[Params], s: SolverSettings | None = None) -> list[PointResult]:
@@ -91,7 +94,7 @@ def analyse(tr: Trajectory, integration_s: float) -> PointResult:
     t_blowup = tr.t_blowup  # the explicit scheme's, kept beside the flag
     if tr.settings.method != "stiff" and (tr.blew_up or _negative_variance(tr)):
         t1 = time.perf_counter()
-        tr = simulate(tr.params, replace(tr.settings, method="stiff", dt=tr.grid.dt))
+        tr = simulate(tr.params, replace(tr.settings, method="stiff", dt=tr.grid.dt), tr.carried)
         integration_s += time.perf_counter() - t1
         flags = ("stiff-fallback",)
     t0 = time.perf_counter()

@@ -49,6 +49,18 @@ def sample(n, next_n, i, stride, jump, resume, out, m_x, m_y, s_x, s_y, u):
 
 
 @njit(**JIT)
+def hand_over(final, m_x, m_y, s_x, s_y, u, ring, oldest):
+    """The state a warm start takes over (core.history.CarriedState): the five variables
+    in final[:5], and in final[5:5 + N] m_x at t_end - tau + j dt, j = 0..N-1, read from
+    the ring of m_x (N slots, or N + 1 for RK4) starting at its oldest slot."""
+    final[0], final[1], final[2], final[3], final[4] = m_x, m_y, s_x, s_y, u
+    size = ring.shape[0]
+    for j in range(final.shape[0] - 5):
+        i = oldest + j
+        final[5 + j] = ring[i - size if i >= size else i]
+
+
+@njit(**JIT)
 def blown_up(m_y: float, s_y: float) -> bool:
     # written so that NaN (which compares false) counts as a blow-up
     return not (abs(m_y) < BLOWUP_BOUND and abs(s_y) < BLOWUP_BOUND)

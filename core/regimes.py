@@ -7,3 +7,6 @@ without loading the classifier.
 from __future__ import annotations
 
 REGIMES: tuple[str, ...] = ("sliding", "oscillatory", "complex", "mixed", "unstable")
+#: Not a regime: the label of a lattice cell whose initial conditions end in different
+#: regimes (slopetui.sweeps.initial_dependence), the paper's conditionally stable slope.
+DEPENDS = "depends"

@@ -6,7 +6,8 @@ The Hermite slope of m_x is m_y itself (eq. 6a), so the interpolant is 4th-order
 accurate without any finite differences:
     m_x(t_j + dt/2) = (x_j + x_{j+1}) / 2 + dt (y_j - y_{j+1}) / 8.
 
-For t_n + dt - tau <= 0 every delayed value is the history delta (eq. 19). We do not
+For t_n + dt - tau <= 0 every delayed value is read from the history before t = 0, given
+at every half step (core.history: by default the constant delta of eq. 19). We do not
 interpolate across t = 0: the constant history has slope 0 while m_y(0) = delta, and a
 Hermite cubic through that kink would cost a whole order of accuracy.
 
@@ -20,7 +21,7 @@ import numpy as np
 from numba import njit
 
 from core.model import JIT, rhs, rhs_tangent
-from core.recording import blown_up, renormalise, sample
+from core.recording import blown_up, hand_over, renormalise, sample
 
 
 @njit(**JIT)
@@ -31,14 +32,15 @@ def hermite_mid(x0, x1, y0, y1, dt):
 
 @njit(**JIT)
 def rk4(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_resume, trace, trace_stride,
-        lyap, renorm_steps, logs):
+        lyap, renorm_steps, logs, init, hx, final):
     """Integrate n_steps RK4 steps; return the number of steps done (< n_steps on blow-up).
 
-    Arguments as core.euler.euler. The ring buffers hold (m_x, m_y) at steps n-N..n.
+    Arguments as core.euler.euler (RK4 reads every half step of hx). The ring buffers hold
+    (m_x, m_y) at steps n-N..n.
     """
-    a, q, f1, k, d, delta = coef[0], coef[1], coef[2], coef[3], coef[4], coef[5]
+    a, q, f1, k, d = coef[0], coef[1], coef[2], coef[3], coef[4]
     h = 0.5 * dt
-    m_x = m_y = s_x = s_y = u = delta  # (19)
+    m_x, m_y, s_x, s_y, u = init[0], init[1], init[2], init[3], init[4]  # (19)
     size = n_delay + 1
     hist = np.empty((2, size))         # rows: m_x, m_y
     e_hist = np.zeros((2, size))       # their tangents
@@ -56,10 +58,12 @@ def rk4(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_re
         old = pos + 1 if pos + 1 < size else 0   # step n - N
         nxt = old + 1 if old + 1 < size else 0   # step n - N + 1
         pos = old
-        if n_delay == 0 or n < n_delay:
-            # no delay, or t_n + dt - tau <= 0: history delta (tangent 0); no delay is
-            # handled below by using each stage's own m_x
-            x0 = xh = x1 = delta
+        if n_delay == 0:
+            # no delay: handled below by using each stage's own m_x
+            x0 = xh = x1 = ex0 = exh = ex1 = 0.0
+        elif n < n_delay:
+            # t_n + dt - tau <= 0: the history (tangent 0)
+            x0, xh, x1 = hx[2 * n], hx[2 * n + 1], hx[2 * n + 2]
             ex0 = exh = ex1 = 0.0
         else:
             x0, x1 = hist[0, old], hist[0, nxt]
@@ -111,4 +115,6 @@ def rk4(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_re
             next_r += renorm_steps
     sample(n_steps, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
     sample(n_steps, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
+    # pos is the slot of step n_steps - 1 - N: steps n_steps - N.. follow it
+    hand_over(final, m_x, m_y, s_x, s_y, u, hist[0], pos + 1 if pos + 1 < size else 0)
     return n_steps

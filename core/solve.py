@@ -3,12 +3,13 @@
 Decisions the paper leaves open, made here:
 
 * **History.** Eq. 19 fixes the five variables at t = 0 to delta but not m_x(t) for
-  t < 0. We take the constant history m_x(t) = delta for t <= 0: it is the natural
-  reading of "all variables start at delta", it is the state the system would hold had
-  it rested there, and it makes the initial state a single point of the (m_x, history)
-  space like the paper's offset suggests. Its slope (0) differs from m_y(0) = delta; the
-  kink at t = 0 is carried to t = j tau and only matters for convergence tests over the
-  first few tau.
+  t < 0. By default we take the constant history m_x(t) = delta for t <= 0: it is the
+  natural reading of "all variables start at delta", it is the state the system would
+  hold had it rested there, and it makes the initial state a single point of the
+  (m_x, history) space like the paper's offset suggests. Its slope (0) differs from
+  m_y(0) = delta; the kink at t = 0 is carried to t = j tau. The history is a setting
+  (``SolverSettings.history``): the one consistent with the initial velocity, or the
+  final state of another run, are the others (core.history).
 * **Grid.** Both schemes need tau = N dt (Euler reads m_x(t - tau) from a ring buffer of
   N slots; RK4 needs stage times on grid points). We take N = ceil(tau / dt) and the
   effective step dt' = tau / N <= dt. For tau on the paper's grids at dt = 1e-3 this is
@@ -21,12 +22,14 @@ from __future__ import annotations
 import math
 import numbers
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
 
 from core.classify import N_SUBWINDOWS
+from core.history import CarriedState, check_history
+from core.history import start as history_start
 from core.params import ParameterError, Params, check_positive
 
 Method = Literal["euler", "rk4", "stiff"]
@@ -108,6 +111,9 @@ class SolverSettings:
              The settings keep the resolved value, so stored settings are explicit.
     lyap   : also compute lambda_max (tangent-linear co-integration).
     trace_points : size of the decimated whole-run trace kept for plots.
+    history : m_x before t = 0 (core.history): "constant" (default, eq. 19's delta),
+             "consistent" (delta (1 + t), no kink at t = 0) or "state:<digest>" (the
+             final state of another run, given to simulate as ``carried``).
     """
 
     method: str = "euler"
@@ -116,8 +122,10 @@ class SolverSettings:
     window: float | None = None
     lyap: bool = True
     trace_points: int = 2000
+    history: str = "constant"
 
     def __post_init__(self) -> None:
+        check_history(self.history)
         if not isinstance(self.method, str) or self.method not in METHODS:
             raise ParameterError("method", self.method, "one of " + ", ".join(METHODS))
         if self.dt is not None:
@@ -374,6 +382,11 @@ class Trajectory:
     runtime_s: float = 0.0
     mid_t: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
     mid: np.ndarray = field(default_factory=lambda: np.zeros((5, 0)), repr=False)
+    #: The state at t_end to hand over (core.history.CarriedState); None after a blow-up
+    #: and from the batched kernels.
+    final: CarriedState | None = field(default=None, repr=False)
+    #: The carried state the run started from, if its history is one.
+    carried: CarriedState | None = field(default=None, repr=False)
 
     @property
     def blew_up(self) -> bool:
@@ -385,8 +398,10 @@ class Trajectory:
         return self.steps_done * self.grid.dt if self.blew_up else None
 
 
-def simulate(p: Params, s: SolverSettings | None = None) -> Trajectory:
-    """Integrate eqs. 6a-6e from the initial conditions of eq. 19."""
+def simulate(p: Params, s: SolverSettings | None = None,
+             carried: CarriedState | None = None) -> Trajectory:
+    """Integrate eqs. 6a-6e from the initial conditions of eq. 19 and the history of
+    ``s.history`` (``carried``: the state that history names, when it names one)."""
     # imported here: they load numba (~0.3 s), which validating a spec or a run's
     # settings (make_grid, for `slopetui submit`) never needs
     from core.euler import euler
@@ -399,13 +414,17 @@ def simulate(p: Params, s: SolverSettings | None = None) -> Trajectory:
     win = np.full((5, g.n_samples), np.nan)
     trace = np.full((5, g.n_trace), np.nan)
     logs = np.zeros(g.n_steps // g.renorm_steps if s.lyap else 0)
+    init, hx = history_start(p, g.dt, g.n_delay, s.history, carried)
+    final = np.full(5 + g.n_delay, np.nan)
     t0 = time.perf_counter()
     done = {"euler": euler, "rk4": rk4, "stiff": stiff}[s.method](
         coefficients(p), g.dt, g.n_delay, g.n_steps,
         win, g.sample_start, g.win_stride, g.sample_jump, g.win_start, trace, g.trace_stride,
-        s.lyap, g.renorm_steps, logs,
+        s.lyap, g.renorm_steps, logs, init, hx, final,
     )
-    return trajectory_of(p, s, g, int(done), win, trace, logs, time.perf_counter() - t0)
+    tr = trajectory_of(p, s, g, int(done), win, trace, logs, time.perf_counter() - t0)
+    end = CarriedState(p.tau, g.dt, final[:5], final[5:]) if not tr.blew_up else None
+    return replace(tr, final=end, carried=carried)
 
 
 def trajectory_of(p: Params, s: SolverSettings, g: Grid, done: int, win: np.ndarray,

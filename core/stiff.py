@@ -87,7 +87,7 @@ import numpy as np
 from numba import njit
 
 from core.model import JIT, damping, rhs, rhs_tangent
-from core.recording import blown_up, renormalise, sample
+from core.recording import blown_up, hand_over, renormalise, sample
 
 #: Largest -G h of a W-step. Where G < 0 the frozen covariance grows at up to -2G; the step
 #: is split so that -G h <= 1/4, which keeps the step positive (module docstring).
@@ -124,16 +124,19 @@ def w_solve(f_x, f_y, f_sx, f_sy, f_u, g, dt, k):
 
 @njit(**JIT)
 def stiff(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_resume, trace, trace_stride,
-          lyap, renorm_steps, logs):
+          lyap, renorm_steps, logs, init, hx, final):
     """Integrate n_steps W-steps; return the number of steps done (< n_steps on blow-up).
 
     Arguments as core.euler.euler: coef [a, q, F1, k, d, delta], n_delay = tau/dt (0: no
     delay), win and trace (5, n) sampler outputs, logs the tangent's log-growth per
-    renormalisation (every renorm_steps steps), filled only if lyap.
+    renormalisation (every renorm_steps steps), filled only if lyap; init, hx and final
+    as there (the start and the history before it, the state handed over at the end).
     """
-    a, q, f1, k, d, delta = coef[0], coef[1], coef[2], coef[3], coef[4], coef[5]
-    m_x = m_y = s_x = s_y = u = delta  # (19)
-    hist = np.full(n_delay, delta)     # m_x over (t - tau, t]; history = delta
+    a, q, f1, k, d = coef[0], coef[1], coef[2], coef[3], coef[4]
+    m_x, m_y, s_x, s_y, u = init[0], init[1], init[2], init[3], init[4]  # (19)
+    hist = np.empty(n_delay)           # m_x over (t - tau, t]
+    for j in range(n_delay):
+        hist[j] = hx[2 * j]            # the history, m_x(-tau + j dt)
     e_hist = np.zeros((1, n_delay))    # tangent m_x history
     e_x, e_y, e_sx, e_sy, e_u = 0.0, 1.0, 1.0, 1.0, 1.0
     pos = 0
@@ -185,4 +188,5 @@ def stiff(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_
             next_r += renorm_steps
     sample(n_steps, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
     sample(n_steps, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
+    hand_over(final, m_x, m_y, s_x, s_y, u, hist, pos)
     return n_steps

@@ -76,12 +76,17 @@ def jac(t, z, a, b, c, k, v):
 
 def radau(a: float = 3.2, b: float = 7.2, c: float = 4.8, d: float = 1e-4, k: float = 10.0,
           v: float = 0.1, tau: float = 10.0, delta: float = 0.1, t_end: float = 100.0,
-          rtol: float = RTOL, atol: float = ATOL) -> Reference:
-    """Eqs. 6a-6e from eq. 19 with the constant history m_x = delta for t <= 0, to t_end."""
+          rtol: float = RTOL, atol: float = ATOL, history=None) -> Reference:
+    """Eqs. 6a-6e from eq. 19, to t_end, with ``history`` (t -> m_x(t) for t <= 0; by
+    default the constant history m_x = delta)."""
     z = np.full(5, float(delta))                         # (19)
     pieces, starts = [], []
     min_s_y, min_det = np.inf, np.inf
-    history = lambda t: np.full_like(np.asarray(t, dtype=float), delta)  # noqa: E731
+    if history is None:
+        history = lambda t: np.full_like(np.asarray(t, dtype=float), delta)  # noqa: E731
+    else:
+        given = history
+        history = lambda t: given(t - tau)  # noqa: E731 - m_x(t - tau) on [0, tau]
     t0, failed = 0.0, False
     while t0 < t_end * (1 - 1e-14):
         t1 = min(t0 + tau, t_end)

@@ -7,6 +7,7 @@ import json
 import math
 import re
 import sys
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from core.lyapunov_bias import bias_note
@@ -15,6 +16,7 @@ from core.result_fields import JSON_KEYS as RECORD_JSON_KEYS
 from core.solve import METHODS, SolverSettings, validate_run
 
 if TYPE_CHECKING:  # core.point loads numba and the kernels: only `run` itself needs them
+    from core.history import CarriedState
     from core.point import PointResult
 
 #: The keys of ``--json``, in order: the documented contract (regime, lambda_max,
@@ -65,18 +67,41 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="analysis window at the end of the run (default min(1000, t_end / 2): "
                         "the paper's 1000, or half of a shorter run)")
     p.add_argument("--no-lyap", dest="lyap", action="store_false", help="skip lambda_max")
+    p.add_argument("--history", default="constant", metavar="H",
+                   help="m_x before t = 0: constant (default, m_x = delta: eq. 19 as the paper "
+                        "reads), consistent (m_x = delta (1 + t): no kink at t = 0), or run:ID "
+                        "(the final state of a stored run with the same tau and step, "
+                        "recomputed)")
+    p.add_argument("--db", metavar="URL", help="the store of --history run:ID (default as "
+                                               "for submit)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=handle)
 
 
 def parse_inputs(args: argparse.Namespace) -> tuple[Params, SolverSettings]:
-    """Build validated Params and SolverSettings from the flags; raises ParameterError."""
+    """Build validated Params and SolverSettings from the flags; raises ParameterError.
+    A history run:ID is checked for its form here and resolved by ``carried_of``."""
+    from slopetui.sweeps.carried import parse_history
     given = {n: getattr(args, n) for n in PARAM_NAMES if getattr(args, n) is not None}
     params = Params(**given)  # strings are checked and coerced
+    name, _ = parse_history(getattr(args, "history", "constant"))
     settings = SolverSettings(method=args.method, dt=args.dt, t_end=args.t_end,
-                              window=args.window, lyap=args.lyap)
+                              window=args.window, lyap=args.lyap,
+                              history="constant" if name == "run" else name)
     validate_run(params, settings)  # the pair: dt against tau, the engine's limits, the window
     return params, settings
+
+
+def carried_of(args: argparse.Namespace, settings: SolverSettings
+               ) -> tuple[SolverSettings, CarriedState | None]:
+    """The settings naming the carried state of --history run:ID, and that state."""
+    from slopetui.sweeps.carried import final_state_of, parse_history
+    _, run_id = parse_history(args.history)
+    if run_id is None:
+        return settings, None
+    from slopetui.cli.options import open_db
+    end = final_state_of(open_db(args), run_id)
+    return replace(settings, history=end.name), end
 
 
 def json_safe(value: object) -> object:
@@ -88,9 +113,10 @@ def json_safe(value: object) -> object:
     return value
 
 
-def json_text(record: dict[str, object]) -> str:
-    """The record of ``--json``: one JSON object, its keys in JSON_KEYS order."""
-    return json.dumps({k: json_safe(record[k]) for k in JSON_KEYS})
+def json_text(record: dict[str, object], history: str = "constant") -> str:
+    """The record of ``--json``: one JSON object, its keys in JSON_KEYS order, then the
+    history the run started from."""
+    return json.dumps({**{k: json_safe(record[k]) for k in JSON_KEYS}, "history": history})
 
 
 def render_text(r: PointResult) -> str:
@@ -151,9 +177,15 @@ def handle(args: argparse.Namespace) -> int:
     if not compiled(settings.method):  # a silent pause of seconds looks like a hang
         print(f"slopetui run: compiling the {settings.method} kernel (first use after an "
               "install or a change of the engine; about 4 s, cached after)", file=sys.stderr)
-    result = run_point(params, settings)
+    try:
+        settings, carried = carried_of(args, settings)
+        result = run_point(params, settings, carried)
+    except ParameterError as exc:  # a stored run with another tau or step, or none
+        print(f"slopetui run: error: {exc}", file=sys.stderr)
+        return 2
     if args.json:
-        print(json_text(result.as_record()))
+        print(json_text(result.as_record(), args.history))
     else:
         print(render_text(result))
+        print(f"history    {args.history}" + (f" ({settings.history})" if carried else ""))
     return 0

@@ -8,6 +8,9 @@ were picked to read on both dark and light backgrounds:
   complex      magenta  '*'   period-n, quasi-periodic or chaotic
   mixed        orange   '+'   switches between quiet and oscillating stretches
   unstable     red      'x'   the run blew up: crossed out
+  depends      blue+    '#'   not a regime: a cell whose initial conditions end in different
+                              regimes (slopetui.sweeps.initial_dependence): bright blue (ANSI
+                              12, legible on black where plain blue is not) and a heavy mark
   pending      gray     '?'   not finished yet (None or "pending"): faint, and plotted so a
                               live sweep shows which cells are still missing
 
@@ -32,12 +35,13 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 
-from core.regimes import REGIMES
+from core.regimes import DEPENDS, REGIMES
 
 #: The label of runs without a regime yet (stored as None or "pending").
 PENDING = "pending"
-#: Legend order: the classifier's order, then runs not finished yet.
-LEGEND_ORDER: tuple[str, ...] = (*REGIMES, PENDING)
+#: Legend order: the classifier's order, cells that depend on the initial state, then
+#: runs not finished yet.
+LEGEND_ORDER: tuple[str, ...] = (*REGIMES, DEPENDS, PENDING)
 
 #: plotext themes with colour on and off (see the module docstring).
 THEME_COLOR = "pro"
@@ -71,6 +75,7 @@ REGIME_STYLES: Mapping[str, RegimeStyle] = MappingProxyType({
     "complex": RegimeStyle("magenta", "*"),
     "mixed": RegimeStyle("orange", "+"),
     "unstable": RegimeStyle("red", "x"),
+    DEPENDS: RegimeStyle("blue+", "#"),
     PENDING: RegimeStyle("gray", "?"),
 })
 
@@ -83,7 +88,7 @@ def regime_key(regime: str | None) -> str:
     """
     if regime is None or regime == PENDING:
         return PENDING
-    if regime not in REGIMES:
+    if regime not in REGIMES and regime != DEPENDS:
         expected = ", ".join(LEGEND_ORDER)
         raise ValueError(f"unknown regime {regime!r}: expected one of {expected} or None")
     return regime

@@ -23,6 +23,14 @@ from core.orbit import Grid
 from core.orbit_seed import simulate, simulate_from
 from slopetui.sweeps.diagram import SweepDiagram
 from slopetui.sweeps.fold_overlay import curve_of
+from slopetui.sweeps.initial_dependence import (
+    DEPENDS,
+    BandAgreement,
+    against_band,
+    band_test,
+    cells,
+    dependence,
+)
 
 #: Where the analysis tells of its progress (a line each step), if anywhere.
 Say = Callable[[str], None] | None
@@ -182,32 +190,17 @@ class Band:
 
 def band_comparison(near: SweepDiagram, far: SweepDiagram, folds: list[FoldPoint]) -> Band:
     """Cell by cell: do delta = 1e-6 and delta = 0.1 agree, and is the cell in the band?
-    Between computed taus the fold and Hopf values are interpolated linearly; below the
-    smallest tau with a fold (a supercritical Hopf point) the band is empty."""
-    known = [(f.second, f.fold, f.hopf) for f in folds if f.fold is not None]
-    taus = np.array([t for t, _, _ in known])
-    fk = np.array([f for _, f, _ in known])
-    hk = np.array([h for _, _, h in known])
-    far_by = {(r.ix, r.iy): r for r in far.runs}
-    disagree = in_band = cells = band_cells = band_dis = 0
-    outside = []
-    for r in near.runs:
-        other = far_by.get((r.ix, r.iy))
-        if other is None or r.regime is None or other.regime is None or r.y is None:
-            continue
-        cells += 1
-        band = bool(taus.size) and taus[0] <= r.y <= taus[-1] and \
-            float(np.interp(r.y, taus, fk)) < r.x < float(np.interp(r.y, taus, hk))
-        differ = r.regime != other.regime
-        band_cells += band
-        band_dis += band and differ
-        if differ:
-            disagree += 1
-            in_band += band
-            if not band:
-                outside.append((r.x, r.y, r.regime, other.regime))
-    return Band(disagree, in_band, cells, band_cells,
-                band_dis / band_cells if band_cells else math.nan, outside)
+    (slopetui.sweeps.initial_dependence: the fold and Hopf values interpolated linearly
+    between computed taus; below the smallest tau with a fold, a supercritical Hopf
+    point, the band is empty.)"""
+    both = cells([near, far])
+    dep = dependence(both)
+    test = band_test(folds)
+    agree = (against_band(both, test) if test is not None else
+             BandAgreement(dep.depends, 0, 0, [c for c in both if c.verdict == DEPENDS]))
+    return Band(dep.depends, agree.depends_in_band, dep.cells, agree.band_cells,
+                agree.band_share, [(c.x, float(c.y or 0.0), str(c.regimes[0]), str(c.regimes[1]))
+                                   for c in agree.outside])
 
 
 @dataclass

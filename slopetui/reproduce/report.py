@@ -11,6 +11,7 @@ from pathlib import Path
 from slopetui.plots import render_sweep
 from slopetui.queue.pool import default_jobs, run_pool
 from slopetui.queue.worker_process import WorkerOptions
+from slopetui.reproduce.delta_maps import MAP_FIGURES, DeltaMap, delta_map, friction_folds, maps_section
 from slopetui.reproduce.findings import FINDINGS, Diagrams, Finding
 from slopetui.reproduce.orbit_analysis import OrbitAnalysis, Say, analyse
 from slopetui.store.database import Database
@@ -129,6 +130,19 @@ def orbit_analysis(diagrams: Diagrams, say: Say = None) -> OrbitAnalysis:
                    near if both else None, far if both else None, say)
 
 
+def delta_maps(diagrams: Diagrams, orbits: OrbitAnalysis, say: Say = None) -> list[DeltaMap]:
+    """Figs. 5, 6, 8, 9, 10 as delta-dependence maps, with the fold curve of each plane
+    that has one (Fig. 5's from the orbit analysis, the friction planes' computed now)."""
+    maps = []
+    for stem in MAP_FIGURES:
+        near, far = diagrams[f"{stem}a"], diagrams[f"{stem}b"]
+        param = near.spec.x.param
+        folds = (orbits.folds if param == "k" else
+                 friction_folds(near, say) if param in ("a", "b", "c") else [])
+        maps.append(delta_map(BY_KEY[f"{stem}a"].figure.removesuffix("A"), near, far, folds))
+    return maps
+
+
 def orbit_section(o: OrbitAnalysis) -> str:
     out = ["## Periodic orbits, their bifurcations and the bistable band (continuation)", "",
            "What the paper could only see by simulating, computed: periodic orbits by "
@@ -211,5 +225,6 @@ def write_report(db: Database, resolution: int, t_end: float | None, out: Path,
             for f in results]
     if diagrams.orbits is not None:
         body.append(orbit_section(diagrams.orbits))
+        body.append(maps_section(delta_maps(diagrams, diagrams.orbits, say)))
     out.write_text("\n".join(head + body), encoding="utf-8")
     return out, complete

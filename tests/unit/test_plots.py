@@ -9,7 +9,7 @@ import plotext as plt
 import pytest
 
 from core import Params
-from core.regimes import REGIMES
+from core.regimes import DEPENDS, REGIMES
 from core.stability import hopf_curve_friction, hopf_k
 from slopetui.plots import (
     REGIME_STYLES,
@@ -131,7 +131,7 @@ def test_curve_outside_the_window_is_empty_not_none():
 # -- styles -------------------------------------------------------------------------------
 
 def test_every_regime_has_a_distinct_16_colour_style():
-    keys = (*REGIMES, PENDING)
+    keys = (*REGIMES, DEPENDS, PENDING)
     assert set(REGIME_STYLES) == set(keys)
     assert len({REGIME_STYLES[k].marker for k in keys}) == len(keys)
     assert len({REGIME_STYLES[k].color for k in keys}) == len(keys)

@@ -1,0 +1,151 @@
+"""Where the initial state decides: the same lattice computed from several initial
+conditions, cell by cell.
+
+A cell whose runs all end in one regime shows that regime; a cell whose runs disagree is
+``DEPENDS``: its fate depends on the initial state, the paper's *conditionally stable*
+slope. The paper compares its phase diagrams at delta = 1e-6 and delta = 0.1 by eye (Figs.
+5-10, A against B); here the two lattices are one map. The band where a stable cycle and
+the stable steady state coexist (between the Hopf curve and the fold of cycles, from
+continuation: core.fold_curve) is where such cells are expected; ``band_test`` builds
+that test from fold points.
+
+No UI and no SQL: the report, ``show`` and the application draw what this computes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from core.regimes import DEPENDS
+from slopetui.sweeps.diagram import RunPoint, SweepDiagram
+
+if TYPE_CHECKING:
+    from core.fold_curve import FoldPoint
+
+__all__ = ["DEPENDS", "BandAgreement", "Cell", "Dependence", "against_band", "band_test",
+           "cells", "combined", "dependence"]
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One lattice point: its position, values, and the regime each initial condition
+    ended in (None: not finished)."""
+
+    ix: int
+    iy: int
+    x: float
+    y: float | None
+    regimes: tuple[str | None, ...]
+
+    @property
+    def finished(self) -> bool:
+        return all(r is not None for r in self.regimes)
+
+    @property
+    def verdict(self) -> str | None:
+        """The common regime, DEPENDS, or None while a run is not finished."""
+        if not self.finished:
+            return None
+        return self.regimes[0] if len(set(self.regimes)) == 1 else DEPENDS
+
+
+def cells(diagrams: Sequence[SweepDiagram]) -> list[Cell]:
+    """The cells of lattices that share their axes (one diagram per initial condition),
+    in the first one's order; a cell missing from any is not finished."""
+    by = [{(r.ix, r.iy): r for r in d.runs} for d in diagrams]
+    return [Cell(r.ix, r.iy, r.x, r.y, tuple(
+        (b[(r.ix, r.iy)].regime if (r.ix, r.iy) in b else None) for b in by))
+        for r in diagrams[0].runs]
+
+
+def combined(diagrams: Sequence[SweepDiagram], name: str) -> SweepDiagram:
+    """One diagram whose runs carry each cell's verdict as their regime (the first
+    lattice's runs otherwise): what the phase-diagram drawings take."""
+    verdicts = {(c.ix, c.iy): c.verdict for c in cells(diagrams)}
+    first = diagrams[0]
+    runs = [_as_verdict(r, verdicts[(r.ix, r.iy)]) for r in first.runs]
+    return SweepDiagram(first.id, name, first.spec, runs)
+
+
+def _as_verdict(r: RunPoint, verdict: str | None) -> RunPoint:
+    return replace(r, regime=verdict, status="done" if verdict is not None else "queued",
+                   inferred=False)
+
+
+@dataclass(frozen=True)
+class Dependence:
+    """How much of a lattice depends on the initial state: finished cells, those that
+    depend, and per row of y (tau) the x range the dependent cells span."""
+
+    cells: int
+    depends: int
+    rows: list[tuple[float, float, float, int]]  # (y, x min, x max, count)
+
+    @property
+    def share(self) -> float:
+        return self.depends / self.cells if self.cells else float("nan")
+
+
+def dependence(all_cells: Sequence[Cell]) -> Dependence:
+    done = [c for c in all_cells if c.finished]
+    dep = [c for c in done if c.verdict == DEPENDS]
+    rows: dict[float, list[float]] = {}
+    for c in dep:
+        if c.y is not None:
+            rows.setdefault(c.y, []).append(c.x)
+    return Dependence(len(done), len(dep), [(y, min(xs), max(xs), len(xs))
+                                            for y, xs in sorted(rows.items())])
+
+
+#: Is (x, tau) inside the bistable band?
+BandTest = Callable[[float, float], bool]
+
+
+def band_test(folds: Sequence[FoldPoint]) -> BandTest | None:
+    """Between the fold of cycles and the Hopf point at each tau with a fold, both
+    interpolated linearly in tau between the computed ones; outside their tau span, and
+    where the Hopf point is supercritical, no band. None when no tau has a fold. The band
+    lies on either side of the Hopf point (below it in k, above it in a and c)."""
+    known = sorted((f.second, f.fold, f.hopf) for f in folds if f.fold is not None)
+    if not known:
+        return None
+    taus = np.array([t for t, _, _ in known])
+    fold = np.array([f for _, f, _ in known])
+    hopf = np.array([h for _, _, h in known])
+
+    def inside(x: float, tau: float) -> bool:
+        if not taus[0] <= tau <= taus[-1]:
+            return False
+        a, b = float(np.interp(tau, taus, fold)), float(np.interp(tau, taus, hopf))
+        return min(a, b) < x < max(a, b)
+
+    return inside
+
+
+@dataclass(frozen=True)
+class BandAgreement:
+    """Dependent cells against the band: how many lie in it, how many cells the band
+    holds and what share of them depend, and the dependent cells outside it."""
+
+    depends: int
+    depends_in_band: int
+    band_cells: int
+    outside: list[Cell]
+
+    @property
+    def band_share(self) -> float:
+        return self.depends_in_band / self.band_cells if self.band_cells else float("nan")
+
+
+def against_band(all_cells: Sequence[Cell], inside: BandTest) -> BandAgreement:
+    def in_band(c: Cell) -> bool:
+        return c.y is not None and inside(c.x, c.y)
+
+    done = [c for c in all_cells if c.finished and c.y is not None]
+    dep = [c for c in done if c.verdict == DEPENDS]
+    return BandAgreement(len(dep), sum(in_band(c) for c in dep), sum(in_band(c) for c in done),
+                         [c for c in dep if not in_band(c)])

@@ -1,0 +1,72 @@
+"""Delta-dependence maps (slopetui.sweeps.initial_dependence): cells that agree keep their
+regime, cells that differ are DEPENDS, and the band between the fold of cycles and the
+Hopf point is counted against them."""
+
+from __future__ import annotations
+
+import math
+
+from core.fold_curve import FoldPoint
+from core.regimes import DEPENDS
+from slopetui.plots.sweep_diagram import render_sweep
+from slopetui.reproduce.delta_maps import delta_map, map_lines
+from slopetui.sweeps.diagram import RunPoint, SweepDiagram
+from slopetui.sweeps.initial_dependence import against_band, band_test, cells, combined, dependence
+from slopetui.sweeps.spec import parse_spec
+
+SPEC = parse_spec({"x": {"param": "k", "start": 1, "stop": 8, "num": 8},
+                   "y": {"param": "tau", "start": 5, "stop": 10, "num": 2}})
+
+
+def _diagram(regime_at) -> SweepDiagram:
+    runs = [RunPoint(1 + ix + 8 * iy, ix, iy, float(x), float(y), "done" if regime_at(x, y) else
+                     "queued", regime_at(x, y), [], None)
+            for iy, y in enumerate(SPEC.y.values()) for ix, x in enumerate(SPEC.x.values())]
+    return SweepDiagram(1, "test", SPEC, runs)
+
+
+def near_regime(k, tau):   # delta = 1e-6: rests below the Hopf point (k = 6.1 here)
+    return "sliding" if k < 6.1 else "oscillatory"
+
+
+def far_regime(k, tau):    # delta = 0.1: reaches the cycle from k = 4 at tau = 10 only
+    return "oscillatory" if k >= 6.1 or (tau == 10 and k >= 4) else "sliding"
+
+
+def test_cells_agree_or_depend():
+    both = cells([_diagram(near_regime), _diagram(far_regime)])
+    verdicts = {(c.x, c.y): c.verdict for c in both}
+    assert verdicts[(2.0, 10.0)] == "sliding" and verdicts[(7.0, 5.0)] == "oscillatory"
+    assert [k for (k, t), v in sorted(verdicts.items()) if v == DEPENDS] == [4.0, 5.0, 6.0]
+    d = dependence(both)
+    assert (d.cells, d.depends) == (16, 3) and math.isclose(d.share, 3 / 16)
+    assert d.rows == [(10.0, 4.0, 6.0, 3)]
+
+
+def test_an_unfinished_cell_has_no_verdict():
+    pending = _diagram(lambda k, t: None if k == 3 else near_regime(k, t))
+    both = cells([_diagram(near_regime), pending])
+    assert {c.x for c in both if c.verdict is None} == {3.0}
+    assert dependence(both).cells == 14
+
+
+def test_the_band_from_fold_points():
+    # fold 3.5 and Hopf 6.1 at tau = 10; at tau = 5 the Hopf point is supercritical
+    folds = [FoldPoint(5.0, 6.5, None, "supercritical"), FoldPoint(10.0, 6.1, 3.5, "subcritical")]
+    inside = band_test(folds)
+    assert inside is not None
+    assert inside(4.0, 10.0) and not inside(3.0, 10.0) and not inside(4.0, 5.0)
+    both = cells([_diagram(near_regime), _diagram(far_regime)])
+    b = against_band(both, inside)
+    assert (b.depends, b.depends_in_band, b.band_cells, b.outside) == (3, 3, 3, [])
+    assert band_test([FoldPoint(5.0, 6.5, None, "supercritical")]) is None
+
+
+def test_the_combined_map_draws_depends_cells():
+    m = combined([_diagram(near_regime), _diagram(far_regime)], "map")
+    text = render_sweep(m, width=80, height=24, color=False)
+    assert "#" in text and "depends" in text
+    lines = map_lines(delta_map("Fig. 5", _diagram(near_regime), _diagram(far_regime),
+                                [FoldPoint(10.0, 6.1, 3.5, "subcritical")]))
+    assert lines[0].startswith("3 of 16 cells (18.8%)")
+    assert "3 of the 3 dependent cells lie in it" in lines[2]
