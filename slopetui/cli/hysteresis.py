@@ -1,5 +1,6 @@
 """``slopetui hysteresis``: follow the attractor along one parameter, up and then down,
-each point warm-started from the final state of the one before (core.hysteresis)."""
+each point warm-started from the final state of the one before (core.hysteresis); or
+queue such a sweep for the workers (``--submit``) and read a stored one back (``--show``)."""
 
 from __future__ import annotations
 
@@ -9,13 +10,16 @@ import math
 import shutil
 import sys
 import time
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from core.params import PARAM_NAMES, ParameterError, Params
+from slopetui.cli.options import UsageError, add_db_option, open_db
 from slopetui.cli.orbit import add_point_options, point_of
 
 if TYPE_CHECKING:
     from core.hysteresis import WarmPoint
+    from slopetui.sweeps.hysteresis_runs import StoredHysteresis
 
 #: Parameters a warm-started sweep can follow: not tau (the state's history is one delay
 #: long and would change size) nor delta (which only places the first point's start).
@@ -31,19 +35,30 @@ def register(sub: argparse._SubParsersAction) -> None:
                                    "follows its attractor until it disappears. A rest state "
                                    "whose perturbations grow (measured along the simulation) is "
                                    "kicked off. Prints both branches and where each changes "
-                                   "regime; the first point starts from eq. 19 (--delta).")
+                                   "regime; the first point starts from eq. 19 (--delta). "
+                                   "--submit queues the sweep for the workers instead; "
+                                   "--show ID prints a stored one.")
     add_point_options(p)
-    p.add_argument("--param", required=True, choices=FOLLOWABLE, help="the parameter to follow")
-    p.add_argument("--from", dest="start", required=True, metavar="X", help="first value")
-    p.add_argument("--to", dest="stop", required=True, metavar="X", help="last value")
+    # Not required=True: --show ID needs none of them (handle() names the missing one).
+    p.add_argument("--param", choices=FOLLOWABLE, help="the parameter to follow")
+    p.add_argument("--from", dest="start", metavar="X", help="first value")
+    p.add_argument("--to", dest="stop", metavar="X", help="last value")
     p.add_argument("--points", type=int, default=40, metavar="N",
                    help="values from --from to --to, ends included (default 40, 2 to 2000)")
     p.add_argument("--t-settle", dest="t_settle", type=float, default=None, metavar="T",
                    help="time integrated at each point (default 6000)")
     p.add_argument("--window", type=float, default=None, metavar="T",
                    help="analysis window at the end of each point (default 1000)")
+    p.add_argument("--submit", action="store_true",
+                   help="queue the sweep for the workers (`slopetui worker`, the application's "
+                        "pool) instead of computing it here; it is stored point by point, "
+                        "resumes where it stopped, and --show ID prints it")
+    p.add_argument("--show", type=int, default=None, metavar="ID",
+                   help="print the stored sweep ID (queued with --submit) as this command "
+                        "prints a sweep it computes, with its status")
     p.add_argument("--plot", action="store_true", help="also draw both branches")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_db_option(p)
     p.set_defaults(handler=handle)
 
 
@@ -77,59 +92,142 @@ def _checked(args: argparse.Namespace) -> tuple[Params, float, float, float, flo
     return params, dt, start, stop, t_settle, window
 
 
-def record(pt: WarmPoint) -> dict[str, Any]:
+def fields(pt: WarmPoint) -> dict[str, Any]:
+    """A computed point as the stored ones are read back (NaN kept)."""
+    return {"value": pt.value, "regime": pt.regime, "amplitude": pt.amplitude,
+            "detail": pt.detail, "growth": pt.growth, "jumped": pt.jumped}
+
+
+def record(pt: Mapping[str, Any]) -> dict[str, Any]:
+    """A point as ``--json`` prints it (NaN as null)."""
     def finite(x: float) -> float | None:
         return x if math.isfinite(x) else None
-    return {"value": pt.value, "regime": pt.regime, "amplitude": finite(pt.amplitude),
-            "detail": pt.detail, "growth": finite(pt.growth), "jumped": pt.jumped}
+    return {"value": pt["value"], "regime": pt["regime"], "amplitude": finite(pt["amplitude"]),
+            "detail": pt["detail"], "growth": finite(pt["growth"]), "jumped": pt["jumped"]}
 
 
-def _line(direction: str, param: str, pt: WarmPoint) -> str:
+def _line(direction: str, param: str, pt: Mapping[str, Any]) -> str:
+    growth = pt["growth"]
     note = ""
-    if pt.jumped:
-        note = f"  rest unstable (growth {pt.growth:+.2e}/t): kicked" if math.isfinite(pt.growth) \
+    if pt["jumped"]:
+        note = f"  rest unstable (growth {growth:+.2e}/t): kicked" if math.isfinite(growth) \
             else "  rest unstable: kicked"
-    elif math.isfinite(pt.growth):
-        note = f"  growth {pt.growth:+.2e}/t"
-    return (f"{direction:<4} {param} = {pt.value:<10.6g} {pt.regime:<12} amplitude "
-            f"{pt.amplitude:<10.4g} {pt.detail}{note}")
+    elif math.isfinite(growth):
+        note = f"  growth {growth:+.2e}/t"
+    return (f"{direction:<4} {param} = {pt['value']:<10.6g} {pt['regime']:<12} amplitude "
+            f"{pt['amplitude']:<10.4g} {pt['detail']}{note}")
+
+
+def _changes(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping[str, Any]],
+             onset_up: float | None, offset_down: float | None, step: float) -> None:
+    """Where each branch changes regime, and which branch ended early (a run that left the
+    finite range)."""
+    for name, value in (("up branch changes regime at", onset_up),
+                        ("down branch changes regime at", offset_down)):
+        print(f"{name} {param} = {value:.6g} (grid step {step:.3g})" if value is not None
+              else f"{name.split(' changes')[0]} keeps its regime throughout")
+    if up and not down:
+        print("the up branch ended early: " + up[-1]["detail"])
+    elif len(down) < len(up):
+        print("the down branch ended early: " + down[-1]["detail"])
+
+
+def _plot(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping[str, Any]],
+          title: str) -> None:
+    from slopetui.plots.hysteresis_plot import render_hysteresis
+    size = shutil.get_terminal_size((100, 30))
+    print(render_hysteresis(param, up, down, title=title, width=size.columns,
+                            height=max(size.lines - 2, 12)))
+
+
+def _submit(args: argparse.Namespace, params: Params, dt: float, start: float, stop: float,
+            t_settle: float, window: float) -> int:
+    from slopetui.sweeps.hysteresis_runs import HysteresisSpec, submit
+    sid = submit(open_db(args), HysteresisSpec(params, args.param, start, stop, args.points,
+                                               dt, t_settle, window))
+    if args.json:
+        print(json.dumps({"id": sid, "status": "queued"}))
+    else:
+        print(f"hysteresis sweep {sid} queued: a worker computes it (`slopetui worker`, or the "
+              f"application's pool); `slopetui hysteresis --show {sid}` shows it")
+    return 0
+
+
+def _json_safe(value: Any) -> Any:
+    return None if isinstance(value, float) and not math.isfinite(value) else value
+
+
+def _show(args: argparse.Namespace) -> int:
+    from slopetui.sweeps.hysteresis_runs import hysteresis_of
+    sweep = hysteresis_of(open_db(args), args.show)
+    if sweep is None:
+        raise UsageError(f"no hysteresis sweep {args.show} in this store")
+    row, param = sweep.row, sweep.param
+    if args.json:
+        print(json.dumps({**{k: _json_safe(v) for k, v in sweep.summary().items()},
+                          "up": [record(p) for p in sweep.up],
+                          "down": [record(p) for p in sweep.down]}))
+        return 0
+    print(f"hysteresis sweep {sweep.id} in {param} from {row['start']:g} to {row['stop']:g}, "
+          f"{row['n_points']} points each way: {row['status']}, {row['n_done']} points, "
+          f"{row['runtime_s']:.1f} s")
+    for pt in sweep.points:
+        print(_line(pt["direction"], param, pt))
+    _status(sweep)
+    if args.plot:
+        _plot(param, sweep.up, sweep.down, f"hysteresis sweep {sweep.id} in {param}")
+    return 0
+
+
+def _status(sweep: StoredHysteresis) -> None:
+    """Where each branch changes regime once done; else the status and the error's last
+    line (what went wrong)."""
+    row = sweep.row
+    if row["status"] == "done":
+        step = abs(row["stop"] - row["start"]) / (row["n_points"] - 1)
+        _changes(sweep.param, sweep.up, sweep.down, row["onset_up"], row["offset_down"], step)
+    elif row["error"]:
+        print(f"{row['status']}: {str(row['error']).strip().splitlines()[-1]}")
+    else:
+        print(f"{row['status']}: {row['n_done']} of {2 * row['n_points']} points so far")
 
 
 def handle(args: argparse.Namespace) -> int:
+    if args.show is not None:
+        if args.submit:
+            raise UsageError("--show reads a stored sweep and --submit queues one: not both")
+        return _show(args)
+    for flag, given in (("--param", args.param), ("--from", args.start), ("--to", args.stop)):
+        if given is None:
+            raise UsageError(f"the following argument is required: {flag} (or --show ID to "
+                             "print a stored sweep)")
     try:
         params, dt, start, stop, t_settle, window = _checked(args)
     except ParameterError as exc:
         print(f"slopetui hysteresis: error: {exc}", file=sys.stderr)
         return 2
+    if args.submit:
+        return _submit(args, params, dt, start, stop, t_settle, window)
     from core.hysteresis import hysteresis
     t0 = time.process_time()
 
     def say(direction: str, pt: WarmPoint) -> None:
         if not args.json:
-            print(_line(direction, args.param, pt), flush=True)
+            print(_line(direction, args.param, fields(pt)), flush=True)
 
     result = hysteresis(params, args.param, start, stop, args.points, dt, t_settle, window, say)
     took = time.process_time() - t0
+    up, down = [fields(p) for p in result.up], [fields(p) for p in result.down]
     if args.json:
-        print(json.dumps({"param": args.param, "up": [record(p) for p in result.up],
-                          "down": [record(p) for p in result.down],
+        print(json.dumps({"param": args.param, "up": [record(p) for p in up],
+                          "down": [record(p) for p in down],
                           "onset_up": result.onset_up, "offset_down": result.offset_down,
                           "dt": dt, "t_settle": t_settle, "window": window,
                           "runtime_s": took}))
         return 0
-    step = abs(stop - start) / (args.points - 1)
-    for name, value in (("up branch changes regime at", result.onset_up),
-                        ("down branch changes regime at", result.offset_down)):
-        print(f"{name} {args.param} = {value:.6g} (grid step {step:.3g})" if value is not None
-              else f"{name.split(' changes')[0]} keeps its regime throughout")
-    if len(result.down) < len(result.up) or not result.down:
-        print("the up branch ended early: " + result.up[-1].detail)
-    print(f"{len(result.up) + len(result.down)} points, {took:.1f} s")
+    _changes(args.param, up, down, result.onset_up, result.offset_down,
+             abs(stop - start) / (args.points - 1))
+    print(f"{len(up) + len(down)} points, {took:.1f} s")
     if args.plot:
-        from slopetui.plots.hysteresis_plot import render_hysteresis
-        size = shutil.get_terminal_size((100, 30))
-        print(render_hysteresis(args.param, [record(p) for p in result.up],
-                                [record(p) for p in result.down],
-                                title=f"hysteresis in {args.param}", width=size.columns,
-                                height=max(size.lines - 2, 12)))
+        _plot(args.param, up, down, f"hysteresis in {args.param}")
     return 0

@@ -33,6 +33,7 @@ def handle(args: argparse.Namespace) -> int:
     from slopetui.queue.workers_table import live_workers
     from slopetui.sweeps.branches import activity
     from slopetui.sweeps.control import UnknownSweep
+    from slopetui.sweeps.hysteresis_runs import activity as hysteresis_activity
     from slopetui.sweeps.progress import format_eta, sweep_progress
 
     ids = [sweep_arg(text) for text in args.sweeps]  # before the database opens
@@ -45,6 +46,7 @@ def handle(args: argparse.Namespace) -> int:
         sweeps = [p for p in sweeps if p.status in ("active", "paused")] or sweeps[:5]
     workers = live_workers(db)
     branches, computing = activity(db)
+    sweeps_h, computing_h = hysteresis_activity(db)
     if args.json:  # json.dumps escapes control and non-ASCII characters: safe as it is
         print(json.dumps({
             "sweeps": [{"id": p.id, "name": p.name, "axes": p.axes, "status": p.status,
@@ -54,7 +56,9 @@ def handle(args: argparse.Namespace) -> int:
                         "refined": p.refined, "computed": p.computed, "inferred": p.inferred}
                        for p in sweeps],
             "continuations": branches,
+            "hysteresis_sweeps": sweeps_h,
             "workers": [{"id": w.id, "run_id": w.run_id, "continuation_id": computing.get(w.id),
+                         "hysteresis_id": computing_h.get(w.id),
                          "jobs_done": w.jobs_done, "heartbeat_age_s": w.heartbeat_age_s}
                         for w in workers]}))
         return 0
@@ -70,16 +74,19 @@ def handle(args: argparse.Namespace) -> int:
                   f"{p.counts.get('running', 0):>3} {p.failed:>4} {p.runs_per_min:>8.1f} "
                   f"{format_eta(p.eta_s if workers else None):>7}  {adaptive_stage(p)}"
                   f"{terminal_safe(p.name)}")
-    waiting = {k: n for k, n in branches.items() if k in ("queued", "running")}
-    if waiting:
-        print("continuations: " + ", ".join(f"{n} {k}" for k, n in sorted(waiting.items()))
-              + " (slopetui branch)")
+    for what, counts, where in (("continuations", branches, "slopetui branch"),
+                                ("hysteresis sweeps", sweeps_h, "slopetui hysteresis --show ID")):
+        waiting = {k: n for k, n in counts.items() if k in ("queued", "running")}
+        if waiting:
+            print(f"{what}: " + ", ".join(f"{n} {k}" for k, n in sorted(waiting.items()))
+                  + f" ({where})")
     print()
     if not workers:
         print("no live workers: start a pool with `slopetui worker --detach`")
     for w in workers:
         doing = (f"run {w.run_id}" if w.run_id else
-                 f"branch {computing[w.id]}" if w.id in computing else "idle")
+                 f"branch {computing[w.id]}" if w.id in computing else
+                 f"hysteresis {computing_h[w.id]}" if w.id in computing_h else "idle")
         print(f"worker {terminal_safe(w.id):28} {doing:12} {w.jobs_done:>6} done  "
               f"heartbeat {w.heartbeat_age_s:.0f} s ago")
     return 0

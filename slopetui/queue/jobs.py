@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 from core.params import PARAM_NAMES, Params
 from slopetui.queue.defaults import LEASE_S, MAX_ATTEMPTS
-from slopetui.store import branch_rows, cached_results, claims
+from slopetui.store import branch_rows, cached_results, claims, hysteresis_rows
 from slopetui.store.claims import ClaimedRow
 from slopetui.store.database import Database
 
@@ -117,25 +117,28 @@ def release(db: Database, job: Job, worker_id: str) -> bool:
 
 
 def heartbeat(db: Database, worker_id: str) -> None:
-    """Extend the leases of every run (one, or a batch) and continuation the worker holds,
-    and mark the worker alive."""
+    """Extend the leases of every run (one, or a batch), continuation and hysteresis sweep
+    the worker holds, and mark the worker alive."""
     claims.heartbeat(db, worker_id)
     branch_rows.heartbeat(db, worker_id)
+    hysteresis_rows.heartbeat(db, worker_id)
 
 
 def requeue_expired(db: Database, lease_s: float = LEASE_S,
                     max_attempts: int = MAX_ATTEMPTS) -> tuple[int, int]:
-    """Runs and continuations whose lease expired go back to the queue (or fail after
-    max_attempts). Returns (requeued, failed)."""
+    """Runs, continuations and hysteresis sweeps whose lease expired go back to the queue
+    (or fail after max_attempts). Returns (requeued, failed)."""
     runs = claims.requeue_expired(db, lease_s, max_attempts)
     branches = branch_rows.requeue_expired(db, lease_s, max_attempts)
-    return runs[0] + branches[0], runs[1] + branches[1]
+    sweeps = hysteresis_rows.requeue_expired(db, lease_s, max_attempts)
+    return runs[0] + branches[0] + sweeps[0], runs[1] + branches[1] + sweeps[1]
 
 
 def requeue_worker(db: Database, worker_id: str, reason: str,
                    max_attempts: int = MAX_ATTEMPTS) -> tuple[int, int]:
-    """The runs and continuations of a worker known to be dead go back at once, without
-    waiting for the lease. Returns (requeued, failed)."""
+    """The runs, continuations and hysteresis sweeps of a worker known to be dead go back
+    at once, without waiting for the lease. Returns (requeued, failed)."""
     branches = branch_rows.requeue_worker(db, worker_id, reason, max_attempts)
+    sweeps = hysteresis_rows.requeue_worker(db, worker_id, reason, max_attempts)
     runs = claims.requeue_worker(db, worker_id, reason, max_attempts)
-    return runs[0] + branches[0], runs[1] + branches[1]
+    return runs[0] + branches[0] + sweeps[0], runs[1] + branches[1] + sweeps[1]

@@ -48,7 +48,7 @@ from concurrent.futures import wait as wait_futures
 from dataclasses import dataclass
 from typing import Any
 
-from slopetui.queue import branch_jobs, defaults, jobs
+from slopetui.queue import branch_jobs, defaults, hysteresis_jobs, jobs
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
 from slopetui.queue.warm_up import watched_warm_up
 from slopetui.store.claims import queue_drained
@@ -363,6 +363,11 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
             if branch is not None:
                 branch_jobs.compute(db, wid, branch, lambda fn: _run(fn, executor, control),
                                     control, opts.max_attempts)
+                continue
+            sweep = hysteresis_jobs.claim(db, wid)  # before runs too: asked for interactively
+            if sweep is not None:
+                hysteresis_jobs.compute(db, wid, sweep, lambda fn: _run(fn, executor, control),
+                                        control, opts.max_attempts)
                 continue
             batch = jobs.claim_batch(db, wid, opts.batch, BATCHED_METHODS)
             if batch:

@@ -284,3 +284,81 @@ class Bifurcation(Base):
     period: Mapped[float] = mapped_column(Double)
     mu_re: Mapped[float] = mapped_column(Double)
     mu_im: Mapped[float] = mapped_column(Double)
+
+
+class HysteresisSweep(Base):
+    """A hysteresis (warm-started) sweep along one parameter, up then down
+    (core.hysteresis): a job of the queue like a continuation, whose points are saved as
+    they are computed, each with the state it hands over, so that a worker taking it over
+    resumes from the last one."""
+
+    __tablename__ = "hysteresis_sweeps"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    #: The parameter followed, its first and last value, and the values from one to the
+    #: other, ends included (each branch has n_points points).
+    param: Mapped[str] = mapped_column(String(8))
+    start: Mapped[float] = mapped_column(Double)
+    stop: Mapped[float] = mapped_column(Double)
+    n_points: Mapped[int]
+    # The base parameters (eqs. 6a-6e, 8; delta places the first point's start, eq. 19).
+    a: Mapped[float] = mapped_column(Double)
+    b: Mapped[float] = mapped_column(Double)
+    c: Mapped[float] = mapped_column(Double)
+    d: Mapped[float] = mapped_column(Double)
+    k: Mapped[float] = mapped_column(Double)
+    v: Mapped[float] = mapped_column(Double)
+    tau: Mapped[float] = mapped_column(Double)
+    delta: Mapped[float] = mapped_column(Double)
+    # RK4 step, time integrated at each point and its analysis window (model time units).
+    dt: Mapped[float] = mapped_column(Double)
+    t_settle: Mapped[float] = mapped_column(Double)
+    window: Mapped[float] = mapped_column(Double)
+    engine: Mapped[str] = mapped_column(String(16))
+
+    # The queue (as for runs and continuations).
+    status: Mapped[str] = mapped_column(String(16), default="queued")
+    worker_id: Mapped[str | None] = mapped_column(String(128))
+    attempts: Mapped[int] = mapped_column(default=0)
+    created_at: Mapped[datetime] = mapped_column(DateTime, server_default=func.now())
+    started_at: Mapped[datetime | None] = mapped_column(DateTime)
+    heartbeat_at: Mapped[datetime | None] = mapped_column(DateTime)
+    finished_at: Mapped[datetime | None] = mapped_column(DateTime)
+    error: Mapped[str | None] = mapped_column(Text)
+
+    # The result: where each branch changes regime (NULL: it keeps it, or not done yet),
+    # points saved so far, compute time over every attempt (s).
+    onset_up: Mapped[float | None] = mapped_column(Double)
+    offset_down: Mapped[float | None] = mapped_column(Double)
+    n_done: Mapped[int] = mapped_column(default=0, server_default="0")
+    runtime_s: Mapped[float] = mapped_column(Double, default=0.0, server_default="0")
+
+    __table_args__ = (
+        CheckConstraint(_one_of("status", RUN_STATUSES), name="status"),
+        Index(None, "status", "id"),
+    )
+
+
+class HysteresisPoint(Base):
+    """One point of a hysteresis sweep, in sweep order (the up branch, then the down
+    branch): what its window showed and the state it hands over to the next."""
+
+    __tablename__ = "hysteresis_points"
+
+    sweep_id: Mapped[int] = mapped_column(
+        ForeignKey("hysteresis_sweeps.id", ondelete="CASCADE"), primary_key=True)
+    idx: Mapped[int] = mapped_column(primary_key=True)
+    direction: Mapped[str] = mapped_column(String(4))
+    value: Mapped[float] = mapped_column(Double)
+    regime: Mapped[str] = mapped_column(String(16))
+    detail: Mapped[str] = mapped_column(Text)
+    #: Peak-to-peak m_y over the window, and the growth rate at rest (1 / time unit); NaN
+    #: when undefined (core.hysteresis.WarmPoint), which SQLite stores as NULL: nullable.
+    amplitude: Mapped[float | None] = mapped_column(Measure)
+    growth: Mapped[float | None] = mapped_column(Measure)
+    jumped: Mapped[bool] = mapped_column(Boolean)
+    #: The state handed over: 5 x (N + 1) float64, little endian, row-major; NULL for a
+    #: point whose run left the finite range (nothing to hand over: the sweep ends there).
+    state: Mapped[bytes | None] = mapped_column(LargeBinary)
+
+    __table_args__ = (CheckConstraint(_one_of("direction", ("up", "down")), name="direction"),)

@@ -1,5 +1,7 @@
-"""Branches: the stored continuations of periodic orbits (``slopetui continue --submit``),
-and the highlighted one's bifurcation diagram, filling as a worker saves its points."""
+"""Branches: the stored continuations of periodic orbits (``slopetui continue --submit``)
+and, in a second table below, the stored hysteresis sweeps (``slopetui hysteresis
+--submit``); the highlighted one's diagram, filling as a worker saves its points. The
+highlighted row of the focused table is the one drawn (tab moves between the tables)."""
 
 from __future__ import annotations
 
@@ -8,7 +10,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from rich.text import Text
-from textual import on, work
+from textual import events, on, work
 from textual.app import ComposeResult
 from textual.message import Message
 from textual.widgets import DataTable, Footer, Header, Static
@@ -16,8 +18,11 @@ from textual.widgets import DataTable, Footer, Header, Static
 from slopetui.display_text import terminal_safe
 from slopetui.plots.branch_plot import render_branch
 from slopetui.plots.canvas import axis_label
+from slopetui.plots.hysteresis_plot import render_hysteresis
 from slopetui.sweeps.branch_records import BifurcationRecord
 from slopetui.sweeps.branches import StoredBranch, branch_of, listing
+from slopetui.sweeps.hysteresis_runs import StoredHysteresis, WarmRecord, hysteresis_of
+from slopetui.sweeps.hysteresis_runs import listing as hysteresis_listing
 from slopetui.tui.messages import StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.widgets.plot_view import PlotView, Renderer
@@ -25,7 +30,12 @@ from slopetui.tui.widgets.plot_view import PlotView, Renderer
 #: The bifurcations column is cut to this many characters, so the table fits 80 columns.
 FOUND_WIDTH = 24
 EMPTY_HINT = ("No continuations yet: queue one with slopetui continue --param k --from-hopf "
-              "--submit; the workers compute it point by point.")
+              "--submit (or a sweep with slopetui hysteresis ... --submit); the workers "
+              "compute it point by point.")
+#: What is highlighted: ("branch", continuation id) or ("hysteresis", sweep id).
+Selection = tuple[str, int]
+#: The table of each kind of row.
+TABLES = {"branch": "#branch-table", "hysteresis": "#hyst-table"}
 
 
 def start_text(row: Mapping[str, Any]) -> str:
@@ -88,14 +98,73 @@ def branch_renderer(branch: StoredBranch) -> Renderer:
     return draw
 
 
+def _kind_of(first: WarmRecord) -> str:
+    """The kind of state a branch starts in, as core.hysteresis.change reads it."""
+    growth = first["growth"]
+    if first["regime"] == "sliding" and not first["jumped"] and not growth > 0.0:
+        return "rest"
+    return "the cycle" if first["regime"] == "oscillatory" else terminal_safe(str(first["regime"]))
+
+
+def change_text(param: str, name: str, points: Sequence[WarmRecord], value: float | None) -> str:
+    """e.g. "up leaves rest at k = 6.2" or "down keeps the cycle throughout"."""
+    if not points:
+        return f"{name}: no points"
+    what = _kind_of(points[0])
+    if value is None:
+        return f"{name} keeps {what} throughout"
+    return f"{name} leaves {what} at {axis_label(param)} = {value:.6g}"
+
+
+def hysteresis_detail(sweep: StoredHysteresis) -> Text:
+    """The highlighted hysteresis sweep in two lines: where each branch changes regime
+    once done (else its status and progress), then its error's last line, if any."""
+    row, param = sweep.row, sweep.param
+    status = str(row["status"])
+    if status == "done":
+        found = (change_text(param, "up", sweep.up, row["onset_up"]) + ", "
+                 + change_text(param, "down", sweep.down, row["offset_down"]))
+    else:
+        found = (f"{terminal_safe(status)}: {row['n_done']} of {2 * row['n_points']} points "
+                 "so far")
+    if row["error"]:
+        last = str(row["error"]).strip().splitlines()[-1:] or [""]
+        return Text.assemble(found, "\n", Text(f"error: {terminal_safe(last[0])}",
+                                               style="bold red"))
+    return Text.assemble(found, "\n", f"{row['n_done']} points, {row['runtime_s']:.1f} s")
+
+
+def hysteresis_renderer(sweep: StoredHysteresis) -> Renderer:
+    """Draws both branches at the PlotView's size (a pure function of the records)."""
+    title = f"hysteresis {sweep.id} in {sweep.param}"
+    up, down = sweep.up, sweep.down
+
+    def draw(width: int, height: int, color: bool) -> str:
+        return render_hysteresis(sweep.param, up, down, title=title, width=width,
+                                 height=height, color=color)
+    return draw
+
+
+def range_text(row: Mapping[str, Any]) -> str:
+    """e.g. "8→12 τ=2": the values followed, and the delay."""
+    return f"{row['start']:.4g}→{row['stop']:.4g} {axis_label('tau')}={row['tau']:.4g}"
+
+
+def _value(value: float | None) -> str:
+    return "" if value is None else f"{value:.5g}"
+
+
 class BranchesScreen(SlopeScreen[None]):
-    """The highlighted continuation is drawn below the list; a running one grows as its
-    points are saved (the periodic refresh)."""
+    """The highlighted continuation or hysteresis sweep is drawn below the lists; a running
+    one grows as its points are saved (the periodic refresh)."""
 
     # The layout is this screen's alone; kept here with the screen (see slopetui.tcss for
-    # the other screens'). At 80x24: header 1, table 6, detail 2, plot >= 12, footer 1.
+    # the other screens'). At 80x24: header 1, tables 6 (4 + 4 when both kinds are
+    # stored; a table with no rows is hidden unless both are empty), detail 2, plot >= 12
+    # (PlotView's minimum), footer 1.
     DEFAULT_CSS = """
-    #branch-table { height: 6; }
+    #branch-table, #hyst-table { height: auto; max-height: 6; }
+    BranchesScreen.-both #branch-table, BranchesScreen.-both #hyst-table { max-height: 4; }
     #branch-detail { height: auto; max-height: 3; padding: 0 1; background: $boost; }
     #branch-plot { height: 1fr; }
     """
@@ -103,19 +172,21 @@ class BranchesScreen(SlopeScreen[None]):
     @dataclass
     class Loaded(Message):
         branches: list[StoredBranch]
-        #: The highlighted continuation with its points and bifurcations.
-        chosen: StoredBranch | None
+        sweeps: list[StoredHysteresis]
+        #: The highlighted continuation with its points and bifurcations, or hysteresis
+        #: sweep with its points.
+        chosen: StoredBranch | StoredHysteresis | None
         #: Bifurcations of each finished continuation by id (the table's column).
         found: dict[int, list[BifurcationRecord]]
 
     def __init__(self) -> None:
         super().__init__()
-        self.selected: int | None = None
+        self.selected: Selection | None = None
         #: Bifurcations of finished continuations by id: written once, with the status
         #: "done", so read once (listing() gives rows without them).
         self._found: dict[int, list[BifurcationRecord]] = {}
-        #: (id, points, status) of the branch drawn: redraw only when it changed.
-        self._drawn: tuple[int, int, str] | None = None
+        #: (kind, id, points, status) of what is drawn: redraw only when it changed.
+        self._drawn: tuple[str, int, int, str] | None = None
 
     def compose(self) -> ComposeResult:
         yield Header()
@@ -124,6 +195,12 @@ class BranchesScreen(SlopeScreen[None]):
         table.add_columns("id", "param", "start", "status", "points", "criticality",
                           "bifurcations")
         yield table
+        sweeps: DataTable[Any] = DataTable(id="hyst-table", cursor_type="row",
+                                           zebra_stripes=True)
+        sweeps.add_columns("hysteresis", "param", "range", "status", "points", "onset up",
+                           "offset down")
+        sweeps.display = False
+        yield sweeps
         yield Static("Opening the store…", id="branch-detail")
         yield PlotView(id="branch-plot")
         yield Footer()
@@ -138,28 +215,57 @@ class BranchesScreen(SlopeScreen[None]):
             self.load(self.selected)
 
     @work(thread=True, exclusive=True, group="branches-load")
-    def load(self, cid: int | None) -> None:
+    def load(self, selected: Selection | None) -> None:
         db = self.db
         if db is None:  # refresh_data starts this once the store is open
             return
         try:
             branches = listing(db)
-            if cid is None and branches:
-                cid = branches[0].id
-            chosen = branch_of(db, cid) if cid is not None else None
+            sweeps = hysteresis_listing(db)
+            if selected is None:
+                selected = (("branch", branches[0].id) if branches else
+                            ("hysteresis", sweeps[0].id) if sweeps else None)
+            chosen: StoredBranch | StoredHysteresis | None = None
+            if selected is not None:
+                kind, ident = selected
+                chosen = branch_of(db, ident) if kind == "branch" else hysteresis_of(db, ident)
             for b in branches:
                 if b.row["status"] == "done" and b.id not in self._found:
-                    whole = chosen if chosen is not None and chosen.id == b.id else branch_of(db, b.id)
+                    whole = (chosen if isinstance(chosen, StoredBranch) and chosen.id == b.id
+                             else branch_of(db, b.id))
                     self._found[b.id] = whole.bifurcations if whole is not None else []
         except Exception as exc:  # a locked or vanished database: say so, keep running
             self.post_message(StoreFailed("read the continuations",
                                           f"{type(exc).__name__}: {exc}"))
             return
-        self.post_message(self.Loaded(branches, chosen, dict(self._found)))
+        self.post_message(self.Loaded(branches, sweeps, chosen, dict(self._found)))
 
     def on_branches_screen_loaded(self, message: Loaded) -> None:
-        self._fill_table(message.branches, message.found)
+        branches, sweeps = message.branches, message.sweeps
+        branch_table = self.query_one("#branch-table", DataTable)
+        hyst_table = self.query_one("#hyst-table", DataTable)
+        branch_table.display = bool(branches) or not sweeps
+        hyst_table.display = bool(sweeps)
+        self.set_class(bool(branches) and bool(sweeps), "-both")
+        if not branches and sweeps and branch_table.has_focus:
+            hyst_table.focus()  # the only rows there are
+        if self.selected is None:
+            self.selected = (("branch", branches[0].id) if branches else
+                             ("hysteresis", sweeps[0].id) if sweeps else None)
+        self._fill_table(branches, message.found)
+        self._fill_sweeps(sweeps)
+        if not branches and not sweeps:
+            self.query_one("#branch-detail", Static).update(EMPTY_HINT)
         self._show(message.chosen)
+
+    def _place_cursor(self, table: DataTable[Any], kind: str, ids: list[int],
+                      keep: int) -> None:
+        """Keep the table's cursor on the selected row (its own kind), else where it was."""
+        if not ids:
+            return
+        ident = self.selected[1] if self.selected and self.selected[0] == kind else None
+        row_index = ids.index(ident) if ident in ids else min(keep, len(ids) - 1)
+        table.move_cursor(row=row_index, animate=False)
 
     def _fill_table(self, branches: list[StoredBranch],
                     found: dict[int, list[BifurcationRecord]]) -> None:
@@ -175,30 +281,52 @@ class BranchesScreen(SlopeScreen[None]):
                           Text(terminal_safe(str(row["criticality"] or ""))),
                           Text(cut(found_text(b.param, found.get(b.id, [])), FOUND_WIDTH)),
                           key=str(b.id))
-        if not branches:
-            self.query_one("#branch-detail", Static).update(EMPTY_HINT)
-            return
-        if self.selected is None:
-            self.selected = branches[0].id
-        ids = [b.id for b in branches]
-        row_index = ids.index(self.selected) if self.selected in ids else min(keep, len(ids) - 1)
-        table.move_cursor(row=row_index, animate=False)
+        self._place_cursor(table, "branch", [b.id for b in branches], keep)
 
-    def _show(self, branch: StoredBranch | None) -> None:
-        if branch is None:
+    def _fill_sweeps(self, sweeps: list[StoredHysteresis]) -> None:
+        table = self.query_one("#hyst-table", DataTable)
+        keep = table.cursor_row
+        table.clear()
+        for h in sweeps:
+            row = h.row
+            table.add_row(str(h.id), Text(axis_label(terminal_safe(h.param))),
+                          Text(range_text(row)), Text(terminal_safe(str(row["status"]))),
+                          f"{row['n_done']}/{2 * row['n_points']}", _value(row["onset_up"]),
+                          _value(row["offset_down"]), key=str(h.id))
+        self._place_cursor(table, "hysteresis", [h.id for h in sweeps], keep)
+
+    def _show(self, chosen: StoredBranch | StoredHysteresis | None) -> None:
+        if chosen is None:
             self._drawn = None
             self.query_one(PlotView).show(None)
             return
-        self.query_one("#branch-detail", Static).update(detail_text(branch))
-        drawn = (branch.id, len(branch.points), str(branch.row["status"]))
-        if drawn != self._drawn:  # a finished branch is not redrawn every refresh
+        branch = isinstance(chosen, StoredBranch)
+        self.query_one("#branch-detail", Static).update(
+            detail_text(chosen) if isinstance(chosen, StoredBranch) else hysteresis_detail(chosen))
+        drawn = ("branch" if branch else "hysteresis", chosen.id, len(chosen.points),
+                 str(chosen.row["status"]))
+        if drawn != self._drawn:  # a finished one is not redrawn every refresh
             self._drawn = drawn
-            self.query_one(PlotView).show(branch_renderer(branch))
+            self.query_one(PlotView).show(branch_renderer(chosen)
+                                          if isinstance(chosen, StoredBranch)
+                                          else hysteresis_renderer(chosen))
 
-    @on(DataTable.RowHighlighted, "#branch-table")
+    def _select(self, table: DataTable[Any], key: str | None) -> None:
+        kind = "branch" if table.id == "branch-table" else "hysteresis"
+        if key is not None and (kind, int(key)) != self.selected:
+            self.selected = (kind, int(key))
+            self.refresh_data()
+
+    @on(DataTable.RowHighlighted)
     def _row_highlighted(self, event: DataTable.RowHighlighted) -> None:
-        if event.row_key.value is not None:
-            chosen = int(event.row_key.value)
-            if chosen != self.selected:
-                self.selected = chosen
-                self.refresh_data()
+        # Both tables highlight a row whenever they are filled: only the focused one's
+        # cursor says what the user looks at.
+        if event.data_table.has_focus:
+            self._select(event.data_table, event.row_key.value)
+
+    def on_descendant_focus(self, event: events.DescendantFocus) -> None:
+        """Tab into the other table: draw the row highlighted there."""
+        table = event.widget
+        if isinstance(table, DataTable) and table.row_count:
+            key = table.coordinate_to_cell_key(table.cursor_coordinate).row_key.value
+            self._select(table, key)

@@ -1,0 +1,235 @@
+"""A hysteresis sweep as a job of the queue: submitted, claimed by a worker under a lease,
+computed point by point (core.hysteresis.point) with each point saved as soon as it is
+known, with the state it hands over, resumed from the saved points by whoever takes it
+over, finished with where each branch changes regime.
+
+The policy is the continuations' (slopetui.queue.branch_jobs):
+
+* A worker claims a hysteresis sweep after continuations and before runs
+  (slopetui.queue.worker_process): it is asked for interactively.
+* The points are numbered along the whole sweep: idx 0 to n - 1 are the up branch at
+  ``values[idx]``, n to 2n - 1 the down branch at ``values[2n - 1 - idx]``. Point idx
+  starts from the state point idx - 1 handed over (the first from eq. 19): the down
+  branch from the up branch's last state, as core.hysteresis.hysteresis does. The state
+  is saved to the bit, so a resumed sweep ends exactly as an uninterrupted one.
+* Each point is saved by the lease holder only, as the next one
+  (slopetui.store.hysteresis_rows.save_point): a killed worker loses at most the point
+  it was computing.
+* A point whose run leaves the finite range (OrbitError) ends the sweep there, as
+  core.hysteresis.branch ends a branch: it is saved as "unstable" with no state (nothing
+  to hand over), and the sweep is finished.
+* A stop comes between two points: the sweep goes back to the queue with its attempt
+  given back; an abort gives it back at once and leaves the point in progress unsaved.
+  A sweep that cannot be followed (tau) fails at once with the reason; any other error is
+  retried up to max_attempts.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+import traceback
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from functools import partial
+from typing import TYPE_CHECKING, Any, TypeVar
+
+import numpy as np
+
+from core.jit_cache import source_digest
+from core.params import PARAM_NAMES, Params
+from slopetui.queue.branch_jobs import Runner, Stops
+from slopetui.store import hysteresis_rows
+from slopetui.store.database import Database
+
+if TYPE_CHECKING:  # numba's kernels: loaded by the worker that computes a sweep
+    from core.hysteresis import WarmPoint
+    from core.orbit import Grid
+
+log = logging.getLogger("slopetui.worker")
+
+T = TypeVar("T")
+
+
+@dataclass(frozen=True)
+class HysteresisSpec:
+    """What a hysteresis sweep computes (core.hysteresis.hysteresis's arguments): ``name``
+    from ``start`` to ``stop`` in ``n_points`` values and back, from ``params``; RK4 step
+    ``dt``, ``t_settle`` integrated at each point and its last ``window`` classified
+    (model time units)."""
+
+    params: Params
+    name: str
+    start: float
+    stop: float
+    n_points: int
+    dt: float
+    t_settle: float
+    window: float
+
+    def values(self) -> np.ndarray:
+        """The up branch's values (the down branch's reversed)."""
+        return np.linspace(self.start, self.stop, self.n_points)
+
+    def plan(self, idx: int) -> tuple[str, float]:
+        """Point idx of the sweep: its direction and its value."""
+        values = self.values()
+        n = self.n_points
+        return ("up", float(values[idx])) if idx < n else ("down", float(values[2 * n - 1 - idx]))
+
+
+@dataclass(frozen=True)
+class HysteresisJob:
+    """A claimed hysteresis sweep: what to compute; ``attempts`` counts this one."""
+
+    id: int
+    attempts: int
+    spec: HysteresisSpec
+
+
+def fields_of(spec: HysteresisSpec) -> dict[str, Any]:
+    """The hysteresis_sweeps row of a spec (queued, with the engine's digest)."""
+    return {"param": spec.name, "start": spec.start, "stop": spec.stop,
+            "n_points": spec.n_points, **{n: getattr(spec.params, n) for n in PARAM_NAMES},
+            "dt": spec.dt, "t_settle": spec.t_settle, "window": spec.window,
+            "engine": source_digest(), "status": "queued"}
+
+
+def submit(db: Database, spec: HysteresisSpec) -> int:
+    """Queue a hysteresis sweep; returns its id."""
+    return hysteresis_rows.submit(db, fields_of(spec))
+
+
+def spec_of(row: Any) -> HysteresisSpec:
+    """The spec a hysteresis_sweeps row asks for."""
+    return HysteresisSpec(Params(**{n: row[n] for n in PARAM_NAMES}), row["param"],
+                          row["start"], row["stop"], row["n_points"], row["dt"],
+                          row["t_settle"], row["window"])
+
+
+def claim(db: Database, worker_id: str) -> HysteresisJob | None:
+    row = hysteresis_rows.claim(db, worker_id)
+    return None if row is None else HysteresisJob(row["id"], row["attempts"], spec_of(row))
+
+
+def point_fields(idx: int, direction: str, pt: WarmPoint, state: np.ndarray | None
+                 ) -> dict[str, Any]:
+    """The hysteresis_points row of a point: what the faces read and the state it hands
+    over (None: nothing to hand over)."""
+    return {"idx": idx, "direction": direction, "value": pt.value, "regime": pt.regime,
+            "detail": pt.detail, "amplitude": pt.amplitude, "growth": pt.growth,
+            "jumped": pt.jumped,
+            "state": None if state is None else np.ascontiguousarray(state, "<f8").tobytes()}
+
+
+def state_of(row: Any, g: Grid) -> np.ndarray:
+    """The state a saved point hands over, 5 x (N + 1), back from its bytes."""
+    return np.frombuffer(row["state"], dtype="<f8").reshape(5, g.n_delay + 1).copy()
+
+
+def warm_point(row: Any) -> WarmPoint:
+    """A saved point back as core.hysteresis's WarmPoint (NaN where it was)."""
+    from core.hysteresis import WarmPoint
+    return WarmPoint(row["value"], row["regime"], row["detail"], row["amplitude"],
+                     row["growth"], bool(row["jumped"]))
+
+
+def changes(rows: Sequence[Any]) -> tuple[float | None, float | None]:
+    """onset_up and offset_down of the saved points (core.hysteresis.change)."""
+    from core.hysteresis import change
+    up = [warm_point(r) for r in rows if r["direction"] == "up"]
+    down = [warm_point(r) for r in rows if r["direction"] == "down"]
+    return change(up), change(down)
+
+
+def _timed(fn: Callable[[], T]) -> Callable[[], tuple[T, float]]:
+    """``fn`` returning also the CPU time its thread spent on it (s)."""
+    def run() -> tuple[T, float]:
+        t0 = time.thread_time()
+        out = fn()
+        return out, time.thread_time() - t0
+    return run
+
+
+def _error(db: Database, wid: str, job: HysteresisJob, error: BaseException,
+           max_attempts: int) -> None:
+    give_up = job.attempts >= max_attempts
+    text = "".join(traceback.format_exception(error)).strip()
+    if hysteresis_rows.fail(db, job.id, wid, text, give_up=give_up):
+        log.error("hysteresis sweep %d %s: %s", job.id,
+                  "failed" if give_up else "raised, back to the queue", error)
+
+
+def _give_back(db: Database, wid: str, job: HysteresisJob, why: str) -> None:
+    released = hysteresis_rows.release(db, job.id, wid)
+    log.info("hysteresis sweep %d given back to the queue (%s)%s", job.id, why,
+             "" if released else "; its lease had already been taken over")
+
+
+def _one(spec: HysteresisSpec, g: Grid, idx: int, state: np.ndarray
+         ) -> tuple[WarmPoint, np.ndarray | None]:
+    """Point idx from ``state``: the point and the state it hands over, or (its run left
+    the finite range) an "unstable" point and None, as core.hysteresis.branch records it."""
+    from core.hysteresis import WarmPoint, point
+    from core.orbit import OrbitError
+    _, value = spec.plan(idx)
+    try:
+        return point(spec.params.with_(**{spec.name: value}), g, state, spec.name,
+                     spec.t_settle, spec.window)
+    except OrbitError as exc:
+        return WarmPoint(value, "unstable", str(exc), math.nan, math.nan), None
+
+
+def _finish(db: Database, wid: str, job: HysteresisJob, spent: float) -> None:
+    rows = hysteresis_rows.saved_points(db, job.id)
+    onset, offset = changes(rows)
+    if hysteresis_rows.finish(db, job.id, wid, onset, offset, spent):
+        log.info("hysteresis sweep %d done: %d points, up changes at %s, down at %s", job.id,
+                 len(rows), onset, offset)
+    else:
+        log.warning("hysteresis sweep %d finished after its lease was lost; discarded", job.id)
+
+
+def compute(db: Database, wid: str, job: HysteresisJob, run: Runner, control: Stops,
+            max_attempts: int) -> None:
+    """Compute the claimed sweep to its end, saving each point (see the module docstring
+    for the order of the points, stops, aborts and errors)."""
+    from core.hysteresis import initial_state
+    from core.orbit import Grid
+    spec = job.spec
+    if spec.name == "tau":  # core.hysteresis.hysteresis refuses it too: an answer, no retry
+        hysteresis_rows.fail(db, job.id, wid, "no sweep: a hysteresis sweep cannot follow "
+                             "tau (the state's history is one delay long)", give_up=True)
+        return None
+    g = Grid.of(spec.params, spec.dt)
+    saved = hysteresis_rows.saved_points(db, job.id)
+    total = 2 * spec.n_points
+    ended = any(r["state"] is None for r in saved)  # a run left the finite range: the end
+    if saved:
+        state = None if ended else state_of(saved[-1], g)
+    else:
+        _, first = spec.plan(0)
+        state = initial_state(spec.params.with_(**{spec.name: first}), g)
+    log.info("hysteresis sweep %d in %s: %s (%d saved points)", job.id, spec.name,
+             "resumed" if saved else "started", len(saved))
+    spent = 0.0
+    idx = len(saved)
+    while state is not None and idx < total:
+        if control.stopping():
+            return _give_back(db, wid, job, "shutdown")
+        future = run(_timed(partial(_one, spec, g, idx, state)))
+        if future is None:
+            return _give_back(db, wid, job, "abort")
+        if (error := future.exception()) is not None:
+            return _error(db, wid, job, error, max_attempts)
+        (pt, state), took = future.result()
+        direction, _ = spec.plan(idx)
+        if not hysteresis_rows.save_point(db, job.id, wid,
+                                          point_fields(idx, direction, pt, state),
+                                          spent + took):
+            log.warning("hysteresis sweep %d: lease lost; the point is not saved", job.id)
+            return
+        spent = 0.0
+        idx += 1
+    _finish(db, wid, job, spent)

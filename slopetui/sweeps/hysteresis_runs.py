@@ -1,0 +1,82 @@
+"""Hysteresis sweeps for the faces (the CLI's ``hysteresis --submit`` and ``--show``, the
+TUI's branches screen): queue one, list them, read one back with its points as plain
+records. No UI here, and no SQL (slopetui.store.hysteresis_rows owns it)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from slopetui.queue import hysteresis_jobs
+from slopetui.queue.hysteresis_jobs import HysteresisSpec
+from slopetui.store import hysteresis_rows
+from slopetui.store.database import Database
+
+#: value, regime, amplitude (peak to peak of m_y), detail, growth (1 / time unit), jumped,
+#: direction ("up" or "down"); NaN where core.hysteresis.WarmPoint has NaN.
+WarmRecord = dict[str, Any]
+
+
+@dataclass(frozen=True)
+class StoredHysteresis:
+    """A hysteresis sweep as stored: its row (parameters, status, where each branch
+    changes regime) and its points so far, in sweep order (up, then down)."""
+
+    row: Any
+    points: list[WarmRecord]
+
+    @property
+    def id(self) -> int:
+        return int(self.row["id"])
+
+    @property
+    def param(self) -> str:
+        return str(self.row["param"])
+
+    @property
+    def up(self) -> list[WarmRecord]:
+        return [p for p in self.points if p["direction"] == "up"]
+
+    @property
+    def down(self) -> list[WarmRecord]:
+        return [p for p in self.points if p["direction"] == "down"]
+
+    def summary(self) -> dict[str, Any]:
+        """The row's fields a reader wants (no worker bookkeeping)."""
+        keys = ("id", "param", "status", "start", "stop", "n_points", "n_done", "dt",
+                "t_settle", "window", "onset_up", "offset_down", "runtime_s", "error",
+                "attempts", "a", "b", "c", "d", "k", "v", "tau", "delta")
+        return {key: self.row[key] for key in keys}
+
+
+def warm_record(row: Any) -> WarmRecord:
+    return {"value": row["value"], "regime": row["regime"], "amplitude": row["amplitude"],
+            "detail": row["detail"], "growth": row["growth"], "jumped": bool(row["jumped"]),
+            "direction": row["direction"]}
+
+
+def submit(db: Database, spec: HysteresisSpec) -> int:
+    """Queue a hysteresis sweep for the workers; returns its id."""
+    return hysteresis_jobs.submit(db, spec)
+
+
+def listing(db: Database) -> list[StoredHysteresis]:
+    """Every hysteresis sweep, newest first, without its points."""
+    return [StoredHysteresis(row, []) for row in hysteresis_rows.hysteresis_sweeps(db)]
+
+
+def hysteresis_of(db: Database, sid: int) -> StoredHysteresis | None:
+    """Hysteresis sweep ``sid`` with its points; None if there is none."""
+    row = hysteresis_rows.hysteresis_sweep(db, sid)
+    if row is None:
+        return None
+    return StoredHysteresis(row, [warm_record(p) for p in hysteresis_rows.points(db, sid)])
+
+
+def activity(db: Database) -> tuple[dict[str, int], dict[str, int]]:
+    """Hysteresis sweeps per status, and the one each worker computes (by worker id)."""
+    return hysteresis_rows.status_counts(db), hysteresis_rows.held(db)
+
+
+__all__ = ["HysteresisSpec", "StoredHysteresis", "WarmRecord", "activity", "hysteresis_of",
+           "listing", "submit"]

@@ -1,0 +1,65 @@
+"""A hysteresis sweep computed by real `slopetui worker` pools, killed on the way: a worker
+killed with SIGKILL mid-sweep, then the whole pool stopped with SIGTERM between two
+points; the sweep resumes each time from its saved points and is finished exactly once,
+with every point saved once and in order (up, then down)."""
+
+from __future__ import annotations
+
+import os
+import signal
+
+import numpy as np
+
+from core.params import Params
+from slopetui.queue import hysteresis_jobs
+from slopetui.queue.hysteresis_jobs import HysteresisSpec
+from slopetui.store import hysteresis_rows
+from tests.integration.pool_support import gone, pid_of, start_pool, wait_until
+
+#: ~0.1 s a point at tau = 2 with t_settle = 3000: 80 points take several seconds, long
+#: enough to be interrupted twice.
+SPEC = HysteresisSpec(Params(tau=2.0), "k", 8.0, 12.0, 40, 0.01, 3000.0, 100.0)
+TOTAL = 2 * SPEC.n_points
+
+
+def _row(db):
+    return hysteresis_rows.hysteresis_sweep(db, 1)
+
+
+def test_a_sweep_survives_kill_9_and_a_stop_and_finishes_once(tmp_path, db, db_url):
+    sid = hysteresis_jobs.submit(db, SPEC)
+    log = tmp_path / "pool.log"
+    pool = start_pool(db_url, log, "-j", "1")
+    try:
+        row = wait_until("5 points saved", lambda: (r := _row(db))["n_done"] >= 5 and r, 120)
+        holder = row["worker_id"]
+        os.kill(pid_of(holder), signal.SIGKILL)          # the worker, mid-point
+        wait_until("the killed worker to be gone", lambda: gone(pid_of(holder)), 30)
+        wait_until("another worker to resume it", lambda: (
+            (r := _row(db))["status"] == "running" and r["worker_id"] != holder), 60)
+        wait_until("more points", lambda: _row(db)["n_done"] >= row["n_done"] + 3, 60)
+        pool.send_signal(signal.SIGTERM)                # a stop: between two points
+        _, err = pool.communicate(timeout=60)
+    finally:
+        if pool.poll() is None:
+            os.killpg(pool.pid, signal.SIGKILL)
+            pool.communicate()
+    assert pool.returncode == 0, err
+    stopped = _row(db)
+    assert stopped["status"] == "queued" and stopped["n_done"] < TOTAL
+    pool = start_pool(db_url, log, "-j", "1", "--exit-when-idle")
+    _, err = pool.communicate(timeout=300)
+    assert pool.returncode == 0, err
+    done = _row(db)
+    assert done["status"] == "done" and done["n_done"] == TOTAL
+    assert done["attempts"] == 2  # the kill cost an attempt; the stop gave its attempt back
+    points = hysteresis_rows.points(db, sid)
+    assert [p["idx"] for p in points] == list(range(TOTAL))
+    values = SPEC.values()
+    assert [p["direction"] for p in points] == ["up"] * SPEC.n_points + ["down"] * SPEC.n_points
+    assert [p["value"] for p in points] == [*values, *values[::-1]]
+    assert done["onset_up"] is not None and np.isin(done["onset_up"], values)
+    text = log.read_text()
+    assert text.count(f"hysteresis sweep {sid} done") == 1
+    assert "died (exit code -9): 1 jobs requeued" in text
+    assert text.count("resumed") == 2 and "Traceback" not in text + err
