@@ -52,7 +52,8 @@ def finish_all(db: Database, worker: str = "test") -> int:
     """Compute every queued run in this process, as a worker would; returns how many."""
     n = 0
     while (job := jobs.claim(db, worker)) is not None:
-        jobs.complete(db, job, worker, run_point(job.params, job.settings).as_record())
+        record = run_point(job.params, job.settings, jobs.carried_state(db, job)).as_record()
+        jobs.complete(db, job, worker, record)
         n += 1
     return n
 

@@ -46,6 +46,14 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="analysis window (default min(1000, t_end / 2))")
     p.add_argument("--no-lyap", dest="lyap", action="store_false", default=None,
                    help="skip lambda_max (about 1.5x faster with Euler)")
+    p.add_argument("--history", metavar="H",
+                   help="m_x before t = 0 for every run: constant (default, eq. 19) or "
+                        "consistent (delta (1 + t), no kink at t = 0)")
+    p.add_argument("--initial", action="append", metavar="COND",
+                   help="compute every point from this initial condition too (repeat it): "
+                        "delta=X and/or history=H (constant, consistent, run:ID: a stored "
+                        "run's final state), e.g. --initial delta=1e-6 --initial delta=0.1; "
+                        "the phase diagram then shows where they end in different regimes")
     p.add_argument("--adaptive", metavar="LEVELS",
                    help="a 2-D sweep as an adaptive phase diagram: compute a lattice "
                         "2**LEVELS times coarser, refine only where regimes change, infer "
@@ -71,6 +79,18 @@ def _merge(data: dict[str, Any], key: str, flags: Mapping[str, Any]) -> None:
         data[key] = merged
 
 
+def _condition(i: int, text: str) -> dict[str, Any]:
+    """One --initial: comma-separated key=value pairs (delta, history)."""
+    out: dict[str, Any] = {}
+    for part in text.split(","):
+        key, sep, value = part.partition("=")
+        if not sep or key.strip() not in ("delta", "history"):
+            raise SpecError(f"initial[{i}]", f"expected delta=X and/or history=H separated "
+                                             f"by commas, got {text!r}")
+        out[key.strip()] = value.strip()
+    return out
+
+
 def spec_data(args: argparse.Namespace) -> dict[str, Any]:
     """The spec as a mapping: the file's tables, then the flags on top."""
     data = read_spec(args.spec) if args.spec else {}
@@ -84,8 +104,11 @@ def spec_data(args: argparse.Namespace) -> dict[str, Any]:
         data["adaptive"] = {"levels": args.adaptive}
     _merge(data, "fixed", {n: getattr(args, f"fixed_{n}") for n in PARAM_NAMES
                            if getattr(args, f"fixed_{n}") is not None})
-    _merge(data, "solver", {k: getattr(args, k) for k in ("method", "dt", "t_end", "window", "lyap")
+    _merge(data, "solver", {k: getattr(args, k)
+                            for k in ("method", "dt", "t_end", "window", "lyap", "history")
                             if getattr(args, k) is not None})
+    if args.initial:
+        data["initial"] = [_condition(i, text) for i, text in enumerate(args.initial)]
     if "x" not in data:
         raise SpecError("x", "missing: give a SPEC.toml file or --x PARAM=START:STOP:NUM")
     return data

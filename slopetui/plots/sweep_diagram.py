@@ -39,7 +39,10 @@ def render_sweep(diagram: SweepDiagram, *, width: int, height: int, color: bool,
     if title is None:
         title = (f"sweep {diagram.id}: {terminal_safe(diagram.name)} "
                  f"({diagram.n_done}/{diagram.n_points} done)")
-    runs = diagram.runs
+    # a phase diagram of several initial conditions draws their map (common regime or
+    # "depends"); a bifurcation diagram overlays the peaks each one reached
+    from slopetui.sweeps.initial_dependence import drawn
+    runs = drawn(diagram).runs if spec.y is not None else diagram.runs
     xs = [r.x for r in runs]
     ys = [r.y for r in runs]
     peaks = [r.peaks for r in runs]

@@ -1,5 +1,5 @@
-"""The result cache's key: equal parameters, delta, solver settings and engine give equal
-results (the model is deterministic), so a finished run's result is reused.
+"""The result cache's key: equal parameters, delta, history, solver settings and engine
+give equal results (the model is deterministic), so a finished run's result is reused.
 
 Only computed runs serve: an inferred run of an adaptive sweep (``Run.inferred``) is
 done and has a cache key, but its regime is a guess from its cell's corners and it has
@@ -18,8 +18,9 @@ from core.result_fields import RESULT_NAMES
 
 #: The columns of Run that hold a result, in order (defined once in core.result_fields).
 RESULT_FIELDS = RESULT_NAMES
-#: The columns that decide a result.
-KEY_FIELDS = (*PARAM_NAMES, "method", "dt", "t_end", "window", "lyap", "engine")
+#: The columns that decide a result (a history "state:<digest>" names its state's
+#: content, so equal names start from equal states).
+KEY_FIELDS = (*PARAM_NAMES, "method", "dt", "t_end", "window", "lyap", "history", "engine")
 
 
 def cache_key(inputs: Mapping[str, Any]) -> str:

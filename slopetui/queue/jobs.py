@@ -26,12 +26,13 @@ from typing import TYPE_CHECKING, Any
 
 from core.params import PARAM_NAMES, Params
 from slopetui.queue.defaults import LEASE_S, MAX_ATTEMPTS
-from slopetui.store import branch_rows, cached_results, claims, hysteresis_rows
+from slopetui.store import branch_rows, cached_results, claims, hysteresis_rows, initial_states
 from slopetui.store.claims import ClaimedRow
 from slopetui.store.database import Database
 
 if TYPE_CHECKING:  # core.solve imports numpy: not for `slopetui --help` and `status`
     from core import SolverSettings
+    from core.history import CarriedState
 
 
 @dataclass(frozen=True)
@@ -52,7 +53,7 @@ def _job(m: ClaimedRow, started: bool) -> Job:
     from core import SolverSettings
     params = Params(**{n: m[n] for n in PARAM_NAMES})
     settings = SolverSettings(method=m["method"], dt=m["dt"], t_end=m["t_end"],
-                              window=m["window"], lyap=m["lyap"])
+                              window=m["window"], lyap=m["lyap"], history=m["history"])
     return Job(m["id"], m["sweep_id"], m["attempts"], m["cache_key"], params, settings,
                started)
 
@@ -82,6 +83,20 @@ def begin(db: Database, batch: list[Job], worker_id: str) -> list[Job]:
                             batch[0].run_id if batch else None)
     return [job if job.started else replace(job, attempts=attempts[job.run_id], started=True)
             for job in batch if job.started or job.run_id in attempts]
+
+
+def carried_state(db: Database, job: Job) -> CarriedState | None:
+    """The final state the job's history names (kept by submission in the store), or
+    None for a named history. A state missing from the store is a ValueError, which the
+    worker records as the run's error."""
+    from core.history import STATE_PREFIX, CarriedState
+    history = job.settings.history
+    if not history.startswith(STATE_PREFIX):
+        return None
+    blob = initial_states.load_state(db, history)
+    if blob is None:
+        raise ValueError(f"run {job.run_id}: its history {history} is not in the store")
+    return CarriedState.from_bytes(blob)
 
 
 def claim(db: Database, worker_id: str) -> Job | None:

@@ -211,9 +211,9 @@ BATCHED_METHODS = frozenset({"euler"})
 Records = list[dict[str, Any]]
 
 
-def _compute_one(job: jobs.Job) -> Records:
+def _compute_one(job: jobs.Job, carried: Any = None) -> Records:
     from core import run_point
-    return [run_point(job.params, job.settings).as_record()]
+    return [run_point(job.params, job.settings, carried).as_record()]
 
 
 def _compute_together(batch: list[jobs.Job]) -> Records:
@@ -298,7 +298,14 @@ def _one_by_one(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadP
         if not started:
             log.warning("run %d: lease lost before it started; skipped", job.run_id)
             continue
-        future = executor.submit(_compute_one, started[0])
+        try:  # the final state its history names, read here: the store is this thread's
+            carried = jobs.carried_state(db, started[0])
+        except ValueError as exc:
+            failed: Future[Records] = Future()
+            failed.set_exception(exc)
+            _write(db, wid, started, failed, opts, len(batch))
+            continue
+        future = executor.submit(_compute_one, started[0], carried)
         if not _wait(future, control):
             _give_back(db, wid, started + batch[i + 1:])
             return
@@ -325,6 +332,7 @@ def _together(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadPoo
 
 def _process(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadPoolExecutor,
              control: Control, opts: WorkerOptions) -> None:
+    # claims batch only runs of the constant history (the batched kernels know no other)
     if len(batch) > 1 and batch[0].settings.method in BATCHED_METHODS:
         _together(db, wid, batch, executor, control, opts)
     else:

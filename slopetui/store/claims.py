@@ -39,7 +39,7 @@ ClaimedRow = RowMapping
 #: What a claim returns of each run: its ids, attempts, cache key, parameters and solver
 #: settings (what a worker needs to compute it).
 CLAIMED_COLUMNS = ("id", "sweep_id", "attempts", "cache_key", *PARAM_NAMES, "method", "dt",
-                   "t_end", "window", "lyap")
+                   "t_end", "window", "lyap", "history")
 _CLAIM_COLUMNS = tuple(getattr(Run, name) for name in CLAIMED_COLUMNS)
 
 # The hot path (claim, complete) runs prebuilt statements with bound parameters: building
@@ -71,7 +71,7 @@ _WORKER_DONE = (update(Worker).where(Worker.id == bindparam("wid"))
 
 # A batch: the oldest queued run's solver settings, then up to n queued runs with the same
 # settings (they can share one call of the batched kernels, core.batch), oldest first.
-_OLDEST_SETTINGS = (select(Run.method, Run.dt, Run.t_end, Run.window, Run.lyap)
+_OLDEST_SETTINGS = (select(Run.method, Run.dt, Run.t_end, Run.window, Run.lyap, Run.history)
                     .join(Sweep, Sweep.id == Run.sweep_id)
                     .where(Run.status == "queued", Sweep.status == "active")
                     .order_by(Run.id).limit(1))
@@ -79,7 +79,7 @@ _COMPATIBLE = (select(Run.id).join(Sweep, Sweep.id == Run.sweep_id)
                .where(Run.status == "queued", Sweep.status == "active",
                       Run.method == bindparam("b_method"), Run.dt == bindparam("b_dt"),
                       Run.t_end == bindparam("b_t_end"), Run.window == bindparam("b_window"),
-                      Run.lyap == bindparam("b_lyap"))
+                      Run.lyap == bindparam("b_lyap"), Run.history == bindparam("b_history"))
                .order_by(Run.id).limit(bindparam("n"))
                .with_for_update(skip_locked=True, of=Run))
 # Claimed, not started: no attempt charged, started_at NULL until begin (module docstring).
@@ -98,14 +98,16 @@ _BEGIN = (update(Run).where(Run.id.in_(bindparam("rids", expanding=True)),
 def claim_batch(db: Database, worker_id: str, limit: int,
                 batched: Collection[str] | None) -> list[ClaimedRow]:
     """Lease up to ``limit`` queued runs of active sweeps that share the oldest queued
-    run's solver settings to the worker, in one transaction, without charging an attempt;
-    [] if nothing is queued. A run whose method is not in ``batched`` (None: every method)
-    is claimed alone. Not in id order: the caller sorts."""
+    run's solver settings and history to the worker, in one transaction, without charging
+    an attempt; [] if nothing is queued. A run whose method is not in ``batched`` (None:
+    every method), or whose history is not the constant one (the batched kernels know no
+    other, core.batch), is claimed alone. Not in id order: the caller sorts."""
     with db.connection() as conn:
         settings = conn.execute(_OLDEST_SETTINGS).first()
         if settings is None:
             return []
-        if batched is not None and settings.method not in batched:
+        if batched is not None and (settings.method not in batched
+                                    or settings.history != "constant"):
             limit = 1
         rows = conn.execute(_CLAIM_BATCH, {"wid": worker_id, "n": limit, **{
             f"b_{name}": value for name, value in settings._mapping.items()}}).all()

@@ -108,6 +108,13 @@ class Run(Base):
     t_end: Mapped[float] = mapped_column(Double)
     window: Mapped[float] = mapped_column(Double)
     lyap: Mapped[bool] = mapped_column(Boolean, default=True)
+    #: m_x before t = 0 (core.history): constant, consistent, or state:<digest>, a final
+    #: state kept in initial_states. Server default as in migration 0006 (rows before it
+    #: all started from the constant history).
+    history: Mapped[str] = mapped_column(String(24), default="constant",
+                                         server_default="constant")
+    #: Which of the sweep's initial conditions (spec [[initial]]) the run starts from.
+    ic: Mapped[int] = mapped_column(default=0, server_default="0")
     #: Digest of the engine's sources (core/*.py) the run is computed with.
     engine: Mapped[str] = mapped_column(String(16))
     #: Hash of the parameters, solver settings and engine: equal keys, equal results.
@@ -362,3 +369,18 @@ class HysteresisPoint(Base):
     state: Mapped[bytes | None] = mapped_column(LargeBinary)
 
     __table_args__ = (CheckConstraint(_one_of("direction", ("up", "down")), name="direction"),)
+
+
+class InitialState(Base):
+    """A final state a run's history starts from (core.history.CarriedState), kept under
+    its name ("state:" + digest), with the run it came from."""
+
+    __tablename__ = "initial_states"
+
+    name: Mapped[str] = mapped_column(String(24), primary_key=True)
+    source_run: Mapped[int | None] = mapped_column(ForeignKey("runs.id", ondelete="SET NULL"))
+    tau: Mapped[float] = mapped_column(Double)
+    dt: Mapped[float] = mapped_column(Double)
+    #: CarriedState.to_bytes(): tau, dt, the five variables, m_x over the last delay.
+    state: Mapped[bytes] = mapped_column(LargeBinary)
+    created_at: Mapped[datetime] = mapped_column(DateTime, server_default=func.now())

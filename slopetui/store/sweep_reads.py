@@ -49,9 +49,9 @@ def diagram_rows(db: Database, sweep_id: int,
                 getattr(Run, y_param) if y_param else Run.iy, Run.status, Run.regime,
                 Run.peaks, Run.drift, Run.error, Run.detail, Run.period_count, Run.lambda_max,
                 Run.lambda_err, Run.inferred, Run.attractor, Run.flags,
-                Run.maxima_per_period, Run.settled)
+                Run.maxima_per_period, Run.settled, Run.ic, Run.delta, Run.history)
         rows = s.execute(select(*cols).where(Run.sweep_id == sweep_id)
-                         .order_by(Run.iy, Run.ix)).all()
+                         .order_by(Run.ic, Run.iy, Run.ix)).all()
     return DiagramRows(sweep.id, sweep.name, spec, rows)
 
 

@@ -38,7 +38,7 @@ def final_state_of(db: Database, run_id: int) -> CarriedState:
     if run is None:
         raise ParameterError("history", f"{RUN_PREFIX}{run_id}", "run:ID of a run in this store")
     params, settings = run.inputs()
-    end = run_point(params, replace(settings, lyap=False)).trajectory.final
+    end = run_point(params, replace(settings, lyap=False), run.carried_state()).trajectory.final
     if end is None:
         raise ParameterError("history", f"{RUN_PREFIX}{run_id}",
                              "a run that stays in the finite range (this one diverges, so it "

@@ -38,6 +38,9 @@ class RunPoint:
     flags: tuple[str, ...] = ()   # stiff-fallback, linear-transient, ... (core.classify)
     maxima_per_period: int | None = None
     settled: bool | None = None
+    ic: int = 0  # which of the sweep's initial conditions (spec [[initial]])
+    delta: float = float("nan")
+    history: str = "constant"
 
 
 @dataclass(frozen=True)
@@ -62,7 +65,8 @@ class SweepDiagram:
 
     @property
     def n_points(self) -> int:
-        """Points of the sweep's lattice (an adaptive sweep has runs for some so far)."""
+        """Runs the sweep will have: one per point of its lattice and initial condition
+        (an adaptive sweep has runs for some so far)."""
         return self.spec.n_runs
 
     def unqueued(self) -> list[tuple[int, int, float, float | None]]:
@@ -99,7 +103,7 @@ def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
     spec = read.spec
     runs = []
     for rid, ix, iy, x, y, status, regime, peaks, drift, error, detail, count, lam, lam_err, \
-            inferred, attractor, flags, maxima, settled in read.rows:
+            inferred, attractor, flags, maxima, settled, ic, delta, history in read.rows:
         done = status == "done"
         # A sliding run has no peaks: it rests near the fixed point m_y = 0 (eqs. 14-17;
         # with noise d > 0 it drifts at a small constant m_y). It is drawn at its window
@@ -110,5 +114,6 @@ def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
                              count if done else None, lam, lam_err, drift, bool(inferred),
                              attractor if done else None,
                              tuple(flags.split(",")) if done and flags else (),
-                             maxima if done else None, settled if done else None))
+                             maxima if done else None, settled if done else None, ic, delta,
+                             history))
     return SweepDiagram(read.sweep_id, read.name, spec, runs)

@@ -17,9 +17,9 @@ from core import PARAM_NAMES
 from core.result_fields import RESULT_NAMES
 from slopetui.store.models import Run
 
-COLUMNS = ("id", "sweep_id", "ix", "iy", *PARAM_NAMES, "method", "dt", "t_end", "window",
-           "lyap", "status", *RESULT_NAMES, "attempts", "worker_id", "cached_from",
-           "started_at", "finished_at", "error", "inferred", "level")
+COLUMNS = ("id", "sweep_id", "ix", "iy", "ic", *PARAM_NAMES, "history", "method", "dt",
+           "t_end", "window", "lyap", "status", *RESULT_NAMES, "attempts", "worker_id",
+           "cached_from", "started_at", "finished_at", "error", "inferred", "level")
 
 
 def cell(value: Any) -> Any:

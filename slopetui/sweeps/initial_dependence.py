@@ -27,7 +27,7 @@ if TYPE_CHECKING:
     from core.fold_curve import FoldPoint
 
 __all__ = ["DEPENDS", "BandAgreement", "Cell", "Dependence", "against_band", "band_test",
-           "cells", "combined", "dependence"]
+           "cells", "combined", "condition_notes", "dependence", "drawn", "per_condition"]
 
 
 @dataclass(frozen=True)
@@ -69,6 +69,36 @@ def combined(diagrams: Sequence[SweepDiagram], name: str) -> SweepDiagram:
     first = diagrams[0]
     runs = [_as_verdict(r, verdicts[(r.ix, r.iy)]) for r in first.runs]
     return SweepDiagram(first.id, name, first.spec, runs)
+
+
+def per_condition(d: SweepDiagram) -> list[SweepDiagram]:
+    """A sweep with initial conditions (spec [[initial]]) as one diagram per condition."""
+    n = len(d.spec.conditions)
+    return [SweepDiagram(d.id, d.name, d.spec, [r for r in d.runs if r.ic == i])
+            for i in range(n)]
+
+
+def drawn(d: SweepDiagram) -> SweepDiagram:
+    """What a drawing of the sweep shows: the sweep itself, or with two or more initial
+    conditions their map (each cell's common regime, or DEPENDS)."""
+    if len(d.spec.conditions) < 2:
+        return d
+    return combined(per_condition(d), d.name)
+
+
+def condition_notes(d: SweepDiagram) -> dict[tuple[int, int], str]:
+    """Per cell of a sweep with two or more initial conditions, what each one ended in
+    ("delta 1e-06: sliding, delta 0.1: oscillatory"; the history too where it is not
+    the constant one); empty for a sweep of one."""
+    conditions = d.spec.conditions
+    if len(conditions) < 2:
+        return {}
+    names = [f"delta {delta:g}" + ("" if history == "constant" else f" {history}")
+             for delta, history in conditions]
+    out: dict[tuple[int, int], list[str]] = {}
+    for r in sorted(d.runs, key=lambda r: r.ic):
+        out.setdefault((r.ix, r.iy), []).append(f"{names[r.ic]}: {r.regime or 'pending'}")
+    return {cell: ", ".join(parts) for cell, parts in out.items()}
 
 
 def _as_verdict(r: RunPoint, verdict: str | None) -> RunPoint:

@@ -18,6 +18,7 @@ import numpy as np
 
 from core import Params, SolverSettings, run_point
 from core.classify import Summary, power_spectrum
+from core.history import CarriedState
 from core.lyapunov import LyapunovEstimate, running
 from core.lyapunov_bias import bias_note
 from core.params import PARAM_NAMES
@@ -84,13 +85,18 @@ class StoredRun:
     cached_from: int | None
     inferred: bool
     level: int | None
+    history: str
+    ic: int
+    #: The final state the history names (slopetui.store.initial_states), if it names one.
+    carried: bytes | None
 
     if TYPE_CHECKING:  # the result fields, added by _with_result_fields
         def __getattr__(self, name: str) -> Any: ...
 
     @classmethod
-    def of(cls, run: Run) -> StoredRun:
-        return cls(**{f.name: getattr(run, f.name) for f in fields(cls)})
+    def of(cls, run: Run, carried: bytes | None = None) -> StoredRun:
+        return cls(**{f.name: getattr(run, f.name) for f in fields(cls) if f.name != "carried"},
+                   carried=carried)
 
     @property
     def done(self) -> bool:
@@ -101,16 +107,25 @@ class StoredRun:
         estimate is one of the plots). Raises ParameterError for invalid inputs."""
         params = Params(**{n: getattr(self, n) for n in PARAM_NAMES})
         settings = SolverSettings(method=self.method, dt=self.dt, t_end=self.t_end,
-                                  window=self.window, lyap=True)
+                                  window=self.window, lyap=True, history=self.history)
         return params, settings
+
+    def carried_state(self) -> CarriedState | None:
+        """The final state the run's history starts from (None: a named history)."""
+        return None if self.carried is None else CarriedState.from_bytes(self.carried)
 
 
 def load_run(db: Database, run_id: int) -> StoredRun | None:
-    """The run's copy, or None if the store has no such run."""
+    """The run's copy (with the final state its history names, if any), or None if the
+    store has no such run."""
+    from slopetui.store.initial_states import load_state
     from slopetui.store.queries import run_by_id
 
     row = run_by_id(db, run_id)
-    return StoredRun.of(row) if row is not None else None
+    if row is None:
+        return None
+    history = row.history or "constant"
+    return StoredRun.of(row, load_state(db, history) if history.startswith("state:") else None)
 
 
 @dataclass(frozen=True, slots=True)
@@ -141,9 +156,11 @@ class Verdict:
     text: str
 
 
-def compute_traces(params: Params, settings: SolverSettings) -> Traces:
-    """Integrate the run again (seconds: as long as the run took) and derive the plots' data."""
-    result = run_point(params, settings)
+def compute_traces(params: Params, settings: SolverSettings,
+                   carried: CarriedState | None = None) -> Traces:
+    """Integrate the run again (seconds: as long as the run took) from its history
+    (``carried``: the state it names, if any) and derive the plots' data."""
+    result = run_point(params, settings, carried)
     tr = result.trajectory
     t, m_x, m_y = tr.window_t, tr.window[0], tr.window[1]
     freq, power = power_spectrum(t, m_y)

@@ -15,14 +15,18 @@ Row = dict[str, object]
 
 def run_rows(spec: SweepSpec, engine: str,
              points: Iterable[tuple[int, int]] | None = None) -> list[Row]:
-    """The input columns of a run for every lattice point (default) or for ``points``."""
+    """The input columns of a run for every lattice point (default) or for ``points``,
+    one per initial condition (spec.conditions: their delta and history; a history
+    run:ID must have been resolved to its state's name by submission)."""
     s = spec.solver
     rows = []
-    for ix, iy, p in spec.points(points):
-        row: Row = {n: getattr(p, n) for n in PARAM_NAMES}
-        row.update(ix=ix, iy=iy, method=s.method, dt=s.dt, t_end=s.t_end, window=s.window,
-                   lyap=s.lyap, engine=engine)
-        row["cache_key"] = cache_key(row)
-        rows.append(row)
+    lattice = list(spec.points(points))
+    for ic, (delta, history) in enumerate(spec.conditions):
+        for ix, iy, p in lattice:
+            row: Row = {n: getattr(p, n) for n in PARAM_NAMES}
+            row.update(ix=ix, iy=iy, method=s.method, dt=s.dt, t_end=s.t_end, window=s.window,
+                       lyap=s.lyap, engine=engine, delta=delta, history=history, ic=ic)
+            row["cache_key"] = cache_key(row)
+            rows.append(row)
     return rows
 

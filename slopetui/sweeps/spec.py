@@ -20,8 +20,19 @@ The TOML form (``slopetui submit spec.toml``)::
     t_end = 1e5
     window = 1000            # default min(1000, t_end / 2); stored explicitly
     lyap = true
+    history = "constant"     # m_x before t = 0: constant (eq. 19) or consistent
     [adaptive]               # optional, 2-D only: refine the phase diagram adaptively
     levels = 3               # coarse spacing 2**levels lattice steps (1..8)
+    [[initial]]              # optional, repeated: compute every point from each of these
+    delta = 1e-6             # (default: the sweep's delta)
+    [[initial]]
+    delta = 0.1
+    history = "consistent"   # constant, consistent, or run:ID (a stored run's final
+                             # state; default: the solver's history)
+
+With two or more ``[[initial]]`` conditions, each lattice point is computed once per
+condition (run column ``ic``), and the diagram shows per cell the common regime or
+"depends" (slopetui.sweeps.initial_dependence): the paper's A/B comparison in one map.
 
 With ``[adaptive]`` the lattice of x.num x y.num points is the *final* resolution:
 only a coarse lattice is computed first, then only where regimes change (see
@@ -61,9 +72,12 @@ MAX_RUNS = 1_000_000
 #: Longest sweep name (characters): it is one line of `status` and of the application.
 MAX_NAME = 200
 
-TOP_KEYS = {"name", "x", "y", "fixed", "solver", "adaptive"}
+TOP_KEYS = {"name", "x", "y", "fixed", "solver", "adaptive", "initial"}
 AXIS_KEYS = {"param", "start", "stop", "num", "spacing"}
-SOLVER_KEYS = {"method", "dt", "t_end", "window", "lyap"}
+SOLVER_KEYS = {"method", "dt", "t_end", "window", "lyap", "history"}
+INITIAL_KEYS = {"delta", "history"}
+#: Initial conditions of one sweep at most (each one multiplies its runs).
+MAX_INITIAL = 16
 ADAPTIVE_KEYS = {"levels"}
 #: Allowed refinement levels: 2**8 = 256 lattice steps between coarse points is already
 #: coarser than any useful first look (a 2-D sweep of MAX_RUNS points is 1000 x 1000).
@@ -164,6 +178,16 @@ class Axis:
 
 
 @dataclass(frozen=True)
+class InitialCondition:
+    """One start of every lattice point: the offset delta of eq. 19 (None: the sweep's)
+    and the history before t = 0 (None: the solver's; core.history names it, or run:ID
+    names a stored run's final state, which submission replaces by that state's name)."""
+
+    delta: float | None = None
+    history: str | None = None
+
+
+@dataclass(frozen=True)
 class SweepSpec:
     """A validated sweep. ``fixed`` holds the parameters that differ from Params()."""
 
@@ -174,11 +198,28 @@ class SweepSpec:
     solver: SolverSettings = field(default_factory=SolverSettings)
     #: Refinement levels of an adaptive phase diagram (None: every point is computed).
     adaptive_levels: int | None = None
+    #: The initial conditions every point is computed from (empty: the sweep's delta and
+    #: the solver's history, one run a point).
+    initial: tuple[InitialCondition, ...] = ()
+
+    @property
+    def n_lattice(self) -> int:
+        """Points of the lattice (for an adaptive sweep: of the final lattice)."""
+        return self.x.num * (self.y.num if self.y else 1)
 
     @property
     def n_runs(self) -> int:
-        """Points of the lattice (for an adaptive sweep: of the final lattice)."""
-        return self.x.num * (self.y.num if self.y else 1)
+        """Runs of the sweep: one per lattice point and initial condition."""
+        return self.n_lattice * max(1, len(self.initial))
+
+    @property
+    def conditions(self) -> tuple[tuple[float, str], ...]:
+        """(delta, history) of each initial condition, defaults filled in."""
+        if not self.initial:
+            return ((self.base.delta, self.solver.history),)
+        return tuple((self.base.delta if c.delta is None else c.delta,
+                      self.solver.history if c.history is None else c.history)
+                     for c in self.initial)
 
     @property
     def first_runs(self) -> int:
@@ -221,6 +262,9 @@ class SweepSpec:
             out["y"] = asdict(self.y)
         if self.adaptive_levels is not None:
             out["adaptive"] = {"levels": self.adaptive_levels}
+        if self.initial:
+            out["initial"] = [{k: v for k, v in asdict(c).items() if v is not None}
+                              for c in self.initial]
         return out
 
 
@@ -258,6 +302,8 @@ def _parse_solver(data: object) -> SolverSettings:
         if not isinstance(data["lyap"], bool):
             raise SpecError("solver.lyap", f"expected true or false, got {data['lyap']!r}")
         kw["lyap"] = data["lyap"]
+    if "history" in data:
+        kw["history"] = data["history"]
     try:
         settings = SolverSettings(**kw)
     except ParameterError as exc:
@@ -265,6 +311,47 @@ def _parse_solver(data: object) -> SolverSettings:
     if settings.dt is None:  # resolve now: the stored spec and the cache key need it
         settings = SolverSettings(**{**kw, "dt": DEFAULT_DT[settings.method]})
     return settings
+
+
+def _parse_initial(data: object, axes: list[Axis], adaptive: bool
+                   ) -> tuple[InitialCondition, ...]:
+    """The ``[[initial]]`` conditions: 1 to MAX_INITIAL tables of delta and history."""
+    from core.history import check_history
+    from slopetui.sweeps.carried import parse_history
+    if not isinstance(data, list) or not 1 <= len(data) <= MAX_INITIAL:
+        raise SpecError("initial", f"expected 1 to {MAX_INITIAL} tables [[initial]] with delta "
+                                   "and/or history")
+    if adaptive and len(data) > 1:
+        raise SpecError("initial", "an adaptive phase diagram takes one initial condition: "
+                                   "remove [adaptive] or keep one [[initial]]")
+    out = []
+    for i, item in enumerate(data):
+        where = f"initial[{i}]"
+        if not isinstance(item, Mapping):
+            raise SpecError(where, "expected a table with delta and/or history")
+        _unknown_keys(where, item, INITIAL_KEYS)
+        delta = None
+        if "delta" in item:
+            if any(a.param == "delta" for a in axes):
+                raise SpecError(f"{where}.delta", "delta is swept on an axis; remove it here")
+            delta = _number(f"{where}.delta", item["delta"])
+            try:
+                Params(delta=delta)
+            except ParameterError as exc:
+                raise SpecError(f"{where}.delta", str(exc)) from None
+        history = item.get("history")
+        if history is not None:
+            try:
+                if not (isinstance(history, str) and history.startswith("run:")):
+                    check_history(history)
+                else:
+                    parse_history(history)
+            except ParameterError as exc:
+                raise SpecError(f"{where}.history", str(exc)) from None
+        out.append(InitialCondition(delta, history))
+    if len(set(out)) < len(out):
+        raise SpecError("initial", "two initial conditions are the same")
+    return tuple(out)
 
 
 def _parse_adaptive(data: object, x: Axis, y: Axis | None) -> int:
@@ -364,9 +451,12 @@ def parse_spec(data: Mapping[str, Any], *, submitting: bool = False) -> SweepSpe
     axes = [x] + ([y] if y else [])
     name = _parse_name(data.get("name"), submitting) or _default_name(x, y)
     adaptive = data.get("adaptive")
+    initial = data.get("initial")
     spec = SweepSpec(name=name, x=x, y=y, fixed=_parse_fixed(data.get("fixed", {}), axes),
                      solver=_parse_solver(data.get("solver", {})),
-                     adaptive_levels=None if adaptive is None else _parse_adaptive(adaptive, x, y))
+                     adaptive_levels=None if adaptive is None else _parse_adaptive(adaptive, x, y),
+                     initial=() if initial is None else _parse_initial(initial, axes,
+                                                                       adaptive is not None))
     if spec.n_runs > MAX_RUNS:
         raise SpecError("x.num", f"{spec.n_runs} runs; at most {MAX_RUNS} per sweep")
     _check_points(spec, submitting)

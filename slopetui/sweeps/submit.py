@@ -7,17 +7,51 @@ final lattice's size: computed and inferred runs fill the lattice when it is ref
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 
 from core.jit_cache import source_digest
+from core.params import ParameterError
+from core.solve import make_grid
 from slopetui.store.database import Database
+from slopetui.store.initial_states import save_state
 from slopetui.store.sweep_rows import insert_sweep
 from slopetui.sweeps.adaptive import advance
+from slopetui.sweeps.carried import RUN_PREFIX, final_state_of, parse_history
 from slopetui.sweeps.refinement import coarse_points
 from slopetui.sweeps.run_rows import run_rows
-from slopetui.sweeps.spec import SweepSpec
+from slopetui.sweeps.spec import SpecError, SweepSpec
 
-__all__ = ["Submitted", "run_rows", "submit"]
+__all__ = ["Submitted", "resolve_histories", "run_rows", "submit"]
+
+
+def resolve_histories(db: Database, spec: SweepSpec) -> SweepSpec:
+    """The spec with every history run:ID of its initial conditions replaced by the name
+    of that run's final state, which is recomputed and kept (slopetui.store
+    .initial_states). The state is one delay of one run: every run of the sweep must
+    have its tau and step. Raises SpecError naming the condition otherwise."""
+    conditions = []
+    for i, c in enumerate(spec.initial):
+        if c.history is not None and c.history.startswith(RUN_PREFIX):
+            where = f"initial[{i}].history"
+            _, run_id = parse_history(c.history)
+            assert run_id is not None
+            try:
+                state = final_state_of(db, run_id)
+            except ParameterError as exc:
+                raise SpecError(where, str(exc)) from None
+            for _, _, p in spec.points([(0, 0), (spec.x.num - 1, (spec.y.num - 1) if spec.y else 0)]):
+                dt = make_grid(p, spec.solver).dt
+                if not (math.isclose(p.tau, state.tau, rel_tol=1e-12)
+                        and math.isclose(dt, state.dt, rel_tol=1e-9)):
+                    raise SpecError(where, f"run {run_id} has tau = {state.tau:g} and step "
+                                           f"{state.dt:g}; this sweep's runs have tau = "
+                                           f"{p.tau:g}, step {dt:g}: its final state is one "
+                                           "delay long and fits only runs with its tau and step")
+            save_state(db, state.name, state.to_bytes(), state.tau, state.dt, run_id)
+            c = replace(c, history=state.name)
+        conditions.append(c)
+    return replace(spec, initial=tuple(conditions))
 
 
 @dataclass(frozen=True)
@@ -31,7 +65,10 @@ class Submitted:
 
 
 def submit(db: Database, spec: SweepSpec) -> Submitted:
-    """Insert the sweep and its runs; runs already computed take their earlier result."""
+    """Insert the sweep and its runs; runs already computed take their earlier result.
+    An initial condition whose history is run:ID starts from that run's final state,
+    recomputed and kept in the store first (resolve_histories)."""
+    spec = resolve_histories(db, spec)
     levels = spec.adaptive_levels
     engine = source_digest()
     if levels is None:

@@ -266,7 +266,8 @@ class RunDetailScreen(SlopeScreen[None]):
     def recompute(self, params: Params, settings: SolverSettings, generation: int) -> None:
         worker = get_current_worker()
         try:
-            traces = compute_traces(params, settings)
+            traces = compute_traces(params, settings,
+                                    None if self.run is None else self.run.carried_state())
         except Exception as exc:  # a failed integration is reported, never a traceback
             if not worker.is_cancelled:
                 self.post_message(TracesFailed(generation, cause_of(exc)))

@@ -19,6 +19,7 @@ from slopetui.display_text import terminal_safe
 from slopetui.sweeps import fold_overlay
 from slopetui.sweeps.diagram import SweepDiagram, load_diagram, plane_hopf
 from slopetui.sweeps.hopf_plane import Curve
+from slopetui.sweeps.initial_dependence import condition_notes, drawn
 from slopetui.sweeps.progress import SweepProgress, format_eta, sweep_progress
 from slopetui.sweeps.spec import SweepSpec
 from slopetui.tui.messages import RunChosen, StoreFailed
@@ -41,10 +42,11 @@ def grid_data(d: SweepDiagram, hopf: Curve | None, fold: Curve | None = None) ->
     spec = d.spec
     assert spec.y is not None
     x, y = spec.x, spec.y
+    shown = drawn(d)  # several initial conditions: their map (sweeps.initial_dependence)
     return GridData(x.param, y.param, x.values(), y.values(), x.spacing == "log",
-                    y.spacing == "log", {(r.ix, r.iy): (r.id, r.regime) for r in d.runs}, hopf,
-                    frozenset((r.ix, r.iy) for r in d.runs if r.inferred),
-                    spec.adaptive_levels is not None, fold)
+                    y.spacing == "log", {(r.ix, r.iy): (r.id, r.regime) for r in shown.runs},
+                    hopf, frozenset((r.ix, r.iy) for r in shown.runs if r.inferred),
+                    spec.adaptive_levels is not None, fold, condition_notes(d))
 
 
 class FoldCancelled(Exception):

@@ -64,6 +64,8 @@ class GridData:
     adaptive: bool = False
     #: The fold-of-cycles curve (k, tau) of a (k, tau) plane, once computed.
     fold: tuple[np.ndarray, np.ndarray] | None = None
+    #: A sweep of several initial conditions: per cell, what each one ended in.
+    notes: dict[tuple[int, int], str] = field(default_factory=dict)
 
     @property
     def n_unqueued(self) -> int:
@@ -273,10 +275,12 @@ class PhaseGrid(Widget, can_focus=True):
         found = self.cursor_run()
         if found is not None:
             run_id, x, y, regime = found
-            how = ", inferred" if self._center_run(*cursor, sx, sy) in d.inferred else ""
+            cell = self._center_run(*cursor, sx, sy)
+            how = ", inferred" if cell in d.inferred else ""
             label = terminal_safe(regime or "pending")  # stored text
+            which = f" [{terminal_safe(d.notes[cell])}]" if cell in d.notes else ""
             out.append(f"{d.x_param} = {x:.5g}, {d.y_param} = {y:.5g}: "
-                       f"{label}{how} (run {run_id}; enter opens it)",
+                       f"{label}{how}{which} (run {run_id}; enter opens it)",
                        Style(bold=True))
         return out
 
