@@ -240,3 +240,30 @@ def test_no_color_keeps_the_regimes_apart_by_marker(db, monkeypatch):
             assert ". sliding (" in str(text) and "o oscillatory (" in str(text)
 
     run(scenario)
+
+
+def test_the_form_takes_a_history_and_a_list_of_deltas(db):
+    """Two deltas make every point twice (the map of where they differ); a bad delta in
+    the list is marked and writes nothing; the history goes on every run."""
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            form = await open_form(app, pilot)
+            fill(app, {"x-param": "k", "x-start": "3", "x-stop": "9", "x-num": "4",
+                       "y-param": "tau", "y-start": "1", "y-stop": "4", "y-num": "3",
+                       "solver-method": "rk4", "solver-dt": "0.01", "solver-t_end": "500",
+                       "solver-window": "100", "initial-deltas": "1e-6, x"})
+            await pilot.pause()
+            assert "initial[1].delta" in str(form.query_one("#form-error").render())
+            assert form.query_one("#initial-deltas").has_class("-invalid")
+            fill(app, {"initial-deltas": "1e-6, 0.1", "solver-history": "consistent"})
+            await pilot.pause()
+            assert "24 runs" in str(form.query_one("#estimate").render())
+            await pilot.press("ctrl+s")
+            await wait_until(pilot, lambda: isinstance(app.screen, SweepsScreen))
+        with db.sessions() as s:
+            runs = list(s.scalars(select(Run)))
+        assert sorted({(r.ic, r.delta) for r in runs}) == [(0, 1e-6), (1, 0.1)]
+        assert {r.history for r in runs} == {"consistent"} and len(runs) == 24
+
+    run(scenario)

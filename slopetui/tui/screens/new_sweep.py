@@ -29,6 +29,7 @@ from textual.widgets import (
 )
 
 from core import METHODS, PARAM_NAMES, Params, friction_warnings
+from core.history import HISTORIES
 from slopetui.sweeps.estimate import describe
 from slopetui.sweeps.presets import BY_KEY, PRESETS
 from slopetui.sweeps.spec import CONFIRM_ABOVE_RUNS, SpecError, SweepSpec, parse_spec
@@ -128,6 +129,14 @@ class NewSweepScreen(SlopeScreen[int | None]):
                 Input("1000", compact=True, id="solver-window", classes="num"),
                 Checkbox("λmax", value=True, compact=True, id="solver-lyap"),
                 classes="form-row")
+            yield Horizontal(
+                Label("start:", classes="row-label"),
+                Select([(h, h) for h in HISTORIES], value="constant", allow_blank=False,
+                       compact=True, id="solver-history", classes="spacing"),
+                Label("δ list", classes="param-label"),
+                Input(placeholder="(the fixed δ) e.g. 1e-6, 0.1: a map of where they differ",
+                      compact=True, id="initial-deltas"),
+                classes="form-row")
             yield Static("", id="preset-note")
             yield Static("", id="estimate")
             yield Static("", id="form-error")
@@ -187,8 +196,12 @@ class NewSweepScreen(SlopeScreen[int | None]):
                           "t_end": self._text("solver-t_end"),
                           "window": self._text("solver-window"),
                           "lyap": self.query_one("#solver-lyap", Checkbox).value}
+        data["solver"]["history"] = self._choice("solver-history")
         if self._text("adaptive-levels").strip():
             data["adaptive"] = {"levels": self._text("adaptive-levels").strip()}
+        deltas = [d.strip() for d in self._text("initial-deltas").split(",") if d.strip()]
+        if deltas:  # each lattice point from each delta: the map of where they differ
+            data["initial"] = [{"delta": d} for d in deltas]
         return data
 
     def validate_form(self) -> SweepSpec | None:
@@ -219,6 +232,8 @@ class NewSweepScreen(SlopeScreen[int | None]):
     def _mark_invalid(self, field: str) -> None:
         section, _, name = field.partition(".")
         ids = {f"{section}-{name}"}
+        if section.startswith("initial"):  # initial, initial[2], initial[2].delta
+            ids = {"initial-deltas"}
         if section == "adaptive":  # "adaptive" alone: a 1-D sweep cannot be adaptive
             ids = {"adaptive-levels"}
         if section in ("x", "y") and name in PARAM_NAMES:  # a bad value on the axis
