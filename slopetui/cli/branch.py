@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import shutil
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from slopetui.cli.continuation import print_bifurcations, print_point
 from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.cli.run import json_safe
 
 if TYPE_CHECKING:
     from slopetui.sweeps.branches import StoredBranch
@@ -31,10 +31,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(handler=handle)
 
 
-def _json_safe(value: Any) -> Any:
-    """NaN and infinities as null: a stored value is finite or absent."""
-    return None if isinstance(value, float) and not math.isfinite(value) else value
-
 
 def _found(branch: StoredBranch) -> str:
     if branch.bifurcations:
@@ -48,7 +44,7 @@ def _listing(args: argparse.Namespace) -> int:
     branches = listing(open_db(args))
     if args.json:
         print(json.dumps({"continuations": [
-            {k: _json_safe(v) for k, v in b.summary().items()} for b in branches]}))
+            {k: json_safe(v) for k, v in b.summary().items()} for b in branches]}))
         return 0
     if not branches:
         print("no continuations yet: slopetui continue --help (with --submit)")
@@ -70,7 +66,7 @@ def _one(args: argparse.Namespace) -> int:
         raise UsageError(f"no continuation {args.id} in this store (slopetui branch lists them)")
     row = branch.row
     if args.json:
-        print(json.dumps({**{k: _json_safe(v) for k, v in branch.summary().items()},
+        print(json.dumps({**{k: json_safe(v) for k, v in branch.summary().items()},
                           "branch": branch.points, "bifurcations": branch.bifurcations}))
         return 0
     if args.plot:

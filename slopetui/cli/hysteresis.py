@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.cli.options import UsageError, add_db_option, open_db
 from slopetui.cli.orbit import add_point_options, point_of
+from slopetui.cli.run import json_safe
 
 if TYPE_CHECKING:
     from core.hysteresis import WarmPoint
@@ -153,10 +154,6 @@ def _submit(args: argparse.Namespace, params: Params, dt: float, start: float, s
     return 0
 
 
-def _json_safe(value: Any) -> Any:
-    return None if isinstance(value, float) and not math.isfinite(value) else value
-
-
 def _show(args: argparse.Namespace) -> int:
     from slopetui.sweeps.hysteresis_runs import hysteresis_of
     sweep = hysteresis_of(open_db(args), args.show)
@@ -164,7 +161,7 @@ def _show(args: argparse.Namespace) -> int:
         raise UsageError(f"no hysteresis sweep {args.show} in this store")
     row, param = sweep.row, sweep.param
     if args.json:
-        print(json.dumps({**{k: _json_safe(v) for k, v in sweep.summary().items()},
+        print(json.dumps({**{k: json_safe(v) for k, v in sweep.summary().items()},
                           "up": [record(p) for p in sweep.up],
                           "down": [record(p) for p in sweep.down]}))
         return 0

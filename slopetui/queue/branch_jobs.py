@@ -2,7 +2,8 @@
 computed point by point with each point saved as soon as it is known, resumed from the
 saved points by whoever takes it over, finished with its bifurcations.
 
-The policy beside the runs' (slopetui.queue.jobs):
+The policy beside the runs' (slopetui.queue.jobs; what a step in the compute thread
+comes to, shared with hysteresis sweeps, is slopetui.queue.thread_steps):
 
 * A worker claims a continuation before runs (slopetui.queue.worker_process): a branch is
   asked for interactively and takes one worker for seconds to minutes, while a sweep's
@@ -20,17 +21,14 @@ The policy beside the runs' (slopetui.queue.jobs):
 from __future__ import annotations
 
 import logging
-import time
-import traceback
-from collections.abc import Callable
-from concurrent.futures import Future
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Protocol, TypeVar
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from core.jit_cache import source_digest
 from core.params import PARAM_NAMES, Params
+from slopetui.queue.thread_steps import HeldJob, Runner, Stops
 from slopetui.store import branch_rows
 from slopetui.store.database import Database
 
@@ -39,16 +37,6 @@ if TYPE_CHECKING:  # scipy and numba: loaded by the worker that computes a branc
     from core.continuation import Branch
 
 log = logging.getLogger("slopetui.worker")
-
-T = TypeVar("T")
-#: Runs a function in the worker's compute thread and waits for it: its Future once done,
-#: None when an abort came first (the function is left running).
-Runner = Callable[[Callable[[], Any]], "Future[Any] | None"]
-
-
-class Stops(Protocol):
-    def stopping(self) -> bool: ...
-
 
 @dataclass(frozen=True)
 class BranchJob:
@@ -119,30 +107,10 @@ def bifurcation_fields(bif: Any) -> dict[str, Any]:
             "mu_re": bif.multiplier.real, "mu_im": bif.multiplier.imag}
 
 
-def _timed(fn: Callable[[], T]) -> Callable[[], tuple[T, float]]:
-    """``fn`` returning also the CPU time its thread spent on it (s)."""
-    def run() -> tuple[T, float]:
-        t0 = time.thread_time()
-        out = fn()
-        return out, time.thread_time() - t0
-    return run
-
-
-def _error(db: Database, wid: str, job: BranchJob, error: BaseException,
-           max_attempts: int) -> None:
+def _no_branch(error: BaseException) -> str | None:
+    """No orbit to start from is an answer, not a crash: recorded at once, no retry."""
     from core.orbit import OrbitError
-    give_up = isinstance(error, OrbitError) or job.attempts >= max_attempts
-    text = (f"no branch: {error}" if isinstance(error, OrbitError)
-            else "".join(traceback.format_exception(error)).strip())
-    if branch_rows.fail(db, job.id, wid, text, give_up=give_up):
-        log.error("continuation %d %s: %s", job.id,
-                  "failed" if give_up else "raised, back to the queue", error)
-
-
-def _give_back(db: Database, wid: str, job: BranchJob, why: str) -> None:
-    released = branch_rows.release(db, job.id, wid)
-    log.info("continuation %d given back to the queue (%s)%s", job.id, why,
-             "" if released else "; its lease had already been taken over")
+    return f"no branch: {error}" if isinstance(error, OrbitError) else None
 
 
 def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
@@ -160,12 +128,11 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
         branch, hopf = start(spec)
         return branch, None if hopf is None else (hopf.value, hopf.period)
 
-    future = run(_timed(begin))
-    if future is None:
-        return _give_back(db, wid, job, "abort")
-    if (error := future.exception()) is not None:
-        return _error(db, wid, job, error, max_attempts)
-    (branch, hopf), spent = future.result()
+    held = HeldJob(db, wid, job.id, job.attempts, "continuation", branch_rows, run, control,
+                   max_attempts, _no_branch)
+    if (begun := held.step(begin)) is None:
+        return
+    (branch, hopf), spent = begun
     log.info("continuation %d in %s: %s (%d saved points)", job.id, spec.name,
              "resumed" if saved else "started", len(saved))
 
@@ -174,14 +141,11 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
 
     check_end(branch, stop)
     while True:
-        if control.stopping():
-            return _give_back(db, wid, job, "shutdown")
-        future = run(_timed(lambda: step(branch, stop, spec.max_points, MIN_STEP)))
-        if future is None:
-            return _give_back(db, wid, job, "abort")
-        if (error := future.exception()) is not None:
-            return _error(db, wid, job, error, max_attempts)
-        point, took = future.result()
+        if held.stopped():
+            return
+        if (stepped := held.step(lambda: step(branch, stop, spec.max_points, MIN_STEP))) is None:
+            return
+        point, took = stepped
         spent += took
         if point is None:
             break
@@ -190,12 +154,9 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
             log.warning("continuation %d: lease lost; the point is not saved", job.id)
             return
         spent = 0.0
-    future = run(_timed(lambda: bifurcations(branch)))
-    if future is None:
-        return _give_back(db, wid, job, "abort")
-    if (error := future.exception()) is not None:
-        return _error(db, wid, job, error, max_attempts)
-    found, took = future.result()
+    if (located := held.step(lambda: bifurcations(branch))) is None:
+        return
+    found, took = located
     critical = criticality(branch.points) if spec.from_hopf else None
     if branch_rows.finish(db, job.id, wid, branch.end, critical, spent + took,
                           [bifurcation_fields(b) for b in found]):

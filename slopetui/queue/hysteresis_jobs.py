@@ -3,7 +3,8 @@ computed point by point (core.hysteresis.point) with each point saved as soon as
 known, with the state it hands over, resumed from the saved points by whoever takes it
 over, finished with where each branch changes regime.
 
-The policy is the continuations' (slopetui.queue.branch_jobs):
+The policy is the continuations' (slopetui.queue.branch_jobs; the steps' share in
+slopetui.queue.thread_steps):
 
 * A worker claims a hysteresis sweep after continuations and before runs
   (slopetui.queue.worker_process): it is asked for interactively.
@@ -28,18 +29,16 @@ from __future__ import annotations
 
 import logging
 import math
-import time
-import traceback
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import partial
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from core.jit_cache import source_digest
 from core.params import PARAM_NAMES, Params
-from slopetui.queue.branch_jobs import Runner, Stops
+from slopetui.queue.thread_steps import HeldJob, Runner, Stops
 from slopetui.store import hysteresis_rows
 from slopetui.store.database import Database
 
@@ -48,8 +47,6 @@ if TYPE_CHECKING:  # numba's kernels: loaded by the worker that computes a sweep
     from core.orbit import Grid
 
 log = logging.getLogger("slopetui.worker")
-
-T = TypeVar("T")
 
 
 @dataclass(frozen=True)
@@ -143,30 +140,6 @@ def changes(rows: Sequence[Any]) -> tuple[float | None, float | None]:
     return change(up), change(down)
 
 
-def _timed(fn: Callable[[], T]) -> Callable[[], tuple[T, float]]:
-    """``fn`` returning also the CPU time its thread spent on it (s)."""
-    def run() -> tuple[T, float]:
-        t0 = time.thread_time()
-        out = fn()
-        return out, time.thread_time() - t0
-    return run
-
-
-def _error(db: Database, wid: str, job: HysteresisJob, error: BaseException,
-           max_attempts: int) -> None:
-    give_up = job.attempts >= max_attempts
-    text = "".join(traceback.format_exception(error)).strip()
-    if hysteresis_rows.fail(db, job.id, wid, text, give_up=give_up):
-        log.error("hysteresis sweep %d %s: %s", job.id,
-                  "failed" if give_up else "raised, back to the queue", error)
-
-
-def _give_back(db: Database, wid: str, job: HysteresisJob, why: str) -> None:
-    released = hysteresis_rows.release(db, job.id, wid)
-    log.info("hysteresis sweep %d given back to the queue (%s)%s", job.id, why,
-             "" if released else "; its lease had already been taken over")
-
-
 def _one(spec: HysteresisSpec, g: Grid, idx: int, state: np.ndarray
          ) -> tuple[WarmPoint, np.ndarray | None]:
     """Point idx from ``state``: the point and the state it hands over, or (its run left
@@ -213,17 +186,16 @@ def compute(db: Database, wid: str, job: HysteresisJob, run: Runner, control: St
         state = initial_state(spec.params.with_(**{spec.name: first}), g)
     log.info("hysteresis sweep %d in %s: %s (%d saved points)", job.id, spec.name,
              "resumed" if saved else "started", len(saved))
+    held = HeldJob(db, wid, job.id, job.attempts, "hysteresis sweep", hysteresis_rows, run,
+                   control, max_attempts)
     spent = 0.0
     idx = len(saved)
     while state is not None and idx < total:
-        if control.stopping():
-            return _give_back(db, wid, job, "shutdown")
-        future = run(_timed(partial(_one, spec, g, idx, state)))
-        if future is None:
-            return _give_back(db, wid, job, "abort")
-        if (error := future.exception()) is not None:
-            return _error(db, wid, job, error, max_attempts)
-        (pt, state), took = future.result()
+        if held.stopped():
+            return None
+        if (stepped := held.step(partial(_one, spec, g, idx, state))) is None:
+            return None
+        (pt, state), took = stepped
         direction, _ = spec.plan(idx)
         if not hysteresis_rows.save_point(db, job.id, wid,
                                           point_fields(idx, direction, pt, state),

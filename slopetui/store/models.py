@@ -6,7 +6,7 @@ every change to it goes through a migration in ``migrations/versions``."""
 from __future__ import annotations
 
 from datetime import datetime
-from typing import Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from sqlalchemy import (
     JSON,
@@ -15,6 +15,7 @@ from sqlalchemy import (
     DateTime,
     Double,
     ForeignKey,
+    FromClause,
     Index,
     Integer,
     LargeBinary,
@@ -192,7 +193,41 @@ class Worker(Base):
     jobs_done: Mapped[int] = mapped_column(default=0)
 
 
-class Continuation(Base):
+class LeasedJob:
+    """The queue columns of a job computed point by point under a lease (continuations,
+    hysteresis sweeps): the runs' columns of the same names, documented there. Only the
+    columns: ``Run`` keeps its own, column by column, as the queue's hot path.
+
+    SQLAlchemy places a mixin's columns after the class's own, while the migrations'
+    tables have them before the results: harmless, as rows are read by column name and
+    autogenerate does not compare column order."""
+
+    status: Mapped[str] = mapped_column(String(16), default="queued")
+    worker_id: Mapped[str | None] = mapped_column(String(128))
+    attempts: Mapped[int] = mapped_column(default=0)
+    created_at: Mapped[datetime] = mapped_column(DateTime, server_default=func.now())
+    started_at: Mapped[datetime | None] = mapped_column(DateTime)
+    heartbeat_at: Mapped[datetime | None] = mapped_column(DateTime)
+    finished_at: Mapped[datetime | None] = mapped_column(DateTime)
+    error: Mapped[str | None] = mapped_column(Text)
+
+    if TYPE_CHECKING:
+        # Defined by each job class itself (the id first, the compute time among its
+        # results), and used by the lease statements (slopetui.store.job_leases).
+        __table__: ClassVar[FromClause]
+        id: Mapped[int]
+        runtime_s: Mapped[float]
+
+    @staticmethod
+    def queue_args(*more: Any) -> tuple[Any, ...]:
+        """A job table's ``__table_args__``: the status check and the claim's index
+        ("the oldest queued"), then ``more``. New objects each call: a constraint belongs
+        to one table, and the naming convention names it after that table."""
+        return (CheckConstraint(_one_of("status", RUN_STATUSES), name="status"),
+                Index(None, "status", "id"), *more)
+
+
+class Continuation(LeasedJob, Base):
     """A continuation of periodic orbits in one parameter (core.branch_start.BranchSpec):
     a job of the queue like a run, whose branch points are saved as they are computed, so
     that a worker taking it over resumes from the last one."""
@@ -222,15 +257,7 @@ class Continuation(Base):
     max_step: Mapped[float] = mapped_column(Double)
     engine: Mapped[str] = mapped_column(String(16))
 
-    # The queue (as for runs).
-    status: Mapped[str] = mapped_column(String(16), default="queued")
-    worker_id: Mapped[str | None] = mapped_column(String(128))
-    attempts: Mapped[int] = mapped_column(default=0)
-    created_at: Mapped[datetime] = mapped_column(DateTime, server_default=func.now())
-    started_at: Mapped[datetime | None] = mapped_column(DateTime)
-    heartbeat_at: Mapped[datetime | None] = mapped_column(DateTime)
-    finished_at: Mapped[datetime | None] = mapped_column(DateTime)
-    error: Mapped[str | None] = mapped_column(Text)
+    # The queue: status, worker_id, attempts and the times from LeasedJob.
 
     # The result: the Hopf point (of a "hopf" start), criticality, why the branch ended,
     # points saved so far, compute time over every attempt (s).
@@ -241,11 +268,8 @@ class Continuation(Base):
     n_points: Mapped[int] = mapped_column(default=0, server_default="0")
     runtime_s: Mapped[float] = mapped_column(Double, default=0.0, server_default="0")
 
-    __table_args__ = (
-        CheckConstraint(_one_of("status", RUN_STATUSES), name="status"),
-        CheckConstraint(_one_of("start", ("hopf", "orbit")), name="start"),
-        Index(None, "status", "id"),
-    )
+    __table_args__ = LeasedJob.queue_args(
+        CheckConstraint(_one_of("start", ("hopf", "orbit")), name="start"))
 
 
 class BranchPoint(Base):
@@ -293,7 +317,7 @@ class Bifurcation(Base):
     mu_im: Mapped[float] = mapped_column(Double)
 
 
-class HysteresisSweep(Base):
+class HysteresisSweep(LeasedJob, Base):
     """A hysteresis (warm-started) sweep along one parameter, up then down
     (core.hysteresis): a job of the queue like a continuation, whose points are saved as
     they are computed, each with the state it hands over, so that a worker taking it over
@@ -323,15 +347,7 @@ class HysteresisSweep(Base):
     window: Mapped[float] = mapped_column(Double)
     engine: Mapped[str] = mapped_column(String(16))
 
-    # The queue (as for runs and continuations).
-    status: Mapped[str] = mapped_column(String(16), default="queued")
-    worker_id: Mapped[str | None] = mapped_column(String(128))
-    attempts: Mapped[int] = mapped_column(default=0)
-    created_at: Mapped[datetime] = mapped_column(DateTime, server_default=func.now())
-    started_at: Mapped[datetime | None] = mapped_column(DateTime)
-    heartbeat_at: Mapped[datetime | None] = mapped_column(DateTime)
-    finished_at: Mapped[datetime | None] = mapped_column(DateTime)
-    error: Mapped[str | None] = mapped_column(Text)
+    # The queue: status, worker_id, attempts and the times from LeasedJob.
 
     # The result: where each branch changes regime (NULL: it keeps it, or not done yet),
     # points saved so far, compute time over every attempt (s).
@@ -340,10 +356,7 @@ class HysteresisSweep(Base):
     n_done: Mapped[int] = mapped_column(default=0, server_default="0")
     runtime_s: Mapped[float] = mapped_column(Double, default=0.0, server_default="0")
 
-    __table_args__ = (
-        CheckConstraint(_one_of("status", RUN_STATUSES), name="status"),
-        Index(None, "status", "id"),
-    )
+    __table_args__ = LeasedJob.queue_args()
 
 
 class HysteresisPoint(Base):

@@ -5,7 +5,7 @@ as plain records. No UI here, and no SQL (slopetui.store.branch_rows owns it).""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from slopetui.queue import branch_jobs
 from slopetui.store import branch_rows
@@ -16,34 +16,23 @@ from slopetui.sweeps.branch_records import (
     bifurcation_record,
     point_record,
 )
+from slopetui.sweeps.stored_jobs import StoredJob
 
 if TYPE_CHECKING:
     from core.branch_start import BranchSpec
 
 @dataclass(frozen=True)
-class StoredBranch:
+class StoredBranch(StoredJob):
     """A continuation as stored: its row (parameters, status, Hopf point, criticality,
     why it ended), its points so far and, once done, its bifurcations."""
 
-    row: Any
+    SUMMARY_KEYS = ("id", "param", "start", "status", "from_run", "dt", "end_value",
+                    "max_points", "max_step", "hopf_value", "hopf_period", "criticality",
+                    "end_reason", "n_points", "runtime_s", "error", "attempts", "a", "b", "c",
+                    "d", "k", "v", "tau", "delta")
+
     points: list[PointRecord]
     bifurcations: list[BifurcationRecord]
-
-    @property
-    def id(self) -> int:
-        return int(self.row["id"])
-
-    @property
-    def param(self) -> str:
-        return str(self.row["param"])
-
-    def summary(self) -> dict[str, Any]:
-        """The row's fields a reader wants (no worker bookkeeping)."""
-        keys = ("id", "param", "start", "status", "from_run", "dt", "end_value", "max_points",
-                "max_step", "hopf_value", "hopf_period", "criticality", "end_reason",
-                "n_points", "runtime_s", "error", "attempts", "a", "b", "c", "d", "k", "v",
-                "tau", "delta")
-        return {key: self.row[key] for key in keys}
 
 
 def submit(db: Database, spec: BranchSpec, from_run: int | None = None) -> int:

@@ -11,6 +11,7 @@ from slopetui.queue import hysteresis_jobs
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
 from slopetui.store import hysteresis_rows
 from slopetui.store.database import Database
+from slopetui.sweeps.stored_jobs import StoredJob
 
 #: value, regime, amplitude (peak to peak of m_y), detail, growth (1 / time unit), jumped,
 #: direction ("up" or "down"); NaN where core.hysteresis.WarmPoint has NaN.
@@ -18,20 +19,15 @@ WarmRecord = dict[str, Any]
 
 
 @dataclass(frozen=True)
-class StoredHysteresis:
+class StoredHysteresis(StoredJob):
     """A hysteresis sweep as stored: its row (parameters, status, where each branch
     changes regime) and its points so far, in sweep order (up, then down)."""
 
-    row: Any
+    SUMMARY_KEYS = ("id", "param", "status", "start", "stop", "n_points", "n_done", "dt",
+                    "t_settle", "window", "onset_up", "offset_down", "runtime_s", "error",
+                    "attempts", "a", "b", "c", "d", "k", "v", "tau", "delta")
+
     points: list[WarmRecord]
-
-    @property
-    def id(self) -> int:
-        return int(self.row["id"])
-
-    @property
-    def param(self) -> str:
-        return str(self.row["param"])
 
     @property
     def up(self) -> list[WarmRecord]:
@@ -40,13 +36,6 @@ class StoredHysteresis:
     @property
     def down(self) -> list[WarmRecord]:
         return [p for p in self.points if p["direction"] == "down"]
-
-    def summary(self) -> dict[str, Any]:
-        """The row's fields a reader wants (no worker bookkeeping)."""
-        keys = ("id", "param", "status", "start", "stop", "n_points", "n_done", "dt",
-                "t_settle", "window", "onset_up", "offset_down", "runtime_s", "error",
-                "attempts", "a", "b", "c", "d", "k", "v", "tau", "delta")
-        return {key: self.row[key] for key in keys}
 
 
 def warm_record(row: Any) -> WarmRecord:
