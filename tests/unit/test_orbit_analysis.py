@@ -78,6 +78,7 @@ def test_the_fold_curve_is_drawn_inside_the_plane_only(db):
     assert "fold of cycles" in text and labels and max(labels) <= 10.5
 
 
+@pytest.mark.slow  # two continuations to their folds: 5-12 s, out of the fast loop
 def test_the_fold_curve_says_each_tau_as_it_goes():
     """The report's analysis takes minutes; each fold is said when found."""
     from core import Params
