@@ -4,8 +4,9 @@ regime depends on delta, where they lie, and the bistable band between the Hopf 
 the fold of cycles (continuation) drawn over the plane and counted against them.
 
 The fold curve of Fig. 5's (k, tau) plane comes from the orbit analysis; those of the
-friction planes (Figs. 6, 8, 9: a, b, c at k = 12) are computed here, at every
-FOLD_TAU_STRIDE-th tau of the figure's axis (and its last), and interpolated between.
+friction planes (Figs. 6, 8, 9: a, b, c at k = 12) are computed here, at every tau of the
+figure's axis up to FOLD_DENSE_TAU and every FOLD_TAU_STRIDE-th beyond (and its last),
+and interpolated between.
 The (d, tau) plane of Fig. 10 has no fold curve: its Hopf point in d has no starting
 guess (core.hopf_start), so its map is drawn without a band.
 """
@@ -31,10 +32,13 @@ from slopetui.sweeps.initial_dependence import (
 
 #: The figures whose panels A and B are compared, by preset key stem.
 MAP_FIGURES = ("fig5", "fig6", "fig8", "fig9", "fig10")
-#: Friction planes: the fold is computed at every this many taus of the figure's axis
-#: (the fold at tau = 20 in a costs up to ~90 s: all 40 taus of three planes would add
-#: half an hour to the report).
-FOLD_TAU_STRIDE = 4
+#: Friction planes: the fold is computed at every tau of the figure's axis up to
+#: FOLD_DENSE_TAU, and at every FOLD_TAU_STRIDE-th beyond. At small tau the fold moves
+#: fast and enters the planes: every 4th tau (0.1, 4.3, ...) missed that the fold in a is
+#: at 2.19 at tau = 1, and the band of Fig. 6 then held no cell, though 4 cells at tau =
+#: 1.15 depend on delta there. Beyond, it moves slowly, and costs most (up to ~90 s a
+#: tau at 20: every tau of three planes would add half an hour to the report).
+FOLD_DENSE_TAU, FOLD_TAU_STRIDE = 5.0, 4
 WIDTH, HEIGHT = 100, 30
 
 
@@ -52,7 +56,8 @@ def friction_folds(near: SweepDiagram, say: Say = None) -> list[FoldPoint]:
     """The fold of cycles in the plane's x parameter (a, b or c) at a subset of its taus."""
     assert near.spec.y is not None
     taus = [float(t) for t in near.spec.y.values()]
-    chosen = sorted({*taus[::FOLD_TAU_STRIDE], taus[-1]})
+    chosen = sorted({*(t for t in taus if t <= FOLD_DENSE_TAU), *taus[::FOLD_TAU_STRIDE],
+                     taus[-1]})
     name = near.spec.x.param
     out = []
     for point in fold_curve(near.spec.base, chosen, name=name):
