@@ -46,7 +46,7 @@ from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from concurrent.futures import wait as wait_futures
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from slopetui.queue import branch_jobs, defaults, hysteresis_jobs, jobs
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
@@ -54,6 +54,9 @@ from slopetui.queue.warm_up import watched_warm_up
 from slopetui.store.claims import queue_drained
 from slopetui.store.database import Database
 from slopetui.store.worker_rows import register_worker, unregister_worker
+
+if TYPE_CHECKING:  # numpy: loaded by the kernels, after the worker has started
+    from core.history import CarriedState
 
 log = logging.getLogger("slopetui.worker")
 
@@ -211,7 +214,7 @@ BATCHED_METHODS = frozenset({"euler"})
 Records = list[dict[str, Any]]
 
 
-def _compute_one(job: jobs.Job, carried: Any = None) -> Records:
+def _compute_one(job: jobs.Job, carried: CarriedState | None = None) -> Records:
     from core import run_point
     return [run_point(job.params, job.settings, carried).as_record()]
 
@@ -332,7 +335,8 @@ def _together(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadPoo
 
 def _process(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadPoolExecutor,
              control: Control, opts: WorkerOptions) -> None:
-    # claims batch only runs of the constant history (the batched kernels know no other)
+    # a batch of several holds runs of the constant history only (claims.claim_batch
+    # claims any other alone): the batched kernels know no other
     if len(batch) > 1 and batch[0].settings.method in BATCHED_METHODS:
         _together(db, wid, batch, executor, control, opts)
     else:
