@@ -14,11 +14,10 @@ No UI and no SQL: the report, ``show`` and the application draw what this comput
 
 from __future__ import annotations
 
+from bisect import bisect_right
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
-
-import numpy as np
 
 from core.regimes import DEPENDS
 from slopetui.sweeps.diagram import RunPoint, SweepDiagram
@@ -136,22 +135,27 @@ BandTest = Callable[[float, float], bool]
 
 
 def band_test(folds: Sequence[FoldPoint]) -> BandTest | None:
-    """Between the fold of cycles and the Hopf point at each tau with a fold, both
-    interpolated linearly in tau between the computed ones; outside their tau span, and
-    where the Hopf point is supercritical, no band. None when no tau has a fold. The band
-    lies on either side of the Hopf point (below it in k, above it in a and c)."""
-    known = sorted((f.second, f.fold, f.hopf) for f in folds if f.fold is not None)
-    if not known:
+    """Between the fold of cycles and the Hopf point, both interpolated linearly in tau
+    between two neighbouring computed taus that both have a fold; no band outside the
+    computed taus, nor between two taus of which one has none (a supercritical Hopf
+    point: at k = 12 the fold in a exists at tau = 1.15, not at 2.2 and 3.2, again from
+    4.3). None when no tau has a fold. The band lies on either side of the Hopf point
+    (below it in k, above it in a and c)."""
+    points = sorted((f.second, f.fold, f.hopf) for f in folds)
+    if not any(fold is not None for _, fold, _ in points):
         return None
-    taus = np.array([t for t, _, _ in known])
-    fold = np.array([f for _, f, _ in known])
-    hopf = np.array([h for _, _, h in known])
+    taus = [t for t, _, _ in points]
 
     def inside(x: float, tau: float) -> bool:
-        if not taus[0] <= tau <= taus[-1]:
+        i = bisect_right(taus, tau) - 1  # taus[i] <= tau
+        if i < 0 or (taus[i] != tau and i + 1 == len(taus)):
             return False
-        a, b = float(np.interp(tau, taus, fold)), float(np.interp(tau, taus, hopf))
-        return min(a, b) < x < max(a, b)
+        (t0, f0, h0), (t1, f1, h1) = points[i], points[i] if taus[i] == tau else points[i + 1]
+        if f0 is None or f1 is None:
+            return False
+        w = 0.0 if t1 == t0 else (tau - t0) / (t1 - t0)
+        fold, hopf = f0 + w * (f1 - f0), h0 + w * (h1 - h0)
+        return min(fold, hopf) < x < max(fold, hopf)
 
     return inside
 

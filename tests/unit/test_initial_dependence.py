@@ -70,3 +70,14 @@ def test_the_combined_map_draws_depends_cells():
                                 [FoldPoint(10.0, 6.1, 3.5, "subcritical")]))
     assert lines[0].startswith("3 of 16 cells (18.8%)")
     assert "3 of the 3 dependent cells lie in it" in lines[2]
+
+
+def test_no_band_is_drawn_across_a_supercritical_tau():
+    """Folds at tau = 1 and 4 with none at 2: the band exists near 1 and at 4, never
+    between 1 and 4 (interpolating across tau = 2 would invent one)."""
+    folds = [FoldPoint(1.0, -28.0, 2.9, "subcritical"), FoldPoint(2.0, 26.6, None, "supercritical"),
+             FoldPoint(4.0, 45.0, 45.1, "subcritical")]
+    inside = band_test(folds)
+    assert inside is not None
+    assert inside(1.0, 1.0) and not inside(1.0, 1.5) and not inside(30.0, 3.0)
+    assert inside(45.05, 4.0) and not inside(45.05, 4.5) and not inside(1.0, 0.5)
