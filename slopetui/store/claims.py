@@ -83,7 +83,12 @@ _COMPATIBLE = (select(Run.id).join(Sweep, Sweep.id == Run.sweep_id)
                .order_by(Run.id).limit(bindparam("n"))
                .with_for_update(skip_locked=True, of=Run))
 # Claimed, not started: no attempt charged, started_at NULL until begin (module docstring).
-_CLAIM_BATCH = (update(Run).where(Run.id.in_(_COMPATIBLE), Run.status == "queued")
+# The runs are selected and locked first, in a CTE, and the UPDATE takes what it picked:
+# with ``WHERE id IN (SELECT ... LIMIT n FOR UPDATE SKIP LOCKED)`` PostgreSQL may evaluate
+# the sub-select again for each row it updates, and asking for 1 run returned all 50
+# queued (tests/integration/test_claims_postgres.py; 17 to 43 with two pools).
+_PICKED = _COMPATIBLE.cte("picked")
+_CLAIM_BATCH = (update(Run).where(Run.id == _PICKED.c.id, Run.status == "queued")
                 .values(status="running", worker_id=bindparam("wid"), started_at=None,
                         heartbeat_at=db_now())
                 .returning(*_CLAIM_COLUMNS))
