@@ -5,6 +5,8 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 from core import run_point
 from slopetui.queue import jobs
@@ -72,3 +74,23 @@ def finish_adaptive(db: Database, sweep_id: int, worker: str = "test") -> int:
             if s.get(Sweep, sweep_id).refined:
                 return n
     raise AssertionError(f"adaptive sweep {sweep_id} did not finish refining")
+
+
+@contextmanager
+def pg_database(server_url: str, name: str) -> Iterator[str]:
+    """A database ``name`` of its own on the PostgreSQL server at ``server_url`` (a role
+    that may create databases; .ci/run starts such a server): its URL, dropped afterwards
+    (other tests may share the server)."""
+    from sqlalchemy import create_engine
+    from sqlalchemy.engine import make_url
+
+    admin = create_engine(server_url, isolation_level="AUTOCOMMIT")
+    with admin.connect() as conn:
+        conn.exec_driver_sql(f"DROP DATABASE IF EXISTS {name}")
+        conn.exec_driver_sql(f"CREATE DATABASE {name}")
+    try:
+        yield make_url(server_url).set(database=name).render_as_string(hide_password=False)
+    finally:
+        with admin.connect() as conn:
+            conn.exec_driver_sql(f"DROP DATABASE IF EXISTS {name} WITH (FORCE)")
+        admin.dispose()

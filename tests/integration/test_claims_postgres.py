@@ -17,29 +17,9 @@ import pytest
 from slopetui.queue import jobs
 from slopetui.store import open_store
 from slopetui.store.database import Database
-from tests.support import submit_quick
+from tests.support import pg_database, submit_quick
 
 PG_URL = os.environ.get("SLOPETUI_TEST_PG")
-
-
-def _pg_database() -> Iterator[str]:
-    pytest.importorskip("psycopg")
-    if not PG_URL:
-        pytest.skip("set SLOPETUI_TEST_PG to a PostgreSQL URL")
-    from sqlalchemy import create_engine
-    from sqlalchemy.engine import make_url
-
-    name = f"slopetui_claims_{os.getpid()}"
-    admin = create_engine(PG_URL, isolation_level="AUTOCOMMIT")
-    with admin.connect() as conn:
-        conn.exec_driver_sql(f"DROP DATABASE IF EXISTS {name}")
-        conn.exec_driver_sql(f"CREATE DATABASE {name}")
-    try:
-        yield make_url(PG_URL).set(database=name).render_as_string(hide_password=False)
-    finally:
-        with admin.connect() as conn:
-            conn.exec_driver_sql(f"DROP DATABASE IF EXISTS {name} WITH (FORCE)")
-        admin.dispose()
 
 
 @pytest.fixture(params=["sqlite", "postgresql"])
@@ -49,7 +29,10 @@ def store(request: pytest.FixtureRequest, tmp_path) -> Iterator[Database]:
         yield db
         db.dispose()
         return
-    for url in _pg_database():
+    pytest.importorskip("psycopg")
+    if not PG_URL:
+        pytest.skip("set SLOPETUI_TEST_PG to a PostgreSQL URL")
+    with pg_database(PG_URL, f"slopetui_claims_{os.getpid()}") as url:
         db = open_store(url)
         yield db
         db.dispose()

@@ -18,6 +18,7 @@ from sqlalchemy import Engine
 
 from slopetui.store import open_store
 from slopetui.store.read_query import QueryCancelled, QueryError, QueryTimedOut, ReadQuery
+from tests.support import pg_database
 
 PG_URL = os.environ.get("SLOPETUI_TEST_PG")
 pytest.importorskip("psycopg")
@@ -27,20 +28,9 @@ pytestmark = pytest.mark.skipif(not PG_URL, reason="set SLOPETUI_TEST_PG to a Po
 @pytest.fixture(scope="module")
 def pg_store() -> Iterator[str]:
     """A database of its own on the server (other tests may share the server's)."""
-    from sqlalchemy import create_engine
-    from sqlalchemy.engine import make_url
-
-    name = f"slopetui_sql_{os.getpid()}"
-    admin = create_engine(PG_URL, isolation_level="AUTOCOMMIT")
-    with admin.connect() as conn:
-        conn.exec_driver_sql(f"DROP DATABASE IF EXISTS {name}")
-        conn.exec_driver_sql(f"CREATE DATABASE {name}")
-    try:
-        yield make_url(PG_URL).set(database=name).render_as_string(hide_password=False)
-    finally:
-        with admin.connect() as conn:
-            conn.exec_driver_sql(f"DROP DATABASE IF EXISTS {name} WITH (FORCE)")
-        admin.dispose()
+    assert PG_URL is not None  # the module is skipped without it
+    with pg_database(PG_URL, f"slopetui_sql_{os.getpid()}") as url:
+        yield url
 
 
 @pytest.fixture
