@@ -113,15 +113,10 @@ def print_bifurcations(param: str, found: Sequence[Mapping[str, Any]]) -> None:
 
 
 def _submit(args: argparse.Namespace, spec: BranchSpec) -> int:
-    from slopetui.cli.options import open_db
+    from slopetui.cli.options import open_db, say_queued
     from slopetui.sweeps.branches import submit
     cid = submit(open_db(args), spec, args.from_run)
-    if args.json:
-        print(json.dumps({"id": cid, "status": "queued"}))
-    else:
-        print(f"continuation {cid} queued: a worker computes it (`slopetui worker`, or the "
-              f"application's pool); `slopetui branch {cid}` shows it")
-    return 0
+    return say_queued(args.json, "continuation", cid, f"slopetui branch {cid}")
 
 
 def handle(args: argparse.Namespace) -> int:

@@ -14,7 +14,7 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from core.params import PARAM_NAMES, ParameterError, Params
-from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.cli.options import UsageError, add_db_option, open_db, say_queued
 from slopetui.cli.orbit import add_point_options, point_of
 from slopetui.cli.run import json_safe
 
@@ -146,12 +146,7 @@ def _submit(args: argparse.Namespace, params: Params, dt: float, start: float, s
     from slopetui.sweeps.hysteresis_runs import HysteresisSpec, submit
     sid = submit(open_db(args), HysteresisSpec(params, args.param, start, stop, args.points,
                                                dt, t_settle, window))
-    if args.json:
-        print(json.dumps({"id": sid, "status": "queued"}))
-    else:
-        print(f"hysteresis sweep {sid} queued: a worker computes it (`slopetui worker`, or the "
-              f"application's pool); `slopetui hysteresis --show {sid}` shows it")
-    return 0
+    return say_queued(args.json, "hysteresis sweep", sid, f"slopetui hysteresis --show {sid}")
 
 
 def _show(args: argparse.Namespace) -> int:

@@ -8,6 +8,7 @@ Textual) is imported inside the handlers that use it.
 from __future__ import annotations
 
 import argparse
+import json
 from typing import TYPE_CHECKING
 
 from slopetui.store.location import DB_ENV
@@ -18,6 +19,17 @@ if TYPE_CHECKING:
 #: The largest id or count a SQL INTEGER holds (SQLite and PostgreSQL BIGINT): a larger
 #: number cannot match anything, and the drivers refuse it with an OverflowError.
 MAX_SQL_INT = 2**63 - 1
+
+
+def say_queued(as_json: bool, what: str, job_id: int, show: str) -> int:
+    """The answer of a ``--submit``: ``{"id": N, "status": "queued"}``, or a line saying
+    that ``what`` was queued, who computes it, and the command ``show`` that shows it."""
+    if as_json:
+        print(json.dumps({"id": job_id, "status": "queued"}))
+    else:
+        print(f"{what} {job_id} queued: a worker computes it (`slopetui worker`, or the "
+              f"application's pool); `{show}` shows it")
+    return 0
 
 
 class UsageError(Exception):
