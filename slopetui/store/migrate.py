@@ -8,6 +8,13 @@ batch mode rebuilds a table by copy, DROP and rename, and with foreign keys on, 
 ``sweeps`` cascades to ``runs`` (a downgrade of 0002 deleted every run that way).
 ``PRAGMA foreign_key_check`` then runs inside the migration's transaction, and a
 violation rolls the whole migration back.
+
+Two processes must not migrate one database at once. A SQLite file is reached from one
+host only, so a file lock beside it serialises them. A PostgreSQL database is shared by
+hosts whose file systems differ: there the lock is the server's own, a session advisory
+lock (four simultaneous `slopetui db upgrade` from four hosts, each with a lock file of
+its own, raced: two failed with a duplicate key on pg_type_typname_nsp_index, as in
+optuna#1092).
 """
 
 from __future__ import annotations
@@ -16,7 +23,7 @@ import hashlib
 import os
 import sqlite3
 from collections.abc import Iterator
-from contextlib import closing, contextmanager
+from contextlib import AbstractContextManager, closing, contextmanager
 from datetime import datetime
 from functools import lru_cache
 from pathlib import Path
@@ -29,6 +36,7 @@ from alembic.script import ScriptDirectory
 from filelock import FileLock
 from platformdirs import user_cache_path
 from sqlalchemy import Connection
+from sqlalchemy.exc import OperationalError
 
 import migrations
 from slopetui.store.database import Database
@@ -36,6 +44,11 @@ from slopetui.store.failures import StoreError, describe
 
 #: How long a process waits for another one that is migrating the same database (s).
 LOCK_TIMEOUT_S = 300
+#: The key of PostgreSQL's advisory lock around migrations (one bigint, per database):
+#: the first 8 bytes of sha256("slopetui.migrate"), so that it collides with no other
+#: application's lock on a shared database by accident.
+ADVISORY_KEY = int.from_bytes(hashlib.sha256(b"slopetui.migrate").digest()[:8], "big",
+                              signed=True)
 
 
 def alembic_config(db: Database) -> Config:
@@ -70,9 +83,34 @@ def _lock_path(db: Database) -> Path:
     return folder / f"migrate-{key}.lock"
 
 
+@contextmanager
+def _advisory_lock(db: Database) -> Iterator[None]:
+    """PostgreSQL's session advisory lock ADVISORY_KEY, held on a connection of its own
+    (in autocommit: no transaction stays open beside the migration's) until the block
+    ends; waits up to LOCK_TIMEOUT_S for another holder."""
+    with db.engine.connect().execution_options(isolation_level="AUTOCOMMIT") as conn:
+        conn.exec_driver_sql(f"SET lock_timeout = '{LOCK_TIMEOUT_S}s'")
+        try:
+            conn.exec_driver_sql(f"SELECT pg_advisory_lock({ADVISORY_KEY})")
+        except OperationalError as exc:  # lock_timeout: SQLSTATE 55P03
+            raise StoreError(f"another process has been migrating {db.display_url} for "
+                             f"{LOCK_TIMEOUT_S} s; try again when it is done") from exc
+        try:
+            yield
+        finally:
+            conn.exec_driver_sql(f"SELECT pg_advisory_unlock({ADVISORY_KEY})")
+
+
+def migration_lock(db: Database) -> AbstractContextManager[object]:
+    """The lock that one migration of ``db`` holds (see the module docstring)."""
+    if db.url.get_backend_name() == "postgresql":
+        return _advisory_lock(db)
+    return FileLock(_lock_path(db), timeout=LOCK_TIMEOUT_S, mode=0o600)
+
+
 def upgrade(db: Database) -> tuple[str | None, str]:
     """Upgrade to head under the lock; returns (revision before, revision after)."""
-    with FileLock(_lock_path(db), timeout=LOCK_TIMEOUT_S, mode=0o600):
+    with migration_lock(db):
         before = current_revision(db)
         if before != head_revision():
             _check_known(before)
@@ -88,7 +126,7 @@ def downgrade(db: Database, revision: str) -> tuple[str | None, str, Path | None
     if revision != "base" and revision not in known:
         raise StoreError(f"REV: unknown revision {revision!r}; one of "
                          f"{', '.join(known)} or base")
-    with FileLock(_lock_path(db), timeout=LOCK_TIMEOUT_S, mode=0o600):
+    with migration_lock(db):
         before = current_revision(db)
         _check_known(before)
         if before is None or (revision != "base"
