@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import re
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -16,6 +17,7 @@ from typing import TYPE_CHECKING
 from slopetui.cli.options import UsageError, add_db_option
 from slopetui.queue import defaults
 from slopetui.queue.local_pool import default_jobs, default_log
+from slopetui.store.connection_slots import DEFAULT_CONNECTIONS
 
 if TYPE_CHECKING:
     from slopetui.queue.local_pool import LocalPool
@@ -33,6 +35,10 @@ HEARTBEAT_RANGE = (0.1, 600.0)
 #: A lease covers at least two heartbeats, and at most a day (s).
 MAX_LEASE_S = 86_400.0
 MAX_ATTEMPTS_RANGE = (1, 100)
+#: A pool's connection budget on a server database (slopetui.store.connection_slots).
+CONNECTIONS_RANGE = (1, 64)
+#: What a --host-id may hold: it is written into worker ids and log lines.
+HOST_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,62}")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -79,6 +85,16 @@ def register(sub: argparse._SubParsersAction) -> None:
                         f"{MAX_BATCH} (default {defaults.DEFAULT_BATCH}); Euler batches go "
                         "through the batched kernel, RK4 runs are computed and stored one "
                         "by one")
+    p.add_argument("--connections", type=int, default=DEFAULT_CONNECTIONS, metavar="N",
+                   help=f"on a PostgreSQL store: database connections the pool and its "
+                        f"workers hold at once, {CONNECTIONS_RANGE[0]} to "
+                        f"{CONNECTIONS_RANGE[1]}, whatever -j (default {DEFAULT_CONNECTIONS}; "
+                        "a worker needs one only to claim and to write)")
+    p.add_argument("--host-id", metavar="NAME",
+                   help="the host name the workers' ids carry (default: this host's name); "
+                        "several pools on one machine with distinct names stand for "
+                        "several hosts (`workers` and `worker --stop` then count them as "
+                        "another host's)")
     add_db_option(p)
     p.set_defaults(handler=handle)
 
@@ -99,6 +115,10 @@ def _check(args: argparse.Namespace) -> None:
     _in_range("--batch", args.batch, 1, MAX_BATCH)
     _in_range("--max-attempts", args.max_attempts, *MAX_ATTEMPTS_RANGE)
     _in_range("--heartbeat", args.heartbeat, *HEARTBEAT_RANGE, unit=" of seconds")
+    _in_range("--connections", args.connections, *CONNECTIONS_RANGE)
+    if args.host_id is not None and not HOST_ID.fullmatch(args.host_id):
+        raise UsageError(f"--host-id must be 1 to 63 letters, digits, '.', '_' or '-' "
+                         f"(starting with a letter or digit), got {args.host_id!r}")
     if math.isfinite(args.heartbeat):
         _in_range("--lease", args.lease, 2 * args.heartbeat, MAX_LEASE_S,
                   unit=" of seconds (at least 2 x --heartbeat)")
@@ -116,7 +136,10 @@ def _already_running(pools: list[LocalPool]) -> UsageError:
 def _detach(args: argparse.Namespace, db: Database, log: Path) -> int:
     from slopetui.queue.local_pool import PoolRunning, start_detached_pool
     extra = ["--lease", str(args.lease), "--heartbeat", str(args.heartbeat),
-             "--max-attempts", str(args.max_attempts), "--batch", str(args.batch)]
+             "--max-attempts", str(args.max_attempts), "--batch", str(args.batch),
+             "--connections", str(args.connections)]
+    if args.host_id:
+        extra += ["--host-id", args.host_id]
     if args.exit_when_idle:
         extra.append("--exit-when-idle")
     try:
@@ -159,6 +182,7 @@ def handle(args: argparse.Namespace) -> int:
     opts = WorkerOptions(db_url=url, log_path=str(log), heartbeat_s=args.heartbeat,
                          lease_s=args.lease, max_attempts=args.max_attempts,
                          exit_when_idle=args.exit_when_idle, batch=args.batch,
-                         idle_hook=advance_all, progress=PoolProgress)
+                         idle_hook=advance_all, progress=PoolProgress,
+                         host_id=args.host_id, connections=args.connections)
     os.environ.setdefault("PYTHONUNBUFFERED", "1")
     return run_pool(opts, args.jobs)

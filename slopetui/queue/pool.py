@@ -33,6 +33,7 @@ import sys
 import time
 from collections import deque
 from collections.abc import Callable
+from dataclasses import replace
 from multiprocessing.connection import wait
 from multiprocessing.process import BaseProcess
 
@@ -46,6 +47,7 @@ from slopetui.queue.worker_process import (
     worker_id_for,
     worker_main,
 )
+from slopetui.store.connection_slots import remove_slots_folder, slots_folder
 from slopetui.store.database import Database
 from slopetui.store.integrity import integrity_problems
 from slopetui.store.open import open_store
@@ -166,7 +168,7 @@ class Pool:
 
     def _reap(self, db: Database, proc: BaseProcess) -> None:
         proc.join()
-        wid = worker_id_for(proc.pid or 0)
+        wid = worker_id_for(proc.pid or 0, self.opts.host)
         if proc.exitcode == 0:
             if not (self.stop.is_set() or self.opts.exit_when_idle):
                 log.info("worker %s left (exit status 0: it was sent SIGTERM); not "
@@ -194,7 +196,7 @@ class Pool:
         for proc in self.procs.values():
             if proc.is_alive():
                 log.warning("worker %s did not stop within %g s: killed",
-                            worker_id_for(proc.pid or 0), ABORT_GRACE_S)
+                            worker_id_for(proc.pid or 0, self.opts.host), ABORT_GRACE_S)
                 proc.kill()
         self.abort_at = None
 
@@ -208,11 +210,17 @@ class Pool:
                       "`slopetui db check` lists what is broken", db.path, damage[0])
             return 1
         url = db.url.render_as_string(hide_password=False)
+        slots = None if db.is_sqlite else slots_folder(f"{self.opts.host}-{os.getpid()}")
+        if slots is not None:  # the pool and its workers share the budget from now on
+            self.opts = replace(self.opts, slots_folder=str(slots))
+            db.dispose()
+            db = self.opts.open_store()
         signals = SignalPipe(STOP_SIGNALS)
         try:
             write_pool_file(url, os.getpid(), self.opts.log_path)
-            log.info("pool of %d workers on %s (pid %d)", self.n_workers, db.display_url,
-                     os.getpid())
+            log.info("pool of %d workers on %s (pid %d)%s", self.n_workers, db.display_url,
+                     os.getpid(), f", at most {self.opts.connections} connections at once"
+                     if slots is not None else "")
             if watched_warm_up(lambda: signals.poll() > 0) is None:
                 log.info("%s during the warm-up: pool stopped before its workers started",
                          signals.name())
@@ -229,10 +237,14 @@ class Pool:
                         self._reap(db, self.procs.pop(sentinel))
                 self._kill_stuck()
                 progress.tick()
+                db.idle()  # its slot back to the workers until the next statement
             progress.tick(force=True)  # where the pool left the sweeps
         finally:
             signals.close()
             remove_pool_file(url, os.getpid())
+            db.dispose()
+            if slots is not None:
+                remove_slots_folder(slots)
         log.info("pool stopped%s", " (gave up)" if self.gave_up else "")
         return 1 if self.gave_up else 0
 

@@ -10,7 +10,13 @@ and a run computed alone is charged its attempt when it starts and written when 
 (jobs.begin, jobs.complete): a killed worker loses only the run it was computing. The
 signal plumbing is in slopetui.queue.stop_signals, the warm-up in slopetui.queue.warm_up. The computation runs in a
 thread (the numba kernels release the GIL), so the main thread stays free to notice a
-shutdown; a heartbeat thread extends the leases of every run the worker holds.
+shutdown and, while it waits, sends the heartbeat that extends the leases of every run
+the worker holds (Heartbeat).
+
+Connections. The main thread is the only one that uses the store, and it closes its
+connection whenever it waits (a computation, a sleep: Database.idle). On a server
+database the pool's processes share a budget of connections (WorkerOptions.connections,
+slopetui.store.connection_slots): the pool holds at most that many, whatever its size.
 
 Shutdown. The main loop reads three sources, and nothing else acts on them:
 
@@ -39,19 +45,20 @@ import os
 import select
 import signal
 import socket
-import threading
 import time
 import traceback
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from concurrent.futures import wait as wait_futures
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from slopetui.queue import branch_jobs, defaults, hysteresis_jobs, jobs
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
 from slopetui.queue.warm_up import watched_warm_up
 from slopetui.store.claims import queue_drained
+from slopetui.store.connection_slots import DEFAULT_CONNECTIONS, ConnectionSlots
 from slopetui.store.database import Database
 from slopetui.store.worker_rows import register_worker, unregister_worker
 
@@ -94,6 +101,14 @@ class WorkerOptions:
     idle_hook: IdleHook | None = None
     #: See ProgressSource; None: the pool logs no progress line.
     progress: ProgressSource | None = None
+    #: The name the workers' ids carry (``host:pid``); None: the host's name. Distinct
+    #: names let several pools on one machine stand for several hosts (tests).
+    host_id: str | None = None
+    #: Connections the pool's processes may hold at once on a server database (see the
+    #: module docstring); SQLite has no budget.
+    connections: int = DEFAULT_CONNECTIONS
+    #: The folder of the pool's connection slots, made by the pool (None: no budget).
+    slots_folder: str | None = None
 
     def __post_init__(self) -> None:
         # `slopetui worker` checks its options with friendlier words; this guards the other
@@ -105,12 +120,23 @@ class WorkerOptions:
                 raise ValueError(f"WorkerOptions.{name} must be finite and > 0, got {value}")
         if self.lease_s < 2 * self.heartbeat_s:
             raise ValueError("WorkerOptions.lease_s must be >= 2 x heartbeat_s")
-        if self.max_attempts < 1 or self.batch < 1:
-            raise ValueError("WorkerOptions.max_attempts and batch must be >= 1")
+        if self.max_attempts < 1 or self.batch < 1 or self.connections < 1:
+            raise ValueError("WorkerOptions.max_attempts, batch and connections must be >= 1")
+
+    @property
+    def host(self) -> str:
+        return self.host_id or socket.gethostname()
+
+    def open_store(self) -> Database:
+        """The store, under the pool's connection budget if it has one (not migrated:
+        the pool migrated it before it spawned anyone)."""
+        slots = (ConnectionSlots(Path(self.slots_folder), self.connections)
+                 if self.slots_folder else None)
+        return Database(self.db_url, slots=slots)
 
 
-def worker_id_for(pid: int) -> str:
-    return f"{socket.gethostname()}:{pid}"
+def worker_id_for(pid: int, host: str | None = None) -> str:
+    return f"{host or socket.gethostname()}:{pid}"
 
 
 def configure_logging(log_path: str | None, echo: bool = False) -> None:
@@ -139,6 +165,8 @@ class Control:
     def __init__(self, signals: SignalPipe, stop: Any, abort: Any, pool_pid: int) -> None:
         self.signals, self.stop, self.abort, self.pool_pid = signals, stop, abort, pool_pid
         self._said: str | None = None
+        #: Called while the main thread waits (at most every TICK_S): the Heartbeat.
+        self.tick: Callable[[], None] = lambda: None
 
     def orphaned(self) -> bool:
         """The pool is gone, or going: this worker was re-parented, or the pool's main
@@ -180,22 +208,27 @@ class Control:
         """Wait up to ``seconds``; a signal wakes it at once, a stop within TICK_S."""
         deadline = time.monotonic() + seconds
         while not self.stopping():
+            self.tick()
             left = deadline - time.monotonic()
             if left <= 0:
                 return
             select.select([self.signals.fileno()], [], [], min(left, TICK_S))
 
 
-class _Heartbeat(threading.Thread):
-    """Extends the leases of the held runs, and requeues the runs of dead workers."""
+class Heartbeat:
+    """Extends the leases of the held jobs and requeues those of dead workers, every
+    heartbeat_s, from the main thread while it waits (Control.tick), and closes the
+    connection until the next statement (Database.idle). A main thread that is stuck
+    sends none, and its jobs go to other workers when their leases expire."""
 
     def __init__(self, db: Database, worker_id: str, opts: WorkerOptions) -> None:
-        super().__init__(name="heartbeat", daemon=True)
         self.db, self.worker_id, self.opts = db, worker_id, opts
-        self.halt = threading.Event()
+        self.next_at = time.monotonic() + opts.heartbeat_s
 
-    def run(self) -> None:
-        while not self.halt.wait(self.opts.heartbeat_s):
+    def __call__(self) -> None:
+        now = time.monotonic()
+        if now >= self.next_at:
+            self.next_at = now + self.opts.heartbeat_s
             try:
                 jobs.heartbeat(self.db, self.worker_id)
                 requeued, failed = jobs.requeue_expired(self.db, self.opts.lease_s,
@@ -204,6 +237,7 @@ class _Heartbeat(threading.Thread):
                     log.warning("expired leases: %d jobs requeued, %d failed", requeued, failed)
             except Exception:  # a busy or briefly unreachable database: try again later
                 log.exception("heartbeat failed")
+        self.db.idle()
 
 
 #: Methods computed with the batched kernels. RK4's batched kernel is not vectorised by LLVM
@@ -229,9 +263,11 @@ def _compute_together(batch: list[jobs.Job]) -> Records:
 
 def _wait(future: Future[Any], control: Control) -> bool:
     """Wait for the computation; False if an abort came first (it is left running)."""
+    control.tick()  # no connection held while it computes (Heartbeat)
     while not wait_futures([future], timeout=TICK_S).done:
         if control.aborting():
             return False
+        control.tick()
     return True
 
 
@@ -358,15 +394,14 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
         signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS)
     control = Control(signals, stop, abort, pool_pid)
     configure_logging(opts.log_path)
-    wid = worker_id_for(os.getpid())
+    wid = worker_id_for(os.getpid(), opts.host)
     if watched_warm_up(control.stopping, announce=False) is None:
         control.say(wid)  # nothing claimed, nothing registered: just leave
         logging.shutdown()
         os._exit(0)
-    db = Database(opts.db_url)  # not open_store: the pool migrated it before spawning us
-    register_worker(db, wid, socket.gethostname(), os.getpid())
-    hb = _Heartbeat(db, wid, opts)
-    hb.start()
+    db = opts.open_store()
+    register_worker(db, wid, opts.host, os.getpid())
+    control.tick = Heartbeat(db, wid, opts)
     log.info("worker %s started", wid)
     executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="compute")
     try:
@@ -396,7 +431,6 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
         if control.stopping():
             control.say(wid)
     finally:
-        hb.halt.set()
         unregister_worker(db, wid)
         log.info("worker %s stopped", wid)
     # os._exit, not a return: the interpreter's finalisation puts SIGTERM's default action

@@ -23,6 +23,8 @@ from sqlalchemy.engine import URL, CursorResult, Result, make_url
 from sqlalchemy.exc import ArgumentError, DBAPIError
 from sqlalchemy.orm import Session, sessionmaker
 
+from core.mounts import network_filesystem
+from slopetui.store.connection_slots import ConnectionSlots
 from slopetui.store.db_time import db_now
 from slopetui.store.failures import StoreError, describe, os_failure
 from slopetui.store.location import DB_ENV, default_url
@@ -62,6 +64,19 @@ def sqlite_path(url: URL) -> Path | None:
     if url.get_backend_name() != "sqlite" or url.database in (None, "", ":memory:"):
         return None
     return Path(url.database).expanduser().resolve()
+
+
+def refuse_network_filesystem(path: Path) -> None:
+    """A SQLite file must be on a local disk: its write-ahead log keeps an index in shared
+    memory (the -shm file, mapped by every process), which a network file system does not
+    share between hosts, and its locks are unsafe there (core.mounts)."""
+    kind = network_filesystem(path.parent)
+    if kind is not None:
+        raise StoreError(
+            f"{path} is on a network file system ({kind}): SQLite does not work there "
+            "(its write-ahead log and locks need a local disk). Use a PostgreSQL server: "
+            "--db postgresql+psycopg://HOST/DB or SLOPETUI_DB (`slopetui db serve` starts "
+            "one of your own), or a SQLite file on a local disk (--db sqlite:////tmp/...)")
 
 
 def _create_private_file(path: Path, *, make_folder: bool) -> None:
@@ -166,6 +181,28 @@ def _postgres_read_only_begin(conn: Any) -> None:
     conn.exec_driver_sql("SET TRANSACTION READ ONLY")
 
 
+def _budget(engine: Engine, slots: ConnectionSlots) -> None:
+    """Open the engine's connections only under a slot of ``slots`` (acquired before the
+    connection is made, released once it is closed, or if making it failed)."""
+
+    @event.listens_for(engine, "do_connect")
+    def _connect(dialect: Any, record: Any, cargs: Any, cparams: Any) -> Any:
+        slots.acquire()
+        try:
+            connection = dialect.connect(*cargs, **cparams)
+        except BaseException:
+            slots.release()
+            raise
+        record.info["slot"] = True
+        return connection
+
+    def _closed(_dbapi: Any, record: Any) -> None:
+        if record is not None and record.info.pop("slot", False):
+            slots.release()
+
+    event.listen(engine, "close", _closed)
+
+
 class Database:
     """A store at ``url`` (default: ``default_url()``), at whatever schema it has: nothing
     is migrated here. ``open_store`` (``slopetui.store.open``) opens one and migrates it;
@@ -174,11 +211,17 @@ class Database:
     spawned them.
     """
 
-    def __init__(self, url: str | None = None) -> None:
+    def __init__(self, url: str | None = None, *, slots: ConnectionSlots | None = None) -> None:
+        """slots : a connection budget shared with other processes (a worker pool's, see
+                   slopetui.store.connection_slots): this process opens a connection only
+                   while it holds a slot, and ``idle()`` closes it again. None: no budget
+                   (SQLite, the application, the commands)."""
         explicit = url or os.environ.get(DB_ENV)
+        self.slots = slots
         self.url = parse_url(explicit or default_url())
         self.path = sqlite_path(self.url)
         if self.path is not None:
+            refuse_network_filesystem(self.path)
             _create_private_file(self.path, make_folder=not explicit)
             self.url = self.url.set(database=str(self.path))
         self.engine = self._make_engine()
@@ -203,14 +246,27 @@ class Database:
         return self.url.get_backend_name() == "sqlite"
 
     def _make_engine(self) -> Engine:
+        options: dict[str, Any] = {}
+        if self.url.get_backend_name() == "postgresql" and "application_name" not in self.url.query:
+            # pg_stat_activity then tells which process holds which connection
+            options["connect_args"] = {"application_name": f"slopetui pid {os.getpid()}"}
         try:
-            engine = create_engine(self.url)
+            engine = create_engine(self.url, **options)
         except Exception as exc:  # a missing driver, a bad option: say which URL
             raise StoreError(f"cannot open database {self.display_url}: {exc}") from exc
         if self.is_sqlite:
             event.listen(engine, "connect", _sqlite_on_connect)
             event.listen(engine, "begin", _sqlite_begin)
+        if self.slots is not None:
+            _budget(engine, self.slots)
         return engine
+
+    def idle(self) -> None:
+        """Close the connections kept for reuse: this process will not use the store for a
+        while (it computes or sleeps), and under a budget (``slots``) its slot goes back
+        to the other processes. Statements after it simply open a connection again."""
+        if self.slots is not None and self.slots.held:
+            self.engine.dispose(close=True)
 
     def _first_read(self) -> str | None:
         """The stored revision, read now: the first connection and the first read of the
