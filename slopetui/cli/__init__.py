@@ -10,6 +10,7 @@ from collections.abc import Sequence
 from slopetui import __version__
 from slopetui.cli import (
     branch,
+    cluster,
     continuation,
     control,
     db,
@@ -58,7 +59,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for module in (run, orbit, continuation, branch, hysteresis, submit, example, status, show, runs, control, sql,
-                   worker, workers, db, nblock, reproduce):
+                   worker, workers, db, cluster, nblock, reproduce):
         module.register(sub)
     return parser
 
