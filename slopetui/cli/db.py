@@ -1,16 +1,26 @@
 """``slopetui db upgrade|downgrade|current|check|revision``: the schema and health of the
-store."""
+store; ``slopetui db serve``: a PostgreSQL server of one's own for the workers
+(slopetui.store.local_server)."""
 
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
+import time
+from pathlib import Path
 from typing import TYPE_CHECKING
 
-from slopetui.cli.options import UsageError, add_db_option
+from slopetui.cli.options import UsageError, add_db_option, int_arg
+from slopetui.store import local_server
+from slopetui.store.failures import StoreError
 
 if TYPE_CHECKING:
     from slopetui.store.database import Database
+
+#: PostgreSQL needs a few connections for itself (superuser_reserved_connections = 3);
+#: beyond 10 000 each connection's memory adds up to more than a node has.
+MAX_CONNECTIONS_RANGE = (10, 10_000)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -36,11 +46,185 @@ def register(sub: argparse._SubParsersAction) -> None:
     down.add_argument("--yes", action="store_true", help="do not ask for confirmation")
     add_db_option(down)
     down.set_defaults(handler=handle)
+    _register_serve(actions)
     rev = actions.add_parser("revision", help="(developers) autogenerate a migration from "
                                               "the models, against an up-to-date --db")
     rev.add_argument("-m", "--message", required=True)
     add_db_option(rev)
     rev.set_defaults(handler=handle)
+
+
+def _register_serve(actions: argparse._SubParsersAction) -> None:
+    ls = local_server
+    p = actions.add_parser(
+        "serve", help="run a PostgreSQL server of your own for the workers (no root)",
+        description="Start a PostgreSQL server owned by you (initdb the first time, then "
+                    "pg_ctl; no root, no administrator) with a database for slopetui at the "
+                    "current schema, print the URL to give the workers, and stay in the "
+                    "foreground: Ctrl-C, SIGTERM or SIGHUP stops the server (pg_ctl stop -m "
+                    "fast) and exits 0; exit 1 if the server stops on its own, 2 for bad "
+                    "options. Later starts reuse DIR: same data, password and (unless "
+                    "changed) port. Over the network only the role slopetui is let in, with "
+                    "its random password (DIR/password, mode 600), by scram-sha-256. "
+                    "SIGHUP is left ignored under nohup. Needs PostgreSQL's server programs "
+                    "(apt install postgresql, or conda install -c conda-forge postgresql).")
+    p.add_argument("--dir", metavar="DIR",
+                   help=f"the server's folder, made (mode 700) the first time (default "
+                        f"{ls.default_folder()}); the cluster is DIR/data")
+    p.add_argument("--port", metavar="PORT",
+                   help=f"TCP port, 1024 to 65535 (default: the last start's, else "
+                        f"{ls.DEFAULT_PORT})")
+    p.add_argument("--listen", metavar="ADDR",
+                   help="addresses to listen on, comma-separated (default: the last start's, "
+                        f"else '{ls.DEFAULT_LISTEN}': every interface)")
+    p.add_argument("--max-connections", metavar="N",
+                   help=f"connections the server accepts, {MAX_CONNECTIONS_RANGE[0]} to "
+                        f"{MAX_CONNECTIONS_RANGE[1]} (default: the last start's, else "
+                        f"{ls.DEFAULT_MAX_CONNECTIONS}; a worker pool holds 2 by default)")
+    p.add_argument("--pg-bin", metavar="DIR",
+                   help="folder of PostgreSQL's initdb, pg_ctl and postgres (default: "
+                        "PATH's, else the newest /usr/lib/postgresql/*/bin)")
+    other = p.add_mutually_exclusive_group()
+    other.add_argument("--stop", action="store_true",
+                       help="stop the server of DIR (asks its `slopetui db serve` to stop, "
+                            "or pg_ctl stop -m fast if none runs it) and wait")
+    other.add_argument("--status", action="store_true",
+                       help="say whether the server of DIR runs (exit 0 if it accepts "
+                            "connections, else 1)")
+    other.add_argument("--url", action="store_true",
+                       help="print the workers' URL of DIR's last start (for scripts: "
+                            "export SLOPETUI_DB=$(slopetui db serve --url))")
+    p.set_defaults(handler=handle)
+
+
+def _serve_settings(args: argparse.Namespace) -> local_server.Settings:
+    if args.stop or args.status or args.url:
+        given = [flag for flag, value in (("--port", args.port), ("--listen", args.listen),
+                                          ("--max-connections", args.max_connections))
+                 if value is not None]
+        if given:
+            raise UsageError(f"{given[0]} goes with starting the server, not with "
+                             f"{'--stop' if args.stop else '--status' if args.status else '--url'}")
+    return local_server.Settings(
+        port=None if args.port is None else int_arg(
+            "--port", args.port, 1024, 65535, " (below 1024 needs root)"),
+        listen=args.listen,
+        max_connections=None if args.max_connections is None else int_arg(
+            "--max-connections", args.max_connections, *MAX_CONNECTIONS_RANGE))
+
+
+def _say(text: str) -> None:
+    # flushed line by line: a script or a test reads the URL while the server runs
+    print(text, flush=True)
+
+
+def _seconds(timings: dict[str, float], key: str) -> str:
+    return f"{timings.get(key, 0.0):.1f} s"
+
+
+def _say_started(server: local_server.Server) -> None:
+    made = (f"new cluster (initdb {_seconds(server.timings, 'initdb')})" if server.created
+            else "existing cluster")
+    _say(f"PostgreSQL {server.binaries.version} server of {server.folder}: {made}, started "
+         f"in {_seconds(server.timings, 'start')}, database ready in "
+         f"{_seconds(server.timings, 'setup')}")
+    _say(f"listening on {server.listen} port {server.port} (pid {server.pid}), at most "
+         f"{server.max_connections} connections; log {server.log}")
+    _say(f"give the workers this URL (also in {server.folder / 'url'}; "
+         "`slopetui db serve --url` prints it):")
+    _say(f"  export SLOPETUI_DB='{server.worker_url}'")
+    if server.host_note:
+        _say(f"note: {server.host_note}")
+    _say(f"on this machine: {server.this_machine_url}")
+    _say("Ctrl-C, SIGTERM or SIGHUP (or `slopetui db serve --stop`) stops it")
+
+
+def _stop_signals() -> tuple[int, ...]:
+    """INT, TERM and HUP; HUP not if it is ignored (nohup): that is the caller's wish to
+    survive the end of the session."""
+    if signal.getsignal(signal.SIGHUP) == signal.SIG_IGN:
+        return (signal.SIGINT, signal.SIGTERM)
+    return (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+def _serve_foreground(folder: Path, settings: local_server.Settings,
+                      pg_bin: Path | None, default_dir: bool) -> int:
+    from slopetui.queue.stop_signals import SignalPipe
+
+    local_server.check_not_root()  # before looking for programs root could not run
+    local_server.check_driver()
+    binaries = local_server.find_binaries(pg_bin)
+    # the handlers are in before initdb: a signal during the start is acted on after it,
+    # never halfway through (the handlers do nothing but wake the loop below)
+    signals = SignalPipe(_stop_signals())
+    try:
+        server = local_server.start(folder, settings, binaries, make_parents=default_dir)
+        try:
+            _say_started(server)
+            died = signals.poll() == 0 and server.wait(signals.fileno())
+            if not died:
+                signals.poll()
+                _say(f"{signals.name()}: stopping the server (pg_ctl stop -m fast)")
+        finally:
+            failure = _stop(server)  # whatever happened above: no server left behind
+    finally:
+        signals.close()
+    if died:
+        why = local_server.log_reason(server.log, server.log_offset,
+                                      silent="its log says nothing of why (killed by a "
+                                             "signal? by the out-of-memory killer?)")
+        print(f"slopetui db serve: the server (pid {server.pid}) stopped on its own: {why} "
+              f"(log: {server.log})", file=sys.stderr)
+        return 1
+    if failure:
+        print(f"slopetui db serve: {failure} (log: {server.log})", file=sys.stderr)
+        return 1
+    _say(f"server of {server.folder} stopped")
+    return 0
+
+
+def _stop(server: local_server.Server) -> str | None:
+    """Stop the server; None, or why it could not be stopped."""
+    try:
+        server.stop()
+    except StoreError as exc:
+        return str(exc)
+    return None
+
+
+def _serve_status(folder: Path) -> int:
+    state = local_server.status(folder)
+    where = state.folder
+    if state.server is None:
+        _say(f"{where}: not running" + (
+            f" here; it may run on {state.elsewhere}, which started it last" if state.elsewhere
+            else "" if state.initialised else " (no server made yet)"))
+        return 1
+    by = (f"run by `slopetui db serve` pid {state.serve_pid}" if state.serve_pid
+          else "no `slopetui db serve` runs it (started by hand, or its serve was killed): "
+               "`slopetui db serve --stop` stops it")
+    since = time.strftime("%Y-%m-%d %H:%M", time.localtime(state.server.started))
+    _say(f"{where}: {state.server.status or 'running'} since {since}, pid "
+         f"{state.server.pid}, port {state.server.port}; {by}")
+    return 0 if state.server.status in ("ready", "") else 1
+
+
+def _serve(args: argparse.Namespace) -> int:
+    settings = _serve_settings(args)
+    folder = Path(args.dir) if args.dir else local_server.default_folder()
+    pg_bin = Path(args.pg_bin) if args.pg_bin else None
+    if args.status:
+        return _serve_status(folder)
+    if args.url:
+        print(local_server.stored_url(folder))
+        return 0
+    if args.stop:
+        done = local_server.stop_folder(folder, pg_bin)
+        _say({"serve": f"server of {folder} stopped (its `slopetui db serve` has exited)",
+              "server": f"server of {folder} stopped (pg_ctl stop -m fast)",
+              "none": f"no server runs on {folder}"}[done])
+        return 0
+    return _serve_foreground(folder, settings, pg_bin, default_dir=args.dir is None)
 
 
 def _confirm(db: Database, revision: str, assume_yes: bool) -> None:
@@ -75,8 +259,10 @@ def _check(db: Database) -> int:
 
 
 def handle(args: argparse.Namespace) -> int:
+    if args.db_action == "serve":
+        return _serve(args)
     # Alembic here, not at the top: it costs ~0.2 s that `slopetui --help` should not pay
-    from slopetui.store.database import Database, StoreError
+    from slopetui.store.database import Database
     from slopetui.store.migrate import (
         alembic_config,
         current_revision,
