@@ -37,7 +37,10 @@ class SignalPipe:
         os.set_blocking(self._read, False)
         os.set_blocking(self._write, False)  # a full pipe drops the byte, never blocks
         self._old_fd = signal.set_wakeup_fd(self._write, warn_on_full_buffer=False)
-        self._old = {s: signal.signal(s, self._handler) for s in self.signums}
+        # A signal ignored when the process started stays ignored: `nohup slopetui worker`
+        # sets SIGHUP to SIG_IGN so that the pool outlives the terminal's hang-up.
+        self._old = {s: signal.signal(s, self._handler) for s in self.signums
+                     if signal.getsignal(s) != signal.SIG_IGN}
 
     @staticmethod
     def _handler(_signum: int, _frame: Any) -> None:
