@@ -184,10 +184,14 @@ def release(db: Database, run_id: int, worker_id: str, *, started: bool) -> bool
 def heartbeat(db: Database, worker_id: str) -> None:
     """Extend the leases of every run the worker holds (one, or a batch) and mark the
     worker alive."""
+    # Runs before the worker's row, as in every other statement here (begin, complete,
+    # fail, release, requeue_worker): with the opposite order, a heartbeat and a write of
+    # the same worker on two connections deadlocked on PostgreSQL (DeadlockDetected on
+    # "runs"; SQLite's BEGIN IMMEDIATE serialises them and hid it).
     with db.transaction() as s:
-        s.execute(update(Worker).where(Worker.id == worker_id)
-                  .values(heartbeat_at=db_now()))
         s.execute(update(Run).where(Run.status == "running", Run.worker_id == worker_id)
+                  .values(heartbeat_at=db_now()))
+        s.execute(update(Worker).where(Worker.id == worker_id)
                   .values(heartbeat_at=db_now()))
 
 
