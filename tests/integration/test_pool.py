@@ -1,6 +1,12 @@
 """The worker pool as real processes: kill -9 mid-batch, two pools and a reader on one
-SQLite file. Every job finishes exactly once. The helpers are in pool_support.py (they
-serve the other pool tests too, test_worker_*.py)."""
+store. Every job finishes exactly once. The helpers are in pool_support.py (they serve the
+other pool tests too, test_worker_*.py).
+
+The two pools run on SQLite and PostgreSQL (``store``): concurrent claims are where the
+backends differ (SKIP LOCKED; tests/integration/test_claims_postgres.py). kill -9 runs on
+SQLite only, for time (on both it doubled the module's): on PostgreSQL a dead worker's
+runs going back is tests/unit/test_queue.py's, and workers killed with their connections
+open is tests/integration/test_many_hosts.py's."""
 
 from __future__ import annotations
 
@@ -56,17 +62,17 @@ def test_kill_9_mid_batch_keeps_the_finished_runs_and_charges_only_the_run_in_th
     assert PROGRESS_LINE.search(err) and "\r" not in err, err
 
 
-def test_two_pools_and_a_reader_on_one_file(tmp_path, db, db_url):
+def test_two_pools_and_a_reader_on_one_store(tmp_path, store, store_url):
     n = 60
     # ~0.1 s runs: long enough that both pools are up before the queue drains, short
     # enough for many claims and writes per second
-    submit_quick(db, n, t_end=3e4)
+    submit_quick(store, n, t_end=3e4)
     logs = [tmp_path / "a.log", tmp_path / "b.log"]
     reads, errors = [0], []
     stop = threading.Event()
 
     def reader() -> None:
-        other = open_store(db_url)
+        other = open_store(store_url)
         while not stop.is_set():
             try:
                 sweep_progress(other)
@@ -78,14 +84,14 @@ def test_two_pools_and_a_reader_on_one_file(tmp_path, db, db_url):
 
     thread = threading.Thread(target=reader)
     thread.start()
-    pools = [start_pool(db_url, log, "-j", "1", "--exit-when-idle", "--another-pool")
+    pools = [start_pool(store_url, log, "-j", "1", "--exit-when-idle", "--another-pool")
              for log in logs]
     outputs = [p.communicate(timeout=300) for p in pools]
     stop.set()
     thread.join()
     assert [p.returncode for p in pools] == [0, 0], outputs
     assert errors == [] and reads[0] > 10
-    assert by_status(db) == {"done": n}
+    assert by_status(store) == {"done": n}
     lines = done_lines(*logs)
     assert len(lines) == n and set(lines.values()) == {1}
     assert done_lines(logs[0]) and done_lines(logs[1])  # both pools did work

@@ -1,6 +1,9 @@
 """The store from other processes: `slopetui db upgrade` and the default location in a fresh
-process, processes opening a new file at once, and a plain (non-editable) install (the
-store in one process: tests/unit/test_store.py)."""
+process, processes opening a new store at once, and a plain (non-editable) install (the
+store in one process: tests/unit/test_store.py).
+
+The first migration runs on SQLite and PostgreSQL (``new_store_url``); the default location
+is a SQLite file (``sqlite_only``), and the plain install's store is incidental (SQLite)."""
 
 from __future__ import annotations
 
@@ -10,6 +13,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from sqlalchemy import inspect
 
 from slopetui.store import Database, open_store
@@ -19,27 +23,34 @@ from tests.support import slopetui_cli
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def test_an_empty_database_upgrades_to_head(db_url):
-    db = Database(db_url)
+def test_an_empty_database_upgrades_to_head(new_store_url):
+    db = Database(new_store_url)
     assert current_revision(db) is None
-    assert slopetui_cli("db", "upgrade", "--db", db_url).returncode == 0
+    assert slopetui_cli("db", "upgrade", "--db", new_store_url).returncode == 0
     assert current_revision(db) == head_revision()
     assert {"sweeps", "runs", "workers", "alembic_version"} <= set(inspect(db.engine).get_table_names())
-    again = slopetui_cli("db", "upgrade", "--db", db_url)
+    again = slopetui_cli("db", "upgrade", "--db", new_store_url)
     assert "already at" in again.stdout
+    db.dispose()
 
 
 def _open(url: str) -> str | None:
-    return current_revision(open_store(url))
+    db = open_store(url)
+    try:
+        return current_revision(db)
+    finally:
+        db.dispose()  # no connection left behind for the database's drop
 
 
-def test_processes_opening_a_new_file_at_once_do_not_race(tmp_path):
-    url = f"sqlite:///{tmp_path / 'new.db'}"
+def test_processes_opening_a_new_store_at_once_do_not_race(new_store_url):
+    """One of them migrates, under the migration lock (a file lock beside a SQLite file,
+    an advisory lock on PostgreSQL); the others wait for it and find the schema made."""
     with mp.get_context("spawn").Pool(4) as pool:
-        revisions = pool.map(_open, [url] * 8)
+        revisions = pool.map(_open, [new_store_url] * 8)
     assert revisions == [head_revision()] * 8
 
 
+@pytest.mark.sqlite_only
 def test_the_default_database_lives_in_the_user_data_folder(tmp_path):
     env = {"XDG_DATA_HOME": str(tmp_path / "data"), "SLOPETUI_DB": ""}
     out = slopetui_cli("db", "current", env=env)

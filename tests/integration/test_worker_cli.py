@@ -1,5 +1,9 @@
 """`slopetui worker` options, `--detach` refusing a second pool, `slopetui workers`,
-`slopetui worker --stop [--now]`, the log's permissions and the warm-up's messages."""
+`slopetui worker --stop [--now]`, the log's permissions and the warm-up's messages.
+
+Pools on another host run on SQLite and PostgreSQL (``store``). The detached pool runs on
+SQLite only, for time (on both it doubled the module's): what its stop does to the store
+(runs given back, worker rows stopped) is test_worker_signals.py's, on both."""
 
 from __future__ import annotations
 
@@ -130,14 +134,14 @@ def test_a_detached_pool_is_listed_refuses_a_second_one_and_stops(tmp_path, db, 
     assert "no worker pool of this store is running" in capsys.readouterr().out
 
 
-def test_pools_on_another_host_are_listed_and_not_signalled(db, db_url, capsys):
-    with db.transaction() as s:
+def test_pools_on_another_host_are_listed_and_not_signalled(store, store_url, capsys):
+    with store.transaction() as s:
         s.add(Worker(id="elsewhere:4242", host="elsewhere", pid=4242))
-    assert main(["workers", "--db", db_url]) == 0
+    assert main(["workers", "--db", store_url]) == 0
     out = capsys.readouterr().out
     assert "workers on elsewhere (another host: their pool's pid is not known here)" in out
     assert "worker elsewhere:4242" in out and "idle" in out
-    assert main(["worker", "--stop", "--db", db_url]) == 0
+    assert main(["worker", "--stop", "--db", store_url]) == 0
     captured = capsys.readouterr()
     assert (f"1 workers of this store run on elsewhere: they cannot be signalled from "
             f"{socket.gethostname()}; run `slopetui worker --stop` on elsewhere") in captured.err

@@ -26,7 +26,7 @@ def test_the_death_window_slides():
     assert not any(spread.add(t) for t in (0.0, 6.0, 12.0, 18.0, 24.0, 30.0, 36.0))
 
 
-def test_a_crash_loop_makes_the_pool_give_up_with_status_1(tmp_path, monkeypatch):
+def test_a_crash_loop_makes_the_pool_give_up_with_status_1(tmp_path, monkeypatch, store_url):
     from slopetui.queue import pool as pool_module
     from slopetui.queue.worker_process import WorkerOptions, configure_logging
 
@@ -35,7 +35,7 @@ def test_a_crash_loop_makes_the_pool_give_up_with_status_1(tmp_path, monkeypatch
     log = tmp_path / "pool.log"
     configure_logging(str(log))
     try:
-        opts = WorkerOptions(db_url=f"sqlite:///{tmp_path / 'store.db'}", log_path=str(log))
+        opts = WorkerOptions(db_url=store_url, log_path=str(log))
         status = pool_module.Pool(opts, 1).run()
     finally:
         logging.getLogger("slopetui").handlers.clear()

@@ -1,6 +1,10 @@
 """A pool killed with kill -9 leaves no worker behind: its workers notice from their first
 second (PR_SET_PDEATHSIG, and the pool's pid checked against getppid()), during their
-warm-up as well as idle or busy, and leave the store as they should."""
+warm-up as well as idle or busy, and leave the store as they should.
+
+Idle and busy run on SQLite and PostgreSQL (``store``): a busy orphan finishes its run and
+gives the rest back. The warm-up case runs on SQLite only, for time: its workers never
+reach the store."""
 
 from __future__ import annotations
 
@@ -65,23 +69,23 @@ def test_workers_exit_when_the_pool_is_killed_during_their_warm_up(tmp_path, db,
     assert by_status(db) == {"queued": 4}  # none claimed a run
 
 
-def test_idle_and_busy_workers_exit_when_the_pool_is_killed(tmp_path, db, db_url):
+def test_idle_and_busy_workers_exit_when_the_pool_is_killed(tmp_path, store, store_url):
     log = tmp_path / "pool.log"
-    pool = start_pool(db_url, log, "-j", "2", "--batch", "3", group=True)
+    pool = start_pool(store_url, log, "-j", "2", "--batch", "3", group=True)
     try:
-        wait_until("two workers", lambda: len(live_worker_rows(db)) == 2)
+        wait_until("two workers", lambda: len(live_worker_rows(store)) == 2)
         kids = worker_children(pool.pid)
-        submit_quick(db, 3, **MEDIUM)  # one worker takes the batch, the other stays idle
-        in_kernel = wait_until("a run in a kernel", lambda: started_run(db)).id
+        submit_quick(store, 3, **MEDIUM)  # one worker takes the batch, the other stays idle
+        in_kernel = wait_until("a run in a kernel", lambda: started_run(store)).id
         os.kill(pool.pid, signal.SIGKILL)
         pool.wait()
         wait_until("the orphans to exit", lambda: all(gone(k) for k in kids), ORPHAN_BOUND_S)
     finally:
         kill_group(pool)
-    assert live_worker_rows(db) == []  # both rows say stopped
-    counts = by_status(db)
+    assert live_worker_rows(store) == []  # both rows say stopped
+    counts = by_status(store)
     assert "running" not in counts and sum(counts.values()) == 3
-    with db.sessions() as s:
+    with store.sessions() as s:
         runs = {r.id: r for r in s.scalars(select(Run))}
     assert runs[in_kernel].status == "done"  # the busy one finished its run first
     lines = done_lines(log)

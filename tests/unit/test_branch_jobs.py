@@ -63,52 +63,52 @@ def _point(idx: int) -> dict[str, Any]:
             "step": 0.1, "state": np.zeros(4).tobytes()}
 
 
-def test_points_are_saved_by_the_lease_holder_only_and_in_order(db):
-    cid = branch_jobs.submit(db, SPEC)
-    assert branch_rows.claim(db, "w1")["id"] == cid
-    assert branch_rows.claim(db, "w2") is None  # one holder
-    assert branch_rows.save_point(db, cid, "w1", _point(0), 0.1)
-    assert not branch_rows.save_point(db, cid, "w1", _point(0), 0.1)  # not the next one
-    assert not branch_rows.save_point(db, cid, "w1", _point(2), 0.1)  # a gap
-    assert not branch_rows.save_point(db, cid, "w2", _point(1), 0.1)  # not the holder
-    assert branch_rows.save_point(db, cid, "w1", _point(1), 0.2)
-    row = branch_rows.continuation(db, cid)
+def test_points_are_saved_by_the_lease_holder_only_and_in_order(store):
+    cid = branch_jobs.submit(store, SPEC)
+    assert branch_rows.claim(store, "w1")["id"] == cid
+    assert branch_rows.claim(store, "w2") is None  # one holder
+    assert branch_rows.save_point(store, cid, "w1", _point(0), 0.1)
+    assert not branch_rows.save_point(store, cid, "w1", _point(0), 0.1)  # not the next one
+    assert not branch_rows.save_point(store, cid, "w1", _point(2), 0.1)  # a gap
+    assert not branch_rows.save_point(store, cid, "w2", _point(1), 0.1)  # not the holder
+    assert branch_rows.save_point(store, cid, "w1", _point(1), 0.2)
+    row = branch_rows.continuation(store, cid)
     assert (row["n_points"], row["attempts"]) == (2, 1)
     assert row["runtime_s"] == pytest.approx(0.3)
     # a shutdown gives it back with its attempt; the points stay
-    assert branch_rows.release(db, cid, "w1")
-    assert not branch_rows.finish(db, cid, "w1", "end", None, 0.0, [])  # no longer held
-    row = branch_rows.continuation(db, cid)
+    assert branch_rows.release(store, cid, "w1")
+    assert not branch_rows.finish(store, cid, "w1", "end", None, 0.0, [])  # no longer held
+    row = branch_rows.continuation(store, cid)
     assert (row["status"], row["attempts"], row["n_points"]) == ("queued", 0, 2)
-    assert [p["idx"] for p in branch_rows.points(db, cid)] == [0, 1]
+    assert [p["idx"] for p in branch_rows.points(store, cid)] == [0, 1]
 
 
-def test_expired_and_dead_workers_continuations_go_back_or_fail(db):
-    first = branch_jobs.submit(db, SPEC)
-    second = branch_jobs.submit(db, SPEC)
-    branch_rows.claim(db, "w1")
-    branch_rows.claim(db, "w2")
-    assert jobs.requeue_worker(db, "w1", "worker died", max_attempts=3) == (1, 0)
-    assert branch_rows.continuation(db, first)["status"] == "queued"
+def test_expired_and_dead_workers_continuations_go_back_or_fail(store):
+    first = branch_jobs.submit(store, SPEC)
+    second = branch_jobs.submit(store, SPEC)
+    branch_rows.claim(store, "w1")
+    branch_rows.claim(store, "w2")
+    assert jobs.requeue_worker(store, "w1", "worker died", max_attempts=3) == (1, 0)
+    assert branch_rows.continuation(store, first)["status"] == "queued"
     # max_attempts 1: the second has used its one attempt
-    assert jobs.requeue_worker(db, "w2", "worker died", max_attempts=1) == (0, 1)
-    row = branch_rows.continuation(db, second)
+    assert jobs.requeue_worker(store, "w2", "worker died", max_attempts=1) == (0, 1)
+    row = branch_rows.continuation(store, second)
     assert row["status"] == "failed" and "gave up after 1 attempts" in row["error"]
-    branch_rows.claim(db, "w3")
-    assert jobs.requeue_expired(db, lease_s=3600.0, max_attempts=3) == (0, 0)  # still fresh
+    branch_rows.claim(store, "w3")
+    assert jobs.requeue_expired(store, lease_s=3600.0, max_attempts=3) == (0, 0)  # still fresh
 
 
-def test_a_stopped_continuation_resumes_and_ends_as_an_uninterrupted_one(db):
+def test_a_stopped_continuation_resumes_and_ends_as_an_uninterrupted_one(store):
     reference = _uninterrupted(SPEC)
-    cid = branch_jobs.submit(db, SPEC)
-    job = branch_jobs.claim(db, "w1")
-    branch_jobs.compute(db, "w1", job, inline, StopAfter(db, cid, 3), max_attempts=3)
-    row = branch_rows.continuation(db, cid)
+    cid = branch_jobs.submit(store, SPEC)
+    job = branch_jobs.claim(store, "w1")
+    branch_jobs.compute(store, "w1", job, inline, StopAfter(store, cid, 3), max_attempts=3)
+    row = branch_rows.continuation(store, cid)
     assert (row["status"], row["n_points"], row["attempts"]) == ("queued", 3, 0)
     assert row["hopf_value"] == pytest.approx(reference[0][0], abs=1e-3)
-    job = branch_jobs.claim(db, "w2")  # another worker takes it over
-    branch_jobs.compute(db, "w2", job, inline, Never(), max_attempts=3)
-    stored = branch_of(db, cid)
+    job = branch_jobs.claim(store, "w2")  # another worker takes it over
+    branch_jobs.compute(store, "w2", job, inline, Never(), max_attempts=3)
+    stored = branch_of(store, cid)
     assert stored is not None and stored.row["status"] == "done"
     assert stored.row["criticality"] == "subcritical"
     got = [(p["value"], p["period"], p["amplitude"]) for p in stored.points]
@@ -117,17 +117,17 @@ def test_a_stopped_continuation_resumes_and_ends_as_an_uninterrupted_one(db):
     np.testing.assert_allclose(np.array(got), np.array(reference), rtol=1e-9, atol=1e-12)
 
 
-def test_resume_rebuilds_the_branch_a_worker_left(db):
+def test_resume_rebuilds_the_branch_a_worker_left(store):
     branch, _ = start(SPEC)
     for _ in range(4):
         step(branch, lambda q: False, 10, MIN_STEP)
-    cid = branch_jobs.submit(db, SPEC)
-    branch_rows.claim(db, "w1")
+    cid = branch_jobs.submit(store, SPEC)
+    branch_rows.claim(store, "w1")
     saved = []
     for i in range(len(branch.points)):
         part = _prefix(branch, i + 1)
-        assert branch_rows.save_point(db, cid, "w1", branch_jobs.point_fields(part), 0.0)
-    saved = [branch_jobs.saved_of(r) for r in branch_rows.saved_points(db, cid)]
+        assert branch_rows.save_point(store, cid, "w1", branch_jobs.point_fields(part), 0.0)
+    saved = [branch_jobs.saved_of(r) for r in branch_rows.saved_points(store, cid)]
     again = resume(SPEC, saved)
     assert again.g0 == branch.g0 and again.h == branch.h
     np.testing.assert_array_equal(again.y, branch.y)
@@ -147,14 +147,14 @@ def _prefix(branch: Any, n: int) -> Any:
     return View()
 
 
-def test_no_orbit_to_start_from_fails_at_once_with_the_reason(db):
+def test_no_orbit_to_start_from_fails_at_once_with_the_reason(store):
     # k = 0.5, tau = 2: a run from eq. 19 comes to rest, so there is no orbit to continue
     spec = BranchSpec(Params(k=0.5, tau=2.0, delta=1e-3), "k", 0.01, from_hopf=False,
                       max_points=5)
-    cid = branch_jobs.submit(db, spec)
-    job = branch_jobs.claim(db, "w1")
-    branch_jobs.compute(db, "w1", job, inline, Never(), max_attempts=3)
-    row = branch_rows.continuation(db, cid)
+    cid = branch_jobs.submit(store, spec)
+    job = branch_jobs.claim(store, "w1")
+    branch_jobs.compute(store, "w1", job, inline, Never(), max_attempts=3)
+    row = branch_rows.continuation(store, cid)
     assert row["status"] == "failed" and row["attempts"] == 1
     assert row["error"].startswith("no branch: ")
-    assert branch_rows.points(db, cid) == []
+    assert branch_rows.points(store, cid) == []

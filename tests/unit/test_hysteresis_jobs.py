@@ -71,58 +71,58 @@ def _compute(db: Any, wid: str, control: Any = None, max_attempts: int = 3) -> N
     hysteresis_jobs.compute(db, wid, job, inline, control or Never(), max_attempts)
 
 
-def test_points_are_saved_by_the_lease_holder_only_and_in_order(db):
-    sid = hysteresis_jobs.submit(db, SPEC)
-    assert not queue_drained(db)  # a queued sweep keeps --exit-when-idle workers
-    assert hysteresis_rows.claim(db, "w1")["id"] == sid
-    assert hysteresis_rows.claim(db, "w2") is None  # one holder
-    assert hysteresis_rows.save_point(db, sid, "w1", _point(0), 0.1)
-    assert not hysteresis_rows.save_point(db, sid, "w1", _point(0), 0.1)  # not the next one
-    assert not hysteresis_rows.save_point(db, sid, "w1", _point(2), 0.1)  # a gap
-    assert not hysteresis_rows.save_point(db, sid, "w2", _point(1), 0.1)  # not the holder
-    assert hysteresis_rows.save_point(db, sid, "w1", _point(1), 0.2)
-    row = hysteresis_rows.hysteresis_sweep(db, sid)
+def test_points_are_saved_by_the_lease_holder_only_and_in_order(store):
+    sid = hysteresis_jobs.submit(store, SPEC)
+    assert not queue_drained(store)  # a queued sweep keeps --exit-when-idle workers
+    assert hysteresis_rows.claim(store, "w1")["id"] == sid
+    assert hysteresis_rows.claim(store, "w2") is None  # one holder
+    assert hysteresis_rows.save_point(store, sid, "w1", _point(0), 0.1)
+    assert not hysteresis_rows.save_point(store, sid, "w1", _point(0), 0.1)  # not the next one
+    assert not hysteresis_rows.save_point(store, sid, "w1", _point(2), 0.1)  # a gap
+    assert not hysteresis_rows.save_point(store, sid, "w2", _point(1), 0.1)  # not the holder
+    assert hysteresis_rows.save_point(store, sid, "w1", _point(1), 0.2)
+    row = hysteresis_rows.hysteresis_sweep(store, sid)
     assert (row["n_done"], row["attempts"]) == (2, 1)
     assert row["runtime_s"] == pytest.approx(0.3)
     # a shutdown gives it back with its attempt; the points stay
-    assert hysteresis_rows.release(db, sid, "w1")
-    assert not hysteresis_rows.finish(db, sid, "w1", None, None, 0.0)  # no longer held
-    row = hysteresis_rows.hysteresis_sweep(db, sid)
+    assert hysteresis_rows.release(store, sid, "w1")
+    assert not hysteresis_rows.finish(store, sid, "w1", None, None, 0.0)  # no longer held
+    row = hysteresis_rows.hysteresis_sweep(store, sid)
     assert (row["status"], row["attempts"], row["n_done"]) == ("queued", 0, 2)
-    points = hysteresis_rows.points(db, sid)
+    points = hysteresis_rows.points(store, sid)
     assert [p["idx"] for p in points] == [0, 1] and "state" not in points[0]
-    assert math.isnan(points[0]["amplitude"])  # NaN survives SQLite (NULL read back as NaN)
+    assert math.isnan(points[0]["amplitude"])  # NaN survives (SQLite: NULL read back as NaN)
 
 
-def test_expired_and_dead_workers_sweeps_go_back_or_fail(db):
-    first = hysteresis_jobs.submit(db, SPEC)
-    second = hysteresis_jobs.submit(db, SPEC)
-    hysteresis_rows.claim(db, "w1")
-    hysteresis_rows.claim(db, "w2")
-    jobs.heartbeat(db, "w1")
-    assert jobs.requeue_worker(db, "w1", "worker died", max_attempts=3) == (1, 0)
-    assert hysteresis_rows.hysteresis_sweep(db, first)["status"] == "queued"
-    assert jobs.requeue_worker(db, "w2", "worker died", max_attempts=1) == (0, 1)
-    row = hysteresis_rows.hysteresis_sweep(db, second)
+def test_expired_and_dead_workers_sweeps_go_back_or_fail(store):
+    first = hysteresis_jobs.submit(store, SPEC)
+    second = hysteresis_jobs.submit(store, SPEC)
+    hysteresis_rows.claim(store, "w1")
+    hysteresis_rows.claim(store, "w2")
+    jobs.heartbeat(store, "w1")
+    assert jobs.requeue_worker(store, "w1", "worker died", max_attempts=3) == (1, 0)
+    assert hysteresis_rows.hysteresis_sweep(store, first)["status"] == "queued"
+    assert jobs.requeue_worker(store, "w2", "worker died", max_attempts=1) == (0, 1)
+    row = hysteresis_rows.hysteresis_sweep(store, second)
     assert row["status"] == "failed" and "gave up after 1 attempts" in row["error"]
-    hysteresis_rows.claim(db, "w3")
-    assert jobs.requeue_expired(db, lease_s=3600.0, max_attempts=3) == (0, 0)  # still fresh
-    assert jobs.requeue_expired(db, lease_s=-1.0, max_attempts=3) == (1, 0)  # expired
+    hysteresis_rows.claim(store, "w3")
+    assert jobs.requeue_expired(store, lease_s=3600.0, max_attempts=3) == (0, 0)  # still fresh
+    assert jobs.requeue_expired(store, lease_s=-1.0, max_attempts=3) == (1, 0)  # expired
 
 
 @pytest.mark.parametrize("stops", [(2,), (4,), (1, 6)])
-def test_a_stopped_sweep_resumes_and_ends_as_an_uninterrupted_one(db, stops):
+def test_a_stopped_sweep_resumes_and_ends_as_an_uninterrupted_one(store, stops):
     """Stopped inside the up branch, exactly between the branches (the down branch then
     starts from the saved last up state), and twice."""
     reference = _direct(SPEC)
     assert any(p.jumped for p in reference.up)  # the sweep crosses a kick
-    sid = hysteresis_jobs.submit(db, SPEC)
+    sid = hysteresis_jobs.submit(store, SPEC)
     for i, n in enumerate(stops):
-        _compute(db, f"w{i}", StopAfter(db, sid, n))
-        row = hysteresis_rows.hysteresis_sweep(db, sid)
+        _compute(store, f"w{i}", StopAfter(store, sid, n))
+        row = hysteresis_rows.hysteresis_sweep(store, sid)
         assert (row["status"], row["n_done"], row["attempts"]) == ("queued", n, 0)
-    _compute(db, "last")  # another worker takes it over
-    stored = hysteresis_of(db, sid)
+    _compute(store, "last")  # another worker takes it over
+    stored = hysteresis_of(store, sid)
     assert stored is not None and stored.row["status"] == "done"
     assert stored.row["n_done"] == 2 * SPEC.n_points and stored.row["attempts"] == 1
     # the state is handed over to the bit: the same points as the direct sweep, exactly
@@ -132,7 +132,7 @@ def test_a_stopped_sweep_resumes_and_ends_as_an_uninterrupted_one(db, stops):
         [p.detail for p in reference.up + reference.down]
     assert (stored.row["onset_up"], stored.row["offset_down"]) == \
         (reference.onset_up, reference.offset_down)
-    assert queue_drained(db)
+    assert queue_drained(store)
 
 
 def fake_point(p: Params, g: Any, state: np.ndarray, name: str, t_settle: float,
@@ -143,54 +143,54 @@ def fake_point(p: Params, g: Any, state: np.ndarray, name: str, t_settle: float,
     return WarmPoint(p.k, "sliding", "at rest", 1e-6, -0.01), state + 1.0
 
 
-def test_a_run_leaving_the_finite_range_ends_the_sweep_as_it_ends_a_branch(db, monkeypatch):
+def test_a_run_leaving_the_finite_range_ends_the_sweep_as_it_ends_a_branch(store, monkeypatch):
     monkeypatch.setattr(core.hysteresis, "point", fake_point)
     spec = HysteresisSpec(Params(tau=2.0), "k", 8.0, 12.0, 3, 0.01, 300.0, 100.0)
     reference = _direct(spec)
     assert reference.down == [] and reference.up[-1].regime == "unstable"
-    sid = hysteresis_jobs.submit(db, spec)
-    _compute(db, "w1")
-    stored = hysteresis_of(db, sid)
+    sid = hysteresis_jobs.submit(store, spec)
+    _compute(store, "w1")
+    stored = hysteresis_of(store, sid)
     assert stored is not None and stored.row["status"] == "done" and stored.row["error"] is None
     assert _stored_keys(stored.up) == _keys(reference.up) and stored.down == []
     assert stored.up[-1]["detail"] == "the run left the finite range at t = 12.5"
     assert stored.row["onset_up"] == reference.onset_up == 10.0
-    assert hysteresis_rows.saved_points(db, sid)[-1]["state"] is None  # nothing handed over
+    assert hysteresis_rows.saved_points(store, sid)[-1]["state"] is None  # nothing handed over
 
 
-def test_a_sweep_killed_after_its_last_point_is_only_finished(db, monkeypatch):
+def test_a_sweep_killed_after_its_last_point_is_only_finished(store, monkeypatch):
     """The worker died between saving the point that ended the sweep and finishing it:
     the next one computes nothing more."""
     monkeypatch.setattr(core.hysteresis, "point", fake_point)
     spec = HysteresisSpec(Params(tau=2.0), "k", 8.0, 12.0, 3, 0.01, 300.0, 100.0)
-    sid = hysteresis_jobs.submit(db, spec)
-    hysteresis_rows.claim(db, "w1")
+    sid = hysteresis_jobs.submit(store, spec)
+    hysteresis_rows.claim(store, "w1")
     fields = [hysteresis_jobs.point_fields(0, "up", WarmPoint(8.0, "sliding", "", 0.0, -1.0),
                                            np.zeros((5, 201))),
               hysteresis_jobs.point_fields(1, "up", WarmPoint(10.0, "unstable", "gone",
                                                               math.nan, math.nan), None)]
     for f in fields:
-        assert hysteresis_rows.save_point(db, sid, "w1", f, 0.0)
-    jobs.requeue_worker(db, "w1", "worker died", max_attempts=3)
+        assert hysteresis_rows.save_point(store, sid, "w1", f, 0.0)
+    jobs.requeue_worker(store, "w1", "worker died", max_attempts=3)
     monkeypatch.setattr(core.hysteresis, "point", None)  # computing anything would raise
-    _compute(db, "w2")
-    row = hysteresis_rows.hysteresis_sweep(db, sid)
+    _compute(store, "w2")
+    row = hysteresis_rows.hysteresis_sweep(store, sid)
     assert (row["status"], row["n_done"], row["onset_up"]) == ("done", 2, 10.0)
 
 
-def test_errors_are_retried_and_tau_fails_at_once(db, monkeypatch):
+def test_errors_are_retried_and_tau_fails_at_once(store, monkeypatch):
     def broken(*args: Any) -> Any:
         raise RuntimeError("a bug")
     monkeypatch.setattr(core.hysteresis, "point", broken)
-    sid = hysteresis_jobs.submit(db, SPEC)
-    _compute(db, "w1", max_attempts=2)
-    row = hysteresis_rows.hysteresis_sweep(db, sid)
+    sid = hysteresis_jobs.submit(store, SPEC)
+    _compute(store, "w1", max_attempts=2)
+    row = hysteresis_rows.hysteresis_sweep(store, sid)
     assert row["status"] == "queued" and "RuntimeError: a bug" in row["error"]
-    _compute(db, "w2", max_attempts=2)
-    assert hysteresis_rows.hysteresis_sweep(db, sid)["status"] == "failed"
-    tau = hysteresis_jobs.submit(db, HysteresisSpec(Params(), "tau", 1.0, 2.0, 3, 0.01,
+    _compute(store, "w2", max_attempts=2)
+    assert hysteresis_rows.hysteresis_sweep(store, sid)["status"] == "failed"
+    tau = hysteresis_jobs.submit(store, HysteresisSpec(Params(), "tau", 1.0, 2.0, 3, 0.01,
                                                     300.0, 100.0))
-    _compute(db, "w3")
-    row = hysteresis_rows.hysteresis_sweep(db, tau)
+    _compute(store, "w3")
+    row = hysteresis_rows.hysteresis_sweep(store, tau)
     assert row["status"] == "failed" and row["attempts"] == 1
     assert row["error"].startswith("no sweep: ") and "tau" in row["error"]
