@@ -25,9 +25,12 @@ import threading
 import time
 from pathlib import Path
 
-#: Connections a pool may hold at once by default. Measured in
-#: tests/integration/test_many_hosts.py: 2 slots keep two workers busy on short runs
-#: (a claim or write takes ~1-10 ms against runs of seconds at the paper's settings).
+#: Connections a pool may hold at once by default. A worker holds one for a few ms a
+#: batch (benchmarks/bench_pools.py: the queue costs a worker ~2-2.5 ms of CPU a run)
+#: against batches that compute for seconds to minutes at the paper's settings; even one
+#: slot kept two workers a pool busy on 2,000 runs of 6 ms
+#: (tests/integration/test_many_hosts.py). Two leave room for a pool's own statements
+#: (a dead worker's requeue, progress) beside a claim.
 DEFAULT_CONNECTIONS = 2
 #: Waiting for a slot: the first retry after this long, doubling up to WAIT_MAX_S (s).
 WAIT_MIN_S, WAIT_MAX_S = 0.001, 0.05
