@@ -31,14 +31,17 @@ SLOW_TIERS = {"integration", "tui"}
 #: The PostgreSQL server the `postgresql` case runs on (a role that may create databases).
 PG_ENV = "SLOPETUI_TEST_PG"
 NO_PG = "no PostgreSQL server: set SLOPETUI_TEST_PG (.ci/run starts one)"
+#: The PostgreSQL case is also `slow`: the fast loop (`-m "not slow"`, under a minute) runs
+#: each store and queue test once, on SQLite; the full suite (CI) runs both backends.
 BACKENDS = [pytest.param("sqlite", id="sqlite"),
-            pytest.param("postgresql", id="postgresql", marks=pytest.mark.postgres)]
+            pytest.param("postgresql", id="postgresql",
+                         marks=[pytest.mark.postgres, pytest.mark.slow])]
 
 
 def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line("markers", "postgres: the PostgreSQL case of a test on both "
                             "backends (the `backend` fixture: store, store_url, "
-                            f"new_store_url); skipped unless ${PG_ENV} names a server")
+                            f"new_store_url; also slow); skipped unless ${PG_ENV} names a server")
     config.addinivalue_line("markers", "sqlite_only: about SQLite's file itself (WAL, locks, "
                             "PRAGMAs, file permissions, backups, the default file): runs on "
                             "SQLite only, on purpose")
