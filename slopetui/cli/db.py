@@ -5,7 +5,6 @@ store; ``slopetui db serve``: a PostgreSQL server of one's own for the workers
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
 import time
 from pathlib import Path
@@ -139,24 +138,17 @@ def _say_started(server: local_server.Server) -> None:
     _say("Ctrl-C, SIGTERM or SIGHUP (or `slopetui db serve --stop`) stops it")
 
 
-def _stop_signals() -> tuple[int, ...]:
-    """INT, TERM and HUP; HUP not if it is ignored (nohup): that is the caller's wish to
-    survive the end of the session."""
-    if signal.getsignal(signal.SIGHUP) == signal.SIG_IGN:
-        return (signal.SIGINT, signal.SIGTERM)
-    return (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
-
-
 def _serve_foreground(folder: Path, settings: local_server.Settings,
                       pg_bin: Path | None, default_dir: bool) -> int:
-    from slopetui.queue.stop_signals import SignalPipe
+    from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe
 
     local_server.check_not_root()  # before looking for programs root could not run
     local_server.check_driver()
     binaries = local_server.find_binaries(pg_bin)
     # the handlers are in before initdb: a signal during the start is acted on after it,
     # never halfway through (the handlers do nothing but wake the loop below)
-    signals = SignalPipe(_stop_signals())
+    # (a SIGHUP that nohup set to be ignored stays ignored: SignalPipe)
+    signals = SignalPipe(STOP_SIGNALS)
     try:
         server = local_server.start(folder, settings, binaries, make_parents=default_dir)
         try:
