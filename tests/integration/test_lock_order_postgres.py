@@ -6,25 +6,17 @@ thread of one worker hammer one database at once."""
 
 from __future__ import annotations
 
-import os
 import threading
-
-import pytest
 
 from core import run_point
 from slopetui.queue import jobs
 from slopetui.store.open import open_store
 from slopetui.store.worker_rows import register_worker
-from tests.support import pg_database, submit_quick
-
-SERVER = os.environ.get("SLOPETUI_TEST_PG")
-pytestmark = pytest.mark.skipif(not SERVER, reason="no PostgreSQL server: set "
-                                                   "SLOPETUI_TEST_PG (.ci/run starts one)")
+from tests.support import submit_quick
 
 
-def test_heartbeats_and_writes_of_one_worker_never_deadlock():
-    assert SERVER is not None
-    with pg_database(SERVER, f"lock_order_{os.getpid()}") as url:
+def test_heartbeats_and_writes_of_one_worker_never_deadlock(pg_server):
+    with pg_server.database() as url:
         db = open_store(url)
         submit_quick(db, 300, method="euler", dt=1e-3)
         register_worker(db, "w", "h", 1)

@@ -21,18 +21,13 @@ import time
 from collections import Counter
 from pathlib import Path
 
-import pytest
 from sqlalchemy import create_engine, select, text
+from sqlalchemy.engine import make_url
 
 from slopetui.store import Run, open_store
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 from tests.integration.pool_support import DONE_LINE, gone, start_pool
-from tests.support import pg_database
-
-SERVER = os.environ.get("SLOPETUI_TEST_PG")
-pytestmark = pytest.mark.skipif(not SERVER, reason="no PostgreSQL server: set "
-                                                   "SLOPETUI_TEST_PG (.ci/run starts one)")
 
 #: One connection a pool for two workers: the budget (4) is below the workers (8), where
 #: before each worker held two and each pool one more (20).
@@ -54,11 +49,16 @@ def _children(pid: int) -> list[int]:
 
 
 def _workers(pool: subprocess.Popen[str]) -> list[int]:
-    """The pool's worker processes (not multiprocessing's resource tracker)."""
-    return [pid for pid in _children(pool.pid)
-            if "slopetui-worker" in Path(f"/proc/{pid}/cmdline").read_bytes().decode(
-                errors="replace") or "spawn_main" in Path(f"/proc/{pid}/cmdline")
-            .read_bytes().decode(errors="replace")]
+    """The pool's worker processes: multiprocessing spawned them (spawn_main), not its
+    resource tracker."""
+    found = []
+    for pid in _children(pool.pid):
+        try:
+            if b"spawn_main" in Path(f"/proc/{pid}/cmdline").read_bytes():
+                found.append(pid)
+        except OSError:  # it exited meanwhile
+            pass
+    return found
 
 
 class ConnectionWatch(threading.Thread):
@@ -83,11 +83,11 @@ class ConnectionWatch(threading.Thread):
         self.engine.dispose()
 
 
-def test_pools_on_many_hosts_survive_kills_and_do_every_run_once(tmp_path):
-    assert SERVER is not None
-    name = f"many_hosts_{os.getpid()}"
+def test_pools_on_many_hosts_survive_kills_and_do_every_run_once(tmp_path, pg_server):
     rng = random.Random(18)
-    with pg_database(SERVER, name) as url:
+    with pg_server.database() as url:
+        name = make_url(url).database
+        assert name is not None
         db = open_store(url)
         n_runs = submit(db, parse_spec(PLANE)).n_runs
         assert n_runs == 2000
@@ -98,7 +98,7 @@ def test_pools_on_many_hosts_survive_kills_and_do_every_run_once(tmp_path):
         def start(i: int) -> subprocess.Popen[str]:
             return start_pool(url, logs[i], *args, "--host-id", f"host{i}", group=True)
 
-        watch = ConnectionWatch(SERVER, name)
+        watch = ConnectionWatch(pg_server.url.render_as_string(hide_password=False), name)
         watch.start()
         t0 = time.monotonic()
         pools = [start(i) for i in range(POOLS)]

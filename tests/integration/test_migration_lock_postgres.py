@@ -11,15 +11,8 @@ import subprocess
 import sys
 import time
 
-import pytest
-
 from slopetui.store.database import Database
 from slopetui.store.migrate import current_revision, head_revision, migration_lock
-from tests.support import pg_database
-
-SERVER = os.environ.get("SLOPETUI_TEST_PG")
-pytestmark = pytest.mark.skipif(not SERVER, reason="no PostgreSQL server: set "
-                                                   "SLOPETUI_TEST_PG (.ci/run starts one)")
 
 
 def _upgrade(url: str, cache: str) -> subprocess.Popen[str]:
@@ -30,10 +23,9 @@ def _upgrade(url: str, cache: str) -> subprocess.Popen[str]:
                             text=True)
 
 
-def test_four_hosts_upgrading_at_once_all_succeed(tmp_path):
-    assert SERVER is not None
+def test_four_hosts_upgrading_at_once_all_succeed(tmp_path, pg_server):
     for attempt in range(3):  # a race shows itself often, not always: three tries
-        with pg_database(SERVER, f"migrate_race_{os.getpid()}_{attempt}") as url:
+        with pg_server.database(migrated=False) as url:
             procs = [_upgrade(url, str(tmp_path / f"host{attempt}{i}")) for i in range(4)]
             outs = [p.communicate(timeout=120) for p in procs]
             codes = [p.returncode for p in procs]
@@ -46,9 +38,8 @@ def test_four_hosts_upgrading_at_once_all_succeed(tmp_path):
             db.dispose()
 
 
-def test_an_upgrade_waits_for_the_lock_held_elsewhere(tmp_path):
-    assert SERVER is not None
-    with pg_database(SERVER, f"migrate_wait_{os.getpid()}") as url:
+def test_an_upgrade_waits_for_the_lock_held_elsewhere(tmp_path, pg_server):
+    with pg_server.database(migrated=False) as url:
         holder = Database(url)
         with migration_lock(holder):
             proc = _upgrade(url, str(tmp_path / "other"))

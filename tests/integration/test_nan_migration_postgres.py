@@ -5,25 +5,18 @@ back as NaN as before."""
 from __future__ import annotations
 
 import math
-import os
 
-import pytest
 from sqlalchemy import select, text
 
 from slopetui.store import Run
 from slopetui.store.database import Database
 from slopetui.store.migrate import downgrade, upgrade
 from slopetui.store.open import open_store
-from tests.support import finish_all, pg_database, submit_quick
-
-SERVER = os.environ.get("SLOPETUI_TEST_PG")
-pytestmark = pytest.mark.skipif(not SERVER, reason="no PostgreSQL server: set "
-                                                   "SLOPETUI_TEST_PG (.ci/run starts one)")
+from tests.support import finish_all, submit_quick
 
 
-def test_stored_nan_becomes_null_and_reads_as_nan():
-    assert SERVER is not None
-    with pg_database(SERVER, f"nan_migration_{os.getpid()}") as url:
+def test_stored_nan_becomes_null_and_reads_as_nan(pg_server):
+    with pg_server.database() as url:
         db = open_store(url)
         submit_quick(db, 2)
         finish_all(db)
