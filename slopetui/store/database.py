@@ -247,9 +247,17 @@ class Database:
 
     def _make_engine(self) -> Engine:
         options: dict[str, Any] = {}
-        if self.url.get_backend_name() == "postgresql" and "application_name" not in self.url.query:
-            # pg_stat_activity then tells which process holds which connection
-            options["connect_args"] = {"application_name": f"slopetui pid {os.getpid()}"}
+        if self.url.get_backend_name() == "postgresql":
+            connect: dict[str, str] = {}
+            if "application_name" not in self.url.query:
+                # pg_stat_activity then tells which process holds which connection
+                connect["application_name"] = f"slopetui pid {os.getpid()}"
+            if "options" not in self.url.query:
+                # the session's zone is UTC: the timestamps are "without time zone" and hold
+                # UTC (db_time), but CURRENT_TIMESTAMP, the created_at defaults, would give
+                # the server's local time on a server whose TimeZone is not UTC
+                connect["options"] = "-c TimeZone=UTC"
+            options["connect_args"] = connect
         try:
             engine = create_engine(self.url, **options)
         except Exception as exc:  # a missing driver, a bad option: say which URL
