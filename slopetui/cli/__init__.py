@@ -1,3 +1,4 @@
+# PYTHON_ARGCOMPLETE_OK
 """The ``slopetui`` command line: one module per subcommand, wired here."""
 
 from __future__ import annotations
@@ -11,10 +12,12 @@ from slopetui import __version__
 from slopetui.cli import (
     branch,
     cluster,
+    completion,
     continuation,
     control,
     db,
     example,
+    figure,
     hysteresis,
     nblock,
     orbit,
@@ -58,14 +61,16 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-workers", action="store_true",
                         help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for module in (run, orbit, continuation, branch, hysteresis, submit, example, status, show, runs, control, sql,
-                   worker, workers, db, cluster, nblock, reproduce):
+    for module in (run, orbit, continuation, branch, hysteresis, submit, example, status, show, figure, runs,
+                   control, sql, worker, workers, db, cluster, nblock, reproduce, completion):
         module.register(sub)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
+    if "_ARGCOMPLETE" in os.environ:  # a shell asks for completions (slopetui completion)
+        completion.enable(parser)
     args = parser.parse_args(argv)
     if args.command is None:  # the application
         from slopetui.tui.app import run_app

@@ -1,14 +1,21 @@
-"""``slopetui runs``: filter and list runs; ``slopetui export SWEEP --csv``."""
+"""``slopetui runs``: filter and list runs; ``slopetui export SWEEP --csv | --parquet |
+--json``: a sweep's runs as a file (the formats: ``slopetui.sweeps.export`` for CSV,
+``slopetui.sweeps.frames`` for the DataFrame that Parquet and JSON are written from)."""
 
 from __future__ import annotations
 
 import argparse
+import errno
 import io
+import json
+import os
+import stat
 import sys
-from collections.abc import Iterable
+import tempfile
+from collections.abc import Callable, Iterable
 from contextlib import closing
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import IO, TYPE_CHECKING
 
 from core.regimes import REGIMES
 from slopetui.cli.options import UsageError, add_db_option, int_arg, open_db, sweep_arg
@@ -16,6 +23,9 @@ from slopetui.display_text import terminal_safe, terminal_safe_lines
 from slopetui.store.statuses import RUN_STATUSES
 
 if TYPE_CHECKING:
+    import pandas as pd
+
+    from slopetui.store.database import Database
     from slopetui.store.models import Run
 
 
@@ -31,13 +41,29 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_db_option(p)
     p.set_defaults(handler=handle_runs)
 
-    e = sub.add_parser("export", help="write a sweep's runs as CSV",
-                       description="Every column of every run of the sweep, in grid order. "
-                                   "NaN and infinity are written as nan, inf, -inf. Text is "
-                                   "written as stored, except on a terminal, where control "
-                                   "characters are shown escaped (\\x1b).")
+    e = sub.add_parser("export", help="write a sweep's runs as CSV, Parquet or JSON",
+                       description="Every column of every run of the sweep, in grid order, "
+                                   "in one of three formats. --csv: NaN and infinity are "
+                                   "written as nan, inf, -inf; a value that does not exist "
+                                   "(a result of a run that is not done) is an empty cell. "
+                                   "--parquet: the DataFrame of slopetui.open_store(url)"
+                                   ".runs(SWEEP) (needs pyarrow: pip install "
+                                   "'slopetui[parquet]'); binary, so to -o FILE or into a "
+                                   "pipe, never a terminal. --json: strict JSON, a list of one "
+                                   "object per run with the CSV's columns as keys; NaN and "
+                                   "infinity as the strings \"nan\", \"inf\", \"-inf\", "
+                                   "a value that does not exist as null, peaks as an array, "
+                                   "times in ISO 8601. Text is written as stored, except on a "
+                                   "terminal, where control characters are shown escaped "
+                                   "(\\x1b). A file is written whole or not at all.")
     e.add_argument("sweep", metavar="SWEEP", help="sweep id")
-    e.add_argument("--csv", action="store_true", required=True, help="CSV (the only format)")
+    formats = e.add_mutually_exclusive_group(required=True)
+    formats.add_argument("--csv", dest="format", action="store_const", const="csv",
+                         help="CSV, one line per run")
+    formats.add_argument("--parquet", dest="format", action="store_const", const="parquet",
+                         help="Parquet (needs pyarrow)")
+    formats.add_argument("--json", dest="format", action="store_const", const="json",
+                         help="JSON, a list of one object per run")
     e.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
     add_db_option(e)
     e.set_defaults(handler=handle_export)
@@ -48,16 +74,19 @@ def _num(x: float | None, fmt: str = ".4g") -> str:
 
 
 def csv_to_stdout(runs: Iterable[Run]) -> int:
-    """The runs as CSV on stdout; returns how many. Into a pipe or a file the text is as
-    stored (it is data: a reader must get what the store holds); on a terminal, where a
-    stored escape sequence would drive the reader's terminal, it goes through
-    terminal_safe, newlines kept."""
-    from slopetui.sweeps.export import write_csv
+    """The runs as CSV on stdout; returns how many (see text_to_stdout)."""
+    return text_to_stdout(lambda out: _csv(runs, out))
 
+
+def text_to_stdout(write: Callable[[IO[str]], int]) -> int:
+    """What ``write`` writes (it returns how many runs), on stdout. Into a pipe or a file
+    the text is as stored (it is data: a reader must get what the store holds); on a
+    terminal, where a stored escape sequence would drive the reader's terminal, it goes
+    through terminal_safe, newlines kept."""
     if not sys.stdout.isatty():
-        return write_csv(runs, sys.stdout)
+        return write(sys.stdout)
     buf = io.StringIO()
-    n = write_csv(runs, buf)
+    n = write(buf)
     sys.stdout.write(terminal_safe_lines(buf.getvalue()))
     return n
 
@@ -88,35 +117,139 @@ def handle_runs(args: argparse.Namespace) -> int:
     return 0
 
 
+#: The one line of an export --parquet without pyarrow (an optional extra).
+NO_PYARROW = "export --parquet needs pyarrow: pip install 'slopetui[parquet]'"
+
+
 def handle_export(args: argparse.Namespace) -> int:
-    from slopetui.store.queries import runs_of, sweep_exists
+    from slopetui.store.queries import sweep_exists
     from slopetui.sweeps.control import UnknownSweep
 
     sweep = sweep_arg(args.sweep)
+    if args.format == "parquet":  # refused before the store is opened: nothing written
+        _need_pyarrow()
+        if not args.output and sys.stdout.isatty():
+            raise UsageError("export --parquet writes binary data: give -o FILE, or send "
+                             "stdout to a file or a pipe (not a terminal)")
     db = open_db(args)
     if not sweep_exists(db, sweep):
         raise UnknownSweep(sweep)
-    with closing(runs_of(db, sweep)) as runs:
-        if args.output:
-            n = _write_file(args.output, runs)
-            print(f"{n} runs of sweep {sweep} written to {terminal_safe(args.output)}",
-                  file=sys.stderr)
-        else:
-            csv_to_stdout(runs)
+    if args.format == "csv":
+        n = _export_csv(db, sweep, args.output)
+    else:
+        n = _export_frame(db, sweep, args.format, args.output)
+    if args.output:
+        print(f"{n} runs of sweep {sweep} written to {terminal_safe(args.output)}",
+              file=sys.stderr)
     return 0
 
 
-def _write_file(path: str, runs: Iterable[Run]) -> int:
-    """Write the CSV to ``path``; a UsageError naming it and the cause if it cannot be
-    written (a missing folder, no permission, a directory, a full disk)."""
-    from slopetui.sweeps.export import write_csv
+def _export_csv(db: Database, sweep: int, output: str | None) -> int:
+    """The sweep's runs as CSV, streamed from the store, to ``output`` or stdout."""
+    from slopetui.store.queries import runs_of
 
+    with closing(runs_of(db, sweep)) as runs:
+        if not output:
+            return csv_to_stdout(runs)
+        return _write_file(output, lambda out: _as_text(out, lambda text: _csv(runs, text)))
+
+
+def _export_frame(db: Database, sweep: int, form: str, output: str | None) -> int:
+    """The sweep's runs as Parquet or JSON, from their DataFrame, to ``output`` or stdout."""
+    from slopetui.sweeps.frames import runs_frame
+
+    frame = runs_frame(db, sweep)
+    if output:
+        if form == "parquet":
+            return _write_file(output, lambda out: _parquet(frame, out))
+        return _write_file(output, lambda out: _as_text(out, lambda text: _json(frame, text)))
+    if form == "parquet":  # not a terminal: handle_export refused that
+        sys.stdout.flush()
+        _parquet(frame, sys.stdout.buffer)
+        sys.stdout.buffer.flush()
+        return len(frame)
+    return text_to_stdout(lambda text: _json(frame, text))
+
+
+def _need_pyarrow() -> None:
     try:
-        with Path(path).open("w", encoding="utf-8", newline="") as out:
-            return write_csv(runs, out)
+        import pyarrow  # noqa: F401
+    except ImportError:
+        raise UsageError(NO_PYARROW) from None
+
+
+def _csv(runs: Iterable[Run], out: IO[str]) -> int:
+    from slopetui.sweeps.export import write_csv
+    return write_csv(runs, out)
+
+
+def _json(frame: pd.DataFrame, out: IO[str]) -> int:
+    """Strict JSON (no NaN literal: jq and JavaScript refuse it), one run a line, the text
+    as stored (UTF-8). The values: slopetui.sweeps.frames.json_rows."""
+    from slopetui.sweeps.frames import json_rows
+
+    rows = json_rows(frame)
+    out.write("[\n" if rows else "[")
+    out.write(",\n".join(json.dumps(row, allow_nan=False, ensure_ascii=False) for row in rows))
+    out.write("\n]\n")
+    return len(rows)
+
+
+def _parquet(frame: pd.DataFrame, out: IO[bytes]) -> int:
+    frame.to_parquet(out, index=False)
+    return len(frame)
+
+
+def _as_text(out: IO[bytes], write: Callable[[IO[str]], int]) -> int:
+    """``write`` text into the binary file ``out``, UTF-8, newlines as written."""
+    text = io.TextIOWrapper(out, encoding="utf-8", newline="")
+    n = write(text)
+    text.flush()
+    text.detach()  # ``out`` stays open: its owner closes it
+    return n
+
+
+def _write_file(path: str, write: Callable[[IO[bytes]], int]) -> int:
+    """Write ``path`` whole or not at all: into a new file beside it, which replaces it
+    once written and synced, so that a failure (a full disk, a database error, ^C) leaves
+    no partial file and an older file as it was. A UsageError naming the path and the
+    cause if it cannot be written (a missing folder, no permission, a directory).
+
+    A path that is neither a file nor a directory (``-o /dev/stdout``, a named pipe) is
+    written in place: there is no file to replace, and replacing the device would be
+    wrong. A symbolic link is followed: the file it points to is replaced."""
+    target = Path(os.path.realpath(path))
+    try:
+        if target.is_dir():  # refused before the runs are read and written
+            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR))
+        if target.exists() and not target.is_file():
+            with target.open("wb") as out:
+                return write(out)
+        mode = (stat.S_IMODE(target.stat().st_mode) if target.is_file()
+                else 0o666 & ~_umask())  # as open() would create it
+        # (the name cut short: a name near the limit of 255 bytes must still fit)
+        fd, temp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name[:64]}.",
+                                    suffix=".part")
+        try:
+            with os.fdopen(fd, "wb") as out:
+                n = write(out)
+                out.flush()
+                os.fsync(out.fileno())
+            os.chmod(temp, mode)
+            os.replace(temp, target)
+        except BaseException:
+            Path(temp).unlink(missing_ok=True)
+            raise
+        return n
     except BrokenPipeError:  # -o /dev/stdout into `head`: main() handles it
         raise
     except OSError as exc:
         raise UsageError(f"--output: cannot write {terminal_safe(path)}: "
                          f"{exc.strerror or exc} (allowed: a file in an existing folder "
                          "you can write to)") from None
+
+
+def _umask() -> int:
+    mask = os.umask(0)  # the only way to read it: set it, and set it back at once
+    os.umask(mask)
+    return mask

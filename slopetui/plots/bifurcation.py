@@ -26,8 +26,9 @@ def render_bifurcation(param: str, values: Sequence[float], peaks: Sequence[Sequ
     """Each run's peaks[i] (maxima of m_y in the analysis window, model units) plotted at
     its parameter value values[i], marked by regimes[i].
 
-    Runs without peaks (sliding at rest, unstable, pending) add no points but count in
-    the legend, which gives runs per regime. Non-finite peaks, and with ``log`` a
+    Runs without peaks (sliding at rest, unstable, pending, and the style keys of runs
+    without a result, regime_colors.run_key's "failed" and "cancelled") add no points but
+    count in the legend, which gives runs per regime. Non-finite peaks, and with ``log`` a
     parameter value <= 0, are left out. Returns exactly ``height`` lines of at most
     ``width`` columns; with ``color`` False, no ANSI escapes. Raises ValueError for inputs
     of unequal length, an unknown regime, or a size too small.

@@ -24,6 +24,7 @@ from slopetui.plots.regime_colors import (
     THEME_PLAIN,
     regime_counts,
 )
+from slopetui.sweeps.run_labels import SHOWN_AS
 
 #: Smallest plot accepted, in terminal cells: narrower plots squeeze the tick labels
 #: out, and with fewer canvas rows plotext folds distinct y values onto one row.
@@ -31,9 +32,6 @@ MIN_WIDTH = 30
 MIN_PLOT_HEIGHT = 10
 #: Columns between two legend entries on one line.
 LEGEND_GAP = 3
-
-#: Axis labels for the parameters with a conventional Greek letter.
-_GREEK = {"tau": "τ", "delta": "δ"}
 
 _LOCK = threading.Lock()
 
@@ -59,8 +57,9 @@ class LegendEntry:
 
 
 def axis_label(param: str) -> str:
-    """The axis label of a model parameter: tau and delta as their Greek letters."""
-    return _GREEK.get(param, param)
+    """The axis label of a model parameter: tau and delta as their Greek letters
+    (slopetui.sweeps.run_labels.SHOWN_AS)."""
+    return SHOWN_AS.get(param, param)
 
 
 def check_size(width: int, height: int, reserved: int) -> None:

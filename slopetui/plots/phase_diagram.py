@@ -40,8 +40,10 @@ def render_phase_diagram(x_param: str, y_param: str, xs: Sequence[float], ys: Se
     """The runs at (xs[i], ys[i]) (parameter values, model units) marked by regimes[i].
 
     One series per regime; regime None or "pending" (not finished) is drawn in the faint
-    pending style. The legend under the plot names each regime with its run count, and
-    counts the runs a log axis cannot show (values <= 0) or with non-finite values.
+    pending style. A regime may also be a style key (regime_colors.run_key: "failed",
+    "cancelled"), which is how a sweep's runs without a result are drawn as such. The
+    legend under the plot names each regime with its run count, and counts the runs a
+    log axis cannot show (values <= 0) or with non-finite values.
     ``hopf`` is a curve from hopf_boundary, drawn last so no run hides it; ``fold`` the
     fold-of-cycles curve (core.fold_curve), drawn as dots, likewise. ``notes`` are
     added to the legend as they are (e.g. an adaptive sweep's computed and inferred

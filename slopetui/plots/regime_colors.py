@@ -1,4 +1,5 @@
-"""Colour and marker of each regime (core.regimes.REGIMES) in the terminal plots.
+"""Colour and marker of each regime (core.regimes.REGIMES) in the terminal plots, and of
+the runs that have none (failed, cancelled, pending).
 
 Colours are plotext's basic 16-colour names, so they survive 16-colour terminals, and
 were picked to read on both dark and light backgrounds:
@@ -11,17 +12,32 @@ were picked to read on both dark and light backgrounds:
   depends      blue+    '#'   not a regime: a cell whose initial conditions end in different
                               regimes (slopetui.sweeps.initial_dependence): bright blue (ANSI
                               12, legible on black where plain blue is not) and a heavy mark
-  pending      gray     '?'   not finished yet (None or "pending"): faint, and plotted so a
-                              live sweep shows which cells are still missing
+  failed       default  '!'   not a regime: the worker gave up after its attempts (run status
+                              "failed"). The terminal's own foreground: legible on any
+                              background, as no free 16-colour name is (white or black vanish
+                              on one, the bright ones sit next to a regime's colour, and red
+                              would say "unstable"); an alarm mark
+  cancelled    gray     '/'   not a regime: the run was cancelled before it ran (run status
+                              "cancelled"). Pending's faint grey on purpose: neither is a
+                              result nor the model's doing, so both recede; the marker (a
+                              stroke through the cell) tells them apart
+  pending      gray     '?'   not finished yet (None or "pending"; run status queued or
+                              running): faint, and plotted so a live sweep shows which
+                              cells are still missing
+
+``run_key(regime, status)`` is the style key of a run: failed and cancelled by its status
+(they have no regime), otherwise its regime's key (``regime_key``), a queued or running
+run's None giving pending. Every drawing of a sweep's runs takes its keys from it, so a
+run that failed is never drawn as one still to come.
 
 Blue is left out: ANSI blue on a black background is barely visible in many palettes.
 plotext's "orange" is ANSI colour 3, which terminals show as yellow or brown; plotext 5
 has no "yellow" name (it silently draws uncoloured). The Hopf curve uses "default", the
 terminal's own foreground, so it is legible on any background and differs from every
-regime colour; it is drawn in braille dots, which no regime marker uses.
+regime colour (failed runs share it: their '!' is not a curve's braille dot or '•').
 
-Every marker is a distinct ASCII character, so the plots and their legends still
-separate the regimes with colour off.
+Every marker is a distinct ASCII character (and none is '-', the legend's mark of a note),
+so the plots and their legends still separate the keys with colour off.
 
 Themes: plotext's "default" theme paints a white canvas, a bright box on dark terminals.
 "pro" keeps the terminal's own background and foreground and only colours the data;
@@ -39,9 +55,12 @@ from core.regimes import DEPENDS, REGIMES
 
 #: The label of runs without a regime yet (stored as None or "pending").
 PENDING = "pending"
-#: Legend order: the classifier's order, cells that depend on the initial state, then
-#: runs not finished yet.
-LEGEND_ORDER: tuple[str, ...] = (*REGIMES, DEPENDS, PENDING)
+#: The keys of runs that will have no regime: their run status (slopetui.store.statuses).
+FAILED = "failed"
+CANCELLED = "cancelled"
+#: Legend order: the classifier's order, cells that depend on the initial state, runs
+#: that gave no result, then runs not finished yet.
+LEGEND_ORDER: tuple[str, ...] = (*REGIMES, DEPENDS, FAILED, CANCELLED, PENDING)
 
 #: plotext themes with colour on and off (see the module docstring).
 THEME_COLOR = "pro"
@@ -76,6 +95,8 @@ REGIME_STYLES: Mapping[str, RegimeStyle] = MappingProxyType({
     "mixed": RegimeStyle("orange", "+"),
     "unstable": RegimeStyle("red", "x"),
     DEPENDS: RegimeStyle("blue+", "#"),
+    FAILED: RegimeStyle("default", "!"),
+    CANCELLED: RegimeStyle("gray", "/"),
     PENDING: RegimeStyle("gray", "?"),
 })
 
@@ -83,15 +104,28 @@ REGIME_STYLES: Mapping[str, RegimeStyle] = MappingProxyType({
 def regime_key(regime: str | None) -> str:
     """The style key of a run's regime: the regime itself, or PENDING for None/"pending".
 
-    Raises ValueError for a label the classifier never produces, rather than drawing it
-    in a made-up style that the legend could not explain.
+    A style key passes through as it is (DEPENDS, and run_key's FAILED and CANCELLED), so
+    that the renderers take either regimes or keys. Raises ValueError for a label the
+    classifier never produces, rather than drawing it in a made-up style that the legend
+    could not explain.
     """
     if regime is None or regime == PENDING:
         return PENDING
-    if regime not in REGIMES and regime != DEPENDS:
+    if regime not in REGIME_STYLES:
         expected = ", ".join(LEGEND_ORDER)
         raise ValueError(f"unknown regime {regime!r}: expected one of {expected} or None")
     return regime
+
+
+def run_key(regime: str | None, status: str | None) -> str:
+    """The style key of a run from its regime and its status (slopetui.store.statuses):
+    FAILED or CANCELLED by the status, whatever the regime; otherwise ``regime_key`` of
+    the regime (a done run's regime; queued and running runs have None: PENDING)."""
+    if status == FAILED:
+        return FAILED
+    if status == CANCELLED:
+        return CANCELLED
+    return regime_key(regime)
 
 
 def regime_style(regime: str | None) -> RegimeStyle:

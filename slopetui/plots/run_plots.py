@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -105,13 +106,57 @@ def envelope(x: np.ndarray, y: np.ndarray, max_points: int = MAX_POINTS, *,
     return x[idx], y[idx]
 
 
-def _finite(*arrays: np.ndarray) -> tuple[np.ndarray, ...]:
-    """The arrays as floats, keeping the positions where all of them are finite."""
-    arrs = [np.asarray(a, dtype=float) for a in arrays]
+def finite(*arrays: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The arrays as flat float arrays, keeping the positions where all of them are finite.
+
+    Raises ValueError for arrays of unequal length.
+    """
+    arrs = [np.asarray(a, dtype=float).ravel() for a in arrays]
     if len({len(a) for a in arrs}) > 1:
         raise ValueError(f"arrays differ in length: {', '.join(str(len(a)) for a in arrs)}")
     ok = np.logical_and.reduce([np.isfinite(a) for a in arrs])
     return tuple(a[ok] for a in arrs)
+
+
+def is_fixed_point(x_rel: np.ndarray, m_y: np.ndarray) -> bool:
+    """The orbit rests: m_x − trend and m_y both vary by less than AMPLITUDE_FLOOR
+    (core.classify), so what is left of them is round-off (module docstring)."""
+    return bool(np.ptp(x_rel) < AMPLITUDE_FLOOR and np.ptp(m_y) < AMPLITUDE_FLOOR)
+
+
+def log_spectrum(freq: np.ndarray, power: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The bins of a power spectrum that have a logarithm: finite, frequency > 0 (not the
+    zero bin) and power > 0. Raises ValueError for arrays of unequal length."""
+    freq, power = finite(freq, power)
+    shown = (freq > 0.0) & (power > 0.0)
+    return freq[shown], power[shown]
+
+
+#: A time series of many runs, or on paper, shows this many periods of the dominant
+#: frequency: the paper's window of 1000 time units holds ~400 periods at k = 12, τ = 2,
+#: a solid band however it is drawn (the figures, the compare screen).
+TIME_PERIODS = 10
+
+
+def period_of(t: np.ndarray, m_x: np.ndarray, m_y: np.ndarray, frequency: float) -> float | None:
+    """1 / ``frequency`` (the classifier's dominant frequency of m_y, Summary.frequency)
+    for a finite trace that moves; None at a fixed point (its spectrum is round-off),
+    without samples or without a frequency."""
+    if len(t) < 2 or is_fixed_point(detrend(t, m_x)[0], m_y):
+        return None
+    return 1.0 / frequency if math.isfinite(frequency) and frequency > 0.0 else None
+
+
+def recent_start(ts: Sequence[np.ndarray], periods: Sequence[float | None],
+                 n: int = TIME_PERIODS) -> float:
+    """Where a shared time axis starts: n periods of the longest of ``periods`` before
+    the latest end of the traces ``ts``, not before their earliest start; the earliest
+    start when no trace has a period (0.0 with no samples at all)."""
+    sampled = [t for t in ts if len(t) >= 2]
+    first = min((float(t[0]) for t in sampled), default=0.0)
+    last = max((float(t[-1]) for t in sampled), default=0.0)
+    known = [p for p in periods if p is not None and math.isfinite(p)]
+    return max(first, last - n * max(known)) if known else first
 
 
 def _trace_legend(text: str, color_name: str = TRACE_COLOR) -> LegendEntry:
@@ -127,7 +172,7 @@ def render_time_series(t: np.ndarray, m_x: np.ndarray, m_y: np.ndarray, *, title
     with ``color`` False, no ANSI escapes. Raises ValueError for arrays of unequal length
     or a size too small.
     """
-    t, m_x, m_y = _finite(t, m_x, m_y)
+    t, m_x, m_y = finite(t, m_x, m_y)
     if len(t) < 2:
         return message_block("No samples in the analysis window to plot.", width, height)
     x_rel, slope = detrend(t, m_x)
@@ -150,11 +195,11 @@ def render_phase_portrait(t: np.ndarray, m_x: np.ndarray, m_y: np.ndarray, *,
     ``height`` lines of at most ``width`` columns; with ``color`` False, no ANSI escapes.
     Raises ValueError for arrays of unequal length or a size too small.
     """
-    t, m_x, m_y = _finite(t, m_x, m_y)
+    t, m_x, m_y = finite(t, m_x, m_y)
     if len(t) < 2:
         return message_block("No samples in the analysis window to plot.", width, height)
     x_rel, slope = detrend(t, m_x)
-    if np.ptp(x_rel) < AMPLITUDE_FLOOR and np.ptp(m_y) < AMPLITUDE_FLOOR:
+    if is_fixed_point(x_rel, m_y):
         return message_block(
             f"The orbit is a fixed point: m_x − trend and m_y vary by less than "
             f"{AMPLITUDE_FLOOR:g} over the window (m_y = {float(np.mean(m_y)):.6g}, "
@@ -178,9 +223,7 @@ def render_spectrum(freq: np.ndarray, power: np.ndarray, *, title: str = "", wid
     ``height`` lines of at most ``width`` columns; with ``color`` False, no ANSI escapes.
     Raises ValueError for arrays of unequal length or a size too small.
     """
-    freq, power = _finite(freq, power)
-    shown = (freq > 0.0) & (power > 0.0)
-    freq, power = freq[shown], power[shown]
+    freq, power = log_spectrum(freq, power)
     if len(freq) < 2:
         return message_block("m_y is constant over the window: no spectrum to plot.",
                              width, height)
@@ -204,7 +247,7 @@ def render_lyapunov(t: np.ndarray, lam: np.ndarray, *, estimate: str = "", note_
     lines of at most ``width`` columns; with ``color`` False, no ANSI escapes. Raises
     ValueError for arrays of unequal length or a size too small.
     """
-    t, lam = _finite(t, lam)
+    t, lam = finite(t, lam)
     shown = t > 0.0
     t, lam = t[shown], lam[shown]
     if len(t) < 2:

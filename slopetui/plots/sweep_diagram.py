@@ -4,11 +4,12 @@ and the application's bifurcation view.
 A 2-D sweep draws its phase diagram (one colour and marker per regime, the exact Hopf
 curve of ``core.stability`` over it where the plane has one); a 1-D sweep draws its
 bifurcation diagram (the peak clusters of m_y against the parameter, as in Fig. 4A).
-Runs that are not finished yet are drawn as pending; sliding runs of a bifurcation
-diagram at their mean m_y (near the fixed point m_y = 0; see ``load_diagram``). An
-adaptive phase diagram is drawn like any other: inferred runs in their regime's style,
-lattice points of levels not queued yet as pending, and "N computed, M inferred" in the
-legend.
+Runs that are not finished yet are drawn as pending, runs that failed or were cancelled
+as such (``regime_colors.run_key``: not as pending, they will not finish); sliding runs
+of a bifurcation diagram at their mean m_y (near the fixed point m_y = 0; see
+``load_diagram``). An adaptive phase diagram is drawn like any other: inferred runs in
+their regime's style, lattice points of levels not queued yet as pending, and "N
+computed, M inferred" in the legend.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ import numpy as np
 from slopetui.display_text import terminal_safe
 from slopetui.plots.bifurcation import render_bifurcation
 from slopetui.plots.phase_diagram import render_phase_diagram
+from slopetui.plots.regime_colors import run_key
 
 if TYPE_CHECKING:  # slopetui.sweeps.diagram loads the store: imported where used
     from slopetui.sweeps.diagram import SweepDiagram
@@ -39,14 +41,15 @@ def render_sweep(diagram: SweepDiagram, *, width: int, height: int, color: bool,
     if title is None:
         title = (f"sweep {diagram.id}: {terminal_safe(diagram.name)} "
                  f"({diagram.n_done}/{diagram.n_points} done)")
-    # a phase diagram of several initial conditions draws their map (common regime or
-    # "depends"); a bifurcation diagram overlays the peaks each one reached
+    # a phase diagram of several initial conditions draws their map (common regime,
+    # "depends", failed...: Cell.drawn); a bifurcation diagram overlays each one's peaks
     from slopetui.sweeps.initial_dependence import drawn
     runs = drawn(diagram).runs if spec.y is not None else diagram.runs
     xs = [r.x for r in runs]
     ys = [r.y for r in runs]
     peaks = [r.peaks for r in runs]
-    regimes: list[str | None] = [r.regime for r in runs]
+    # style keys, not bare regimes: a failed or cancelled run has none, and is no pending one
+    regimes: list[str | None] = [run_key(r.regime, r.status) for r in runs]
     for _, _, px, py in diagram.unqueued():  # an adaptive sweep's levels still to come
         xs.append(px)
         ys.append(py)
@@ -68,9 +71,10 @@ def render_sweep(diagram: SweepDiagram, *, width: int, height: int, color: bool,
 
 
 def adaptive_notes(diagram: SweepDiagram) -> list[str]:
-    """The legend's line on an adaptive sweep: how much of it was computed."""
+    """The legend's line on an adaptive sweep: how much of it was computed (the terminal's
+    and the figures' legends), e.g. "1,234 computed, 5,678 inferred (adaptive, 3 levels)"."""
     levels = diagram.spec.adaptive_levels
     if levels is None:
         return []
-    counts = f"{diagram.n_computed} computed, {diagram.n_inferred} inferred"
+    counts = f"{diagram.n_computed:,} computed, {diagram.n_inferred:,} inferred"
     return [f"{counts} (adaptive, {levels} levels)"]

@@ -9,6 +9,21 @@ the stable steady state coexist (between the Hopf curve and the fold of cycles, 
 continuation: core.fold_curve) is where such cells are expected; ``band_test`` builds
 that test from fold points.
 
+A cell with runs that will give no regime (run status failed or cancelled) is drawn
+(``combined``) by the first of these that holds:
+
+1. a run is still queued or running: pending, as any unfinished cell (it may yet turn
+   out to depend);
+2. the done runs disagree: ``DEPENDS``, which the missing regimes cannot undo;
+3. a run failed: failed, although the done runs agree (the failed condition might have
+   ended elsewhere, so their regime would claim more than was computed; "failed" first,
+   as the finding to look into);
+4. a run was cancelled: cancelled, likewise;
+5. otherwise the common regime.
+
+Such a cell has no ``verdict`` and does not count as finished: ``dependence`` and
+``against_band`` count only the cells with a regime from every condition.
+
 No UI and no SQL: the report, ``show`` and the application draw what this computes.
 """
 
@@ -29,16 +44,23 @@ __all__ = ["DEPENDS", "BandAgreement", "Cell", "Dependence", "against_band", "ba
            "cells", "combined", "condition_notes", "dependence", "drawn", "per_condition"]
 
 
+#: Run statuses (slopetui.store.statuses) of runs that will never have a regime, in the
+#: order a cell's drawing prefers them (module docstring).
+NO_RESULT: tuple[str, ...] = ("failed", "cancelled")
+
+
 @dataclass(frozen=True)
 class Cell:
     """One lattice point: its position, values, and the regime each initial condition
-    ended in (None: not finished)."""
+    ended in (None: not finished, failed or cancelled), with its run's status ("queued"
+    for a condition without a run; empty: statuses unknown, every None is pending)."""
 
     ix: int
     iy: int
     x: float
     y: float | None
     regimes: tuple[str | None, ...]
+    statuses: tuple[str, ...] = ()
 
     @property
     def finished(self) -> bool:
@@ -51,22 +73,44 @@ class Cell:
             return None
         return self.regimes[0] if len(set(self.regimes)) == 1 else DEPENDS
 
+    @property
+    def drawn(self) -> tuple[str | None, str]:
+        """(regime, run status) a drawing shows for the cell (the module docstring's
+        rules): (regime or DEPENDS, "done"), (None, "failed" | "cancelled"), or
+        (None, "queued") while pending."""
+        statuses = self.statuses or ("done",) * len(self.regimes)
+        ended = [s for r, s in zip(self.regimes, statuses, strict=True)
+                 if r is None and s in NO_RESULT]
+        if sum(r is None for r in self.regimes) > len(ended):  # some run is still to come
+            return None, "queued"
+        regimes = {r for r in self.regimes if r is not None}
+        if len(regimes) > 1:
+            return DEPENDS, "done"
+        for status in NO_RESULT:
+            if status in ended:
+                return None, status
+        return regimes.pop(), "done"
+
 
 def cells(diagrams: Sequence[SweepDiagram]) -> list[Cell]:
     """The cells of lattices that share their axes (one diagram per initial condition),
     in the first one's order; a cell missing from any is not finished."""
     by = [{(r.ix, r.iy): r for r in d.runs} for d in diagrams]
-    return [Cell(r.ix, r.iy, r.x, r.y, tuple(
-        (b[(r.ix, r.iy)].regime if (r.ix, r.iy) in b else None) for b in by))
-        for r in diagrams[0].runs]
+    out = []
+    for r in diagrams[0].runs:
+        mine = [b.get((r.ix, r.iy)) for b in by]
+        out.append(Cell(r.ix, r.iy, r.x, r.y, tuple(m.regime if m else None for m in mine),
+                        tuple(m.status if m else "queued" for m in mine)))
+    return out
 
 
 def combined(diagrams: Sequence[SweepDiagram], name: str) -> SweepDiagram:
-    """One diagram whose runs carry each cell's verdict as their regime (the first
+    """One diagram whose runs carry what each cell is drawn as (``Cell.drawn``: its
+    verdict as their regime, or failed, cancelled or queued as their status; the first
     lattice's runs otherwise): what the phase-diagram drawings take."""
-    verdicts = {(c.ix, c.iy): c.verdict for c in cells(diagrams)}
+    shown = {(c.ix, c.iy): c.drawn for c in cells(diagrams)}
     first = diagrams[0]
-    runs = [_as_verdict(r, verdicts[(r.ix, r.iy)]) for r in first.runs]
+    runs = [_as_drawn(r, *shown[(r.ix, r.iy)]) for r in first.runs]
     return SweepDiagram(first.id, name, first.spec, runs)
 
 
@@ -79,7 +123,8 @@ def per_condition(d: SweepDiagram) -> list[SweepDiagram]:
 
 def drawn(d: SweepDiagram) -> SweepDiagram:
     """What a drawing of the sweep shows: the sweep itself, or with two or more initial
-    conditions their map (each cell's common regime, or DEPENDS)."""
+    conditions their map (each cell's common regime, DEPENDS, or failed, cancelled or
+    pending: ``Cell.drawn``)."""
     if len(d.spec.conditions) < 2:
         return d
     return combined(per_condition(d), d.name)
@@ -96,13 +141,13 @@ def condition_notes(d: SweepDiagram) -> dict[tuple[int, int], str]:
              for delta, history in conditions]
     out: dict[tuple[int, int], list[str]] = {}
     for r in sorted(d.runs, key=lambda r: r.ic):
-        out.setdefault((r.ix, r.iy), []).append(f"{names[r.ic]}: {r.regime or 'pending'}")
+        outcome = r.regime or (r.status if r.status in NO_RESULT else "pending")
+        out.setdefault((r.ix, r.iy), []).append(f"{names[r.ic]}: {outcome}")
     return {cell: ", ".join(parts) for cell, parts in out.items()}
 
 
-def _as_verdict(r: RunPoint, verdict: str | None) -> RunPoint:
-    return replace(r, regime=verdict, status="done" if verdict is not None else "queued",
-                   inferred=False)
+def _as_drawn(r: RunPoint, regime: str | None, status: str) -> RunPoint:
+    return replace(r, regime=regime, status=status, inferred=False)
 
 
 @dataclass(frozen=True)

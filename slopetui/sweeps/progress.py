@@ -6,6 +6,12 @@ An adaptive sweep's total is its final lattice; its runs exist only for the leve
 queued so far, so done/total grows in steps and reaches the total when the inferred
 runs are written. It is ``done`` only then: between two levels nothing is queued, but
 the next level is still to come. ``stage`` says where it is ("level 2/3", "refined").
+
+A sweep with nothing left to compute whose runs all failed is ``failed``, not ``done``:
+the word would say it is complete when not one run gave a result. Its runs still count
+as finished (``done`` + ``failed`` make the share of the progress bars: nothing is left
+to wait for), and ``failed`` counts them apart, as ``slopetui status`` and the
+application show.
 """
 
 from __future__ import annotations
@@ -29,7 +35,8 @@ class SweepProgress:
     id: int
     name: str
     axes: str              # "k" or "k x tau"
-    status: str            # active, paused, cancelled, or done when nothing is left
+    status: str            # active, paused, cancelled; done when nothing is left (failed
+                           # when nothing is left and no run is done)
     created_at: datetime
     total: int
     counts: dict[str, int]  # runs per status
@@ -87,7 +94,9 @@ def sweep_progress(db: Database, sweep_ids: list[int] | None = None) -> list[Swe
         rate = n / minutes if minutes else 0.0
         left = c.get("queued", 0) + c.get("running", 0)
         finished = left == 0 and (sw.adaptive_levels is None or sw.refined)
-        status = "done" if finished and sw.status != "cancelled" else sw.status
+        status = sw.status
+        if finished and status != "cancelled":
+            status = "failed" if c.get("failed", 0) and not c.get("done", 0) else "done"
         eta = left / rate * 60.0 if rate > 0 and left and status == "active" else None
         axes = sw.x_param + (f" x {sw.y_param}" if sw.y_param else "")
         out.append(SweepProgress(sw.id, sw.name, axes, status, sw.created_at, sw.n_runs,

@@ -11,7 +11,10 @@ screens' do: with a message, handled on the UI thread.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 from textual import on, work
 from textual.app import App
@@ -27,6 +30,11 @@ from slopetui.tui.screens.error import ErrorScreen
 from slopetui.tui.screens.queue import QueueScreen
 from slopetui.tui.screens.sql import SqlScreen
 from slopetui.tui.screens.sweeps import SweepsScreen
+
+if TYPE_CHECKING:  # matplotlib is loaded by the first figure, not by the application
+    from slopetui.figures.output import Drawing
+    from slopetui.sweeps.diagram import SweepDiagram
+    from slopetui.sweeps.recompute import StoredRun, Traces
 
 #: Seconds between refreshes of the live views (progress, diagrams, workers).
 REFRESH_S = 2.0
@@ -47,6 +55,8 @@ class SlopeApp(App[None]):
         Binding("3", "switch_mode('sql')", "SQL", id="mode.sql"),
         Binding("4", "switch_mode('branches')", "Branches", id="mode.branches"),
         Binding("n", "new_sweep", "New sweep", id="new_sweep"),
+        # out of the footer (80 columns hold no more): marking a run says "v compares them"
+        Binding("v", "compare", "Compare", id="compare", show=False),
         Binding("q", "quit", "Quit", id="quit"),
     ]
 
@@ -60,6 +70,10 @@ class SlopeApp(App[None]):
         #: Fold-of-cycles curves by sweep id, computed on request (seconds to minutes
         #: each) and kept for the session: a sweep's spec never changes.
         self.fold_curves: dict[int, Curve] = {}
+        #: Runs marked with m for the compare screen (v), in the order marked.
+        self.marked: list[int] = []
+        #: Where the figure key (f) writes: the folder the application was started in.
+        self.figure_folder = Path.cwd()
 
     # -- messages from the app's workers --
 
@@ -91,6 +105,14 @@ class SlopeApp(App[None]):
     class SweepControlFailed(Message):
         action: str
         sweep_id: int
+        cause: str
+
+    @dataclass
+    class FigureWritten(Message):
+        paths: list[Path]
+
+    @dataclass
+    class FigureFailed(Message):
         cause: str
 
     def on_mount(self) -> None:
@@ -177,6 +199,65 @@ class SlopeApp(App[None]):
     def open_run(self, run_id: int) -> None:
         from slopetui.tui.screens.run_detail import RunDetailScreen
         self.push_screen(RunDetailScreen(run_id))
+
+    # -- runs marked for comparison, and figures --
+
+    def toggle_mark(self, run_id: int) -> None:
+        """Mark a run for the compare screen, or unmark it; say what is marked."""
+        if run_id in self.marked:
+            self.marked.remove(run_id)
+            verb = "unmarked"
+        else:
+            self.marked.append(run_id)
+            verb = "marked"
+        listed = ", ".join(map(str, self.marked)) or "none"
+        hint = "; v compares them" if len(self.marked) >= 2 else "; mark another to compare"
+        self.notify(f"run {run_id} {verb} (marked: {listed}){hint}")
+
+    def action_compare(self) -> None:
+        if len(self.marked) < 2:
+            self.notify("mark two or more runs with m (in a diagram or a run's detail), "
+                        "then press v", severity="warning")
+            return
+        from slopetui.tui.screens.compare import CompareScreen
+        self.push_screen(CompareScreen(self.marked))
+
+    def write_sweep_figure(self, diagram: SweepDiagram) -> None:
+        """Write the sweep's figure (its diagram, with the fold curve if computed)."""
+        from slopetui.figures.figure_files import sweep_figure, sweep_stem
+        fold = self.fold_curves.get(diagram.id)
+        self.write_figure(lambda: sweep_figure(diagram, fold=fold), sweep_stem(diagram.id))
+
+    def write_runs_figure(self, runs: Sequence[tuple[StoredRun, Traces]]) -> None:
+        """Write the figure of runs already recomputed: one run's four panels, or the
+        comparison of several."""
+        from slopetui.figures.figure_files import runs_stem
+        from slopetui.figures.run_figure import run_drawing
+        pairs = list(runs)
+        self.write_figure(lambda: run_drawing(pairs), runs_stem([r.id for r, _ in pairs]))
+
+    @work(thread=True, group="figure")
+    def write_figure(self, make: Callable[[], Drawing], stem: str) -> None:
+        """Draw and write a figure off the UI thread (matplotlib takes ~1 s to load and
+        a second or two to draw), under a name not yet taken in ``figure_folder``."""
+        from slopetui.figures.figure_files import unused_path
+        from slopetui.figures.output import write
+        try:
+            paths = write(make(), unused_path(self.figure_folder, stem))
+        except Exception as exc:  # an unwritable folder, a full disk: shown, never a traceback
+            self.post_message(self.FigureFailed(f"{type(exc).__name__}: {exc}"))
+            return
+        self.post_message(self.FigureWritten(paths))
+
+    @on(FigureWritten)
+    def _figure_written(self, message: FigureWritten) -> None:
+        figure, *data = message.paths
+        beside = f" (its data: {', '.join(p.name for p in data)})" if data else ""
+        self.notify(f"figure written: {figure}{beside}", timeout=10)
+
+    @on(FigureFailed)
+    def _figure_failed(self, message: FigureFailed) -> None:
+        self.notify(f"could not write the figure: {message.cause}", severity="error", timeout=10)
 
 
 def run_app(db_url: str | None = None, *, start_workers: bool = True) -> int:

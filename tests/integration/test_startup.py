@@ -15,7 +15,7 @@ import sys
 #: Heavy imports no parser needs: numba and its kernels (~1 s), Alembic (~0.2 s), the
 #: application (Textual, rich) and plotext.
 NEVER_FOR_HELP = ("numba", "llvmlite", "core.batch", "alembic", "textual", "rich",
-                  "plotext", "sqlalchemy")
+                  "plotext", "sqlalchemy", "argcomplete", "pandas", "matplotlib")
 
 
 def loaded_after(code: str) -> set[str]:

@@ -15,7 +15,7 @@ from slopetui.tui.screens.queue import QueueScreen
 from slopetui.tui.screens.run_detail import RunDetailScreen
 from slopetui.tui.screens.sweeps import SweepsScreen
 from slopetui.tui.widgets.bifurcation_view import BifurcationView
-from slopetui.tui.widgets.phase_grid import PhaseGrid
+from slopetui.tui.widgets.phase_grid import FOOTER_ROWS, PhaseGrid
 from tests.support import QUICK_SOLVER, finish_all
 from tests.tui.support import fill, open_form, run, wait_until
 
@@ -75,6 +75,43 @@ def test_the_cursor_opens_the_run_under_it(db):
             with db.sessions() as s:
                 run_row = s.get(Run, run_id)
                 assert (run_row.k, run_row.tau, run_row.regime) == (k, tau, regime)
+
+    run(scenario)
+
+
+def test_failed_and_cancelled_runs_have_their_own_cells_in_the_grid(db):
+    sweep = plane(db)
+    finish_all(db)
+    with db.sessions() as s:  # as a worker that gave up, and a cancelled run, leave them
+        for (ix, iy), status in {(2, 1): "failed", (4, 2): "cancelled"}.items():
+            run_row = s.scalars(select(Run).where(Run.sweep_id == sweep, Run.ix == ix,
+                                                  Run.iy == iy)).one()
+            run_row.status, run_row.regime = status, None
+        s.commit()
+
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            grid = app.query_one(PhaseGrid)
+            await wait_until(pilot, lambda: grid.data is not None)
+            # laid out: a display cell per run
+            await wait_until(pilot, lambda: grid.size.height - FOOTER_ROWS >= len(grid.data.ys))
+            assert grid.data.runs[(2, 1)][1] == "failed"
+            assert grid.data.runs[(4, 2)][1] == "cancelled"
+            assert None not in {r for _, r in grid.data.runs.values()}  # none pending
+            text = grid.render()
+            plain = str(text)
+            assert "! failed (1)" in plain and "/ cancelled (1)" in plain
+            assert "pending" not in plain
+            # one cell each, besides the legend's marker: "!" in the foreground's colour
+            assert plain.count("!") == 2 and plain.count("/") == 2
+            colours = {str(span.style.color.name) for span in text.spans
+                       if text.plain[span.start:span.end].strip() == "/"
+                       and getattr(span.style, "color", None) is not None}
+            assert colours == {"bright_black"}
+            await pilot.press("d", "right", "right", "up")
+            assert grid.cursor_run()[3] == "failed"
+            assert ": failed (run " in str(grid.render())
 
     run(scenario)
 

@@ -308,7 +308,7 @@ def test_show_draws_an_adaptive_sweep_with_its_counts(refined, capsys):
     assert main(["show", str(sweep_id), "--width", "80", "--height", "24", "--color",
                  "never", "--db", url]) == 0
     out = capsys.readouterr().out
-    assert f"{diagram.n_computed} computed, {diagram.n_inferred} inferred" in out
+    assert f"{diagram.n_computed:,} computed, {diagram.n_inferred:,} inferred" in out
     assert f"({13 * 9}/{13 * 9} done)" in out and "pending" not in out
 
 

@@ -120,3 +120,22 @@ def test_run_says_when_it_compiles(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(jit_cache, "compiled", lambda module: False)
     assert main(["run", "--tau", "2", "--t-end", "20"]) == 0
     assert "compiling the euler kernel" in capsys.readouterr().err
+
+
+def test_export_takes_one_format(capsys):
+    """--csv, --parquet or --json: one of them, required (before: --csv, the only one)."""
+    with pytest.raises(SystemExit) as refused:
+        main(["export", "1"])
+    assert refused.value.code == 2
+    assert "one of the arguments --csv --parquet --json is required" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as refused:
+        main(["export", "1", "--csv", "--json"])
+    assert refused.value.code == 2
+    assert "--json: not allowed with argument --csv" in capsys.readouterr().err
+
+
+def test_export_json_of_an_empty_store_names_the_sweep(tmp_path, capsys):
+    url = f"sqlite:///{tmp_path / 'store.db'}"
+    assert main(["export", "1", "--json", "--db", url]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err == "slopetui export: error: SWEEP: no sweep with id 1\n"

@@ -16,7 +16,8 @@ FOLDS = [FoldPoint(5.0, 6.6, 3.0, "subcritical"), FoldPoint(15.0, 6.0, 1.0, "sub
 
 
 def _panel(cells):
-    runs = [SimpleNamespace(ix=i, iy=0, x=k, y=tau, regime=regime)
+    runs = [SimpleNamespace(ix=i, iy=0, x=k, y=tau, regime=regime,
+                            status="done" if regime else "queued")
             for i, (k, tau, regime) in enumerate(cells)]
     return SimpleNamespace(runs=runs)
 

@@ -17,8 +17,21 @@ from slopetui.plots import (
     render_bifurcation,
     render_phase_diagram,
 )
-from slopetui.plots.regime_colors import HOPF_COLOR, HOPF_MARKER, PENDING
+from slopetui.plots.regime_colors import (
+    CANCELLED,
+    FAILED,
+    HOPF_COLOR,
+    HOPF_MARKER,
+    LEGEND_ORDER,
+    PENDING,
+    regime_counts,
+    regime_key,
+    run_key,
+)
+from slopetui.plots.sweep_diagram import render_sweep
+from slopetui.sweeps.diagram import RunPoint, SweepDiagram
 from slopetui.sweeps.hopf_plane import hopf_boundary
+from slopetui.sweeps.spec import parse_spec
 
 ANSI = re.compile(r"\x1b\[[0-9;]*m")
 BRAILLE = re.compile("[\u2801-\u28ff]")
@@ -131,17 +144,28 @@ def test_curve_outside_the_window_is_empty_not_none():
 # -- styles -------------------------------------------------------------------------------
 
 def test_every_regime_has_a_distinct_16_colour_style():
-    keys = (*REGIMES, DEPENDS, PENDING)
-    assert set(REGIME_STYLES) == set(keys)
+    regimes = (*REGIMES, DEPENDS, PENDING)
+    keys = (*regimes, FAILED, CANCELLED)
+    assert set(REGIME_STYLES) == set(keys) == set(LEGEND_ORDER)
+    # markers alone tell every key apart (colour off), and none is a legend note's "-"
     assert len({REGIME_STYLES[k].marker for k in keys}) == len(keys)
-    assert len({REGIME_STYLES[k].color for k in keys}) == len(keys)
+    assert "-" not in {REGIME_STYLES[k].marker for k in keys}
+    assert len({REGIME_STYLES[k].color for k in regimes}) == len(regimes)
+    # the two without a result share a colour on purpose (regime_colors): failed the
+    # terminal's foreground, cancelled pending's grey
+    assert REGIME_STYLES[FAILED].color == "default"
+    assert REGIME_STYLES[FAILED].color not in {REGIME_STYLES[k].color for k in regimes}
+    assert REGIME_STYLES[CANCELLED].color == REGIME_STYLES[PENDING].color
     for k in keys:
         style = REGIME_STYLES[k]
         assert len(style.marker) == 1 and style.marker.isascii()
+        if style.color == "default":  # no escape: the terminal's own colour
+            assert plt.colorize("x", style.color) == "x"
+            continue
         # plotext silently ignores colour names it does not know (e.g. "yellow")
         code = re.fullmatch(r"\x1b\[38;5;(\d+)mx\x1b\[0m", plt.colorize("x", style.color))
         assert code is not None and int(code.group(1)) < 16, style.color
-    assert HOPF_COLOR not in {s.color for s in REGIME_STYLES.values()}
+    assert HOPF_COLOR not in {REGIME_STYLES[k].color for k in regimes}
     assert HOPF_MARKER == "braille"
 
 
@@ -149,6 +173,20 @@ def test_regime_style_of_unfinished_runs_and_unknown_labels():
     assert regime_style(None) == regime_style("pending") == REGIME_STYLES[PENDING]
     with pytest.raises(ValueError, match="unknown regime"):
         regime_style("chaotic")
+
+
+def test_run_key_draws_failed_and_cancelled_runs_as_such():
+    assert run_key(None, "failed") == FAILED and run_key(None, "cancelled") == CANCELLED
+    assert run_key("sliding", "failed") == FAILED  # the status wins over a stale regime
+    assert run_key(None, "queued") == run_key(None, "running") == run_key(None, None) == PENDING
+    assert run_key("oscillatory", "done") == "oscillatory"
+    assert regime_key(FAILED) == FAILED  # keys pass through: the renderers take either
+    assert list(LEGEND_ORDER[-3:]) == [FAILED, CANCELLED, PENDING]
+    assert LEGEND_ORDER.index(DEPENDS) < LEGEND_ORDER.index(FAILED)
+    assert regime_counts([None, "failed", "sliding", "cancelled", "failed"]) == {
+        "sliding": 1, FAILED: 2, CANCELLED: 1, PENDING: 1}
+    with pytest.raises(ValueError, match="unknown regime"):
+        run_key("chaotic", "done")
 
 
 # -- render_phase_diagram -----------------------------------------------------------------
@@ -369,3 +407,50 @@ def test_empty_bifurcation_is_a_message():
     assert "2 runs, no peaks to plot" in out and len(out.split("\n")) == 12
     with pytest.raises(ValueError, match="differ in length"):
         render_bifurcation("k", [1.0], [], ["sliding"])
+
+
+# -- render_sweep: runs without a result ----------------------------------------------------
+
+def _plane_with_failures() -> SweepDiagram:
+    """A 4 x 3 (k, tau) sweep: done runs, one failed, one cancelled, one still queued."""
+    spec = parse_spec({"x": {"param": "k", "start": 2, "stop": 20, "num": 4},
+                       "y": {"param": "tau", "start": 1, "stop": 10, "num": 3}})
+    assert spec.y is not None
+    status = {(1, 1): "failed", (2, 0): "cancelled", (3, 2): "queued"}
+    runs = []
+    for iy, y in enumerate(spec.y.values()):
+        for ix, x in enumerate(spec.x.values()):
+            s = status.get((ix, iy), "done")
+            runs.append(RunPoint(1 + ix + 4 * iy, ix, iy, float(x), float(y), s,
+                                 ("sliding" if ix < 2 else "oscillatory") if s == "done" else None,
+                                 [], "gave up" if s == "failed" else None))
+    return SweepDiagram(7, "with failures", spec, runs)
+
+
+def test_a_sweep_draws_failed_and_cancelled_runs_as_such_not_pending():
+    out = render_sweep(_plane_with_failures(), width=80, height=24, color=False, hopf=False)
+    assert "\x1b" not in out
+    text = plain(out)
+    # the legend: each in LEGEND_ORDER, after the regimes, before pending
+    legend = [". sliding (5)", "o oscillatory (4)", "! failed (1)", "/ cancelled (1)",
+              "? pending (1)"]
+    at = [text.index(entry) for entry in legend]
+    assert at == sorted(at)
+    body = "".join(plot_rows(out))
+    for marker in "!/?":  # with colour off the markers alone tell them apart
+        assert body.count(marker) == 1, marker
+    assert "(9/12 done)" in text  # the title: a failed or cancelled run is not done
+    coloured = render_sweep(_plane_with_failures(), width=80, height=24, color=True, hopf=False)
+    assert "\x1b[38;5;8m/" in coloured and "\x1b[38;5;8m?" in coloured  # both grey
+
+
+def test_a_1d_sweep_counts_failed_and_cancelled_runs_in_its_legend():
+    spec = parse_spec({"x": {"param": "k", "start": 2, "stop": 20, "num": 4}})
+    runs = [RunPoint(1, 0, 0, 2.0, None, "done", "oscillatory", [0.5], None),
+            RunPoint(2, 1, 0, 8.0, None, "failed", None, [], "gave up"),
+            RunPoint(3, 2, 0, 14.0, None, "cancelled", None, [], None),
+            RunPoint(4, 3, 0, 20.0, None, "running", None, [], None)]
+    out = plain(render_sweep(SweepDiagram(8, "line", spec, runs), width=80, height=24,
+                             color=False))
+    for entry in ("o oscillatory (1)", "! failed (1)", "/ cancelled (1)", "? pending (1)"):
+        assert entry in out, entry

@@ -94,6 +94,24 @@ def test_expired_leases_fail_after_max_attempts(store):
     assert run.status == "failed" and "lease expired" in run.error and run.attempts == 2
 
 
+def test_a_sweep_whose_runs_all_failed_is_failed_not_done(store):
+    """Nothing is left to compute in either sweep, but only one has results: the other
+    must not read as complete (slopetui status, the application's list)."""
+    from slopetui.sweeps.progress import sweep_progress
+
+    failing = submit_quick(store, 2).sweep_id
+    while (job := jobs.claim(store, "w")) is not None:
+        jobs.fail(store, job, "w", "boom", max_attempts=1)
+    partly = submit_quick(store, 2, tau=3.0).sweep_id
+    job = jobs.claim(store, "w")
+    jobs.fail(store, job, "w", "boom", max_attempts=1)
+    finish_all(store)
+    by_id = {p.id: p for p in sweep_progress(store)}
+    assert (by_id[failing].status, by_id[failing].done, by_id[failing].failed) == ("failed", 0, 2)
+    assert (by_id[partly].status, by_id[partly].done, by_id[partly].failed) == ("done", 1, 1)
+    assert by_id[failing].left == 0 and by_id[failing].eta_s is None
+
+
 def test_release_does_not_count_an_attempt(store):
     submit_quick(store, 1)
     job = jobs.claim(store, "w")

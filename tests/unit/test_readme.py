@@ -33,3 +33,24 @@ def test_the_readme_sql_examples_run(db, db_url, capsys):
         out = capsys.readouterr()
         assert code == 0, (query, out.err)
         assert "row" in out.out
+
+
+def notebook_examples() -> list[str]:
+    return [block for block in re.findall(r"```python\n(.*?)```", README.read_text(), re.DOTALL)
+            if "slopetui.open_store" in block]
+
+
+def test_the_readme_notebook_example_runs(db, db_url):
+    """The notebook example, on a store with a finished (k, tau) plane as sweep 1: its
+    URL replaced by the test's, every line run, and what it leaves checked."""
+    (example,) = notebook_examples()
+    submit(db, parse_spec({"x": {"param": "k", "start": 2, "stop": 20, "num": 3},
+                           "y": {"param": "tau", "start": 0.5, "stop": 10, "num": 2},
+                           "solver": QUICK_SOLVER}))
+    finish_all(db)
+    url = re.search(r'open_store\("([^"]+)"\)', example)
+    assert url is not None, "the example names a store URL"
+    scope: dict = {}
+    exec(example.replace(url.group(1), db_url), scope)
+    assert len(scope["sweeps"]) == 1 and len(scope["runs"]) == 6
+    assert scope["table"].shape == (2, 3)  # tau rows, k columns

@@ -205,12 +205,16 @@ class RunDetailScreen(SlopeScreen[None]):
         Binding("p", f"show_tab('{TAB_PHASE}')", "Phase", id="run_detail.tab_phase"),
         Binding("s", f"show_tab('{TAB_SPECTRUM}')", "Spectrum", id="run_detail.tab_spectrum"),
         Binding("l", f"show_tab('{TAB_LYAP}')", "λmax", id="run_detail.tab_lyap"),
+        Binding("m", "mark", "Mark", id="run_detail.mark"),
+        Binding("f", "figure", "Figure", id="run_detail.figure"),
     ]
 
     def __init__(self, run_id: int) -> None:
         super().__init__()
         self.run_id = run_id
         self.run: StoredRun | None = None
+        #: The traces on show (the figure key draws them; None until recomputed).
+        self.traces: Traces | None = None
         #: Bumped by each recomputation: results of an older one are dropped (a thread
         #: worker cannot be stopped mid-integration, only ignored).
         self._generation = 0
@@ -296,6 +300,7 @@ class RunDetailScreen(SlopeScreen[None]):
         if message.generation != self._generation or self.run is None:
             return
         self._loading(False)
+        self.traces = message.traces
         for tab, renderer in renderers(message.traces).items():
             self._plot(tab).show(renderer)
         verdict = compare(self.run, message.traces, source_digest())
@@ -321,6 +326,17 @@ class RunDetailScreen(SlopeScreen[None]):
     def action_show_tab(self, tab: str) -> None:
         self.query_one("#run-tabs", TabbedContent).active = tab
 
+    def action_mark(self) -> None:
+        self.app.toggle_mark(self.run_id)
+
+    def action_figure(self) -> None:
+        """Write the four panels on show as a figure (slopetui figure --run ID)."""
+        if self.run is None or self.traces is None:
+            self.notify("nothing to draw yet: the traces are not recomputed (r)", severity="warning")
+            return
+        self.notify(f"drawing the figure of run {self.run_id}…")
+        self.app.write_runs_figure([(self.run, self.traces)])
+
     def start_recompute(self) -> None:
         """Recompute the loaded run in a worker, if its inputs are valid."""
         assert self.run is not None
@@ -330,6 +346,7 @@ class RunDetailScreen(SlopeScreen[None]):
             self._status(f"cannot recompute: {exc}", "error")
             return
         self._generation += 1
+        self.traces = None
         self._loading(True)
         self._status(recompute_text(self.run))
         self.recompute(params, settings, self._generation)

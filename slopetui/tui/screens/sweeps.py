@@ -22,7 +22,7 @@ from slopetui.sweeps.hopf_plane import Curve
 from slopetui.sweeps.initial_dependence import condition_notes, drawn
 from slopetui.sweeps.progress import SweepProgress, format_eta, sweep_progress
 from slopetui.sweeps.spec import SweepSpec
-from slopetui.tui.messages import RunChosen, StoreFailed
+from slopetui.tui.messages import RunChosen, RunMarked, StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.widgets.bifurcation_view import BifurcationView
 from slopetui.tui.widgets.phase_grid import GridData, PhaseGrid
@@ -39,13 +39,17 @@ def progress_bar(done: int, total: int) -> Text:
 
 
 def grid_data(d: SweepDiagram, hopf: Curve | None, fold: Curve | None = None) -> GridData:
+    from slopetui.tui.widgets.phase_grid import cell_label
+
     spec = d.spec
     assert spec.y is not None
     x, y = spec.x, spec.y
     shown = drawn(d)  # several initial conditions: their map (sweeps.initial_dependence)
+    # labels, not bare regimes: a failed or cancelled run has none and is not pending
+    runs = {(r.ix, r.iy): (r.id, cell_label(r.regime, r.status)) for r in shown.runs}
     return GridData(x.param, y.param, x.values(), y.values(), x.spacing == "log",
-                    y.spacing == "log", {(r.ix, r.iy): (r.id, r.regime) for r in shown.runs},
-                    hopf, frozenset((r.ix, r.iy) for r in shown.runs if r.inferred),
+                    y.spacing == "log", runs, hopf,
+                    frozenset((r.ix, r.iy) for r in shown.runs if r.inferred),
                     spec.adaptive_levels is not None, fold, condition_notes(d))
 
 
@@ -56,14 +60,16 @@ class FoldCancelled(Exception):
 
 class SweepsScreen(SlopeScreen[None]):
     """Enter on a sweep moves to its diagram; arrows move the cursor there, enter opens
-    the run under it."""
+    the run under it, m marks it for comparison (v); f writes the diagram's figure."""
 
     BINDINGS = [
         Binding("p", "pause", "Pause", id="sweeps.pause"),
         Binding("r", "resume", "Resume", id="sweeps.resume"),
-        Binding("c", "cancel", "Cancel sweep", id="sweeps.cancel"),
+        # short labels: the footer has 140 columns at most for all of them (f took room)
+        Binding("c", "cancel", "Cancel", id="sweeps.cancel"),
         Binding("d", "focus_diagram", "Diagram", id="sweeps.diagram"),
-        Binding("o", "fold_curve", "Fold curve", id="sweeps.fold"),
+        Binding("o", "fold_curve", "Fold", id="sweeps.fold"),
+        Binding("f", "figure", "Figure", id="sweeps.figure"),
         Binding("escape", "focus_list", "Sweep list", show=False),
     ]
 
@@ -212,6 +218,18 @@ class SweepsScreen(SlopeScreen[None]):
     @on(RunChosen)
     def _open_run(self, message: RunChosen) -> None:
         self.app.open_run(message.run_id)
+
+    @on(RunMarked)
+    def _mark_run(self, message: RunMarked) -> None:
+        self.app.toggle_mark(message.run_id)
+
+    def action_figure(self) -> None:
+        """Write the shown sweep's figure (slopetui figure SWEEP) and say where."""
+        if self._shown is None:
+            self.notify("no sweep to draw", severity="warning")
+            return
+        self.notify(f"drawing the figure of sweep {self._shown.id}…")
+        self.app.write_sweep_figure(self._shown)
 
     def _control(self, action: str) -> None:
         if self.selected is not None and self.db is not None:

@@ -8,17 +8,19 @@ from textual.reactive import reactive
 from slopetui.display_text import terminal_safe
 from slopetui.plots import render_sweep
 from slopetui.sweeps.diagram import SweepDiagram
-from slopetui.tui.messages import RunChosen
+from slopetui.tui.messages import RunChosen, RunMarked
 from slopetui.tui.widgets.plot_view import PlotView
 
 
 class BifurcationView(PlotView, can_focus=True):
-    """Left/right choose a run (its value is marked in the title); enter opens it."""
+    """Left/right choose a run (its value is marked in the title); enter opens it, m marks
+    it for comparison."""
 
     BINDINGS = [
         Binding("left", "step(-1)", "←", show=False),
         Binding("right", "step(1)", "→", show=False),
         Binding("enter", "choose", "Open run", id="bifurcation.open"),
+        Binding("m", "mark", "Mark", id="bifurcation.mark", show=False),
     ]
 
     index: reactive[int] = reactive(0)
@@ -54,3 +56,7 @@ class BifurcationView(PlotView, can_focus=True):
     def action_choose(self) -> None:
         if self.diagram is not None and self.diagram.runs:
             self.post_message(RunChosen(self.diagram.runs[self.index].id))
+
+    def action_mark(self) -> None:
+        if self.diagram is not None and self.diagram.runs:
+            self.post_message(RunMarked(self.diagram.runs[self.index].id))

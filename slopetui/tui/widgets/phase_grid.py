@@ -10,6 +10,11 @@ An adaptive sweep is drawn like any other: an inferred run in its regime's marke
 colour, dimmed (a display cell is dimmed when all its runs are inferred), and the legend
 counts computed and inferred runs. Lattice points without a run yet (levels to come)
 are pending.
+
+Runs that failed or were cancelled are drawn in their own style (``cell_label``, from
+slopetui.plots.regime_colors.run_key), never as pending: they will not finish. In a block
+of several runs they count like a regime: the block shows its most common label, and the
+legend counts every run.
 """
 
 from __future__ import annotations
@@ -27,17 +32,22 @@ from textual.widget import Widget
 
 from slopetui.display_text import terminal_safe
 from slopetui.plots.regime_colors import (
+    CANCELLED,
+    FAILED,
     FOLD_LABEL,
     FOLD_MARKER,
     LEGEND_ORDER,
     PENDING,
     REGIME_STYLES,
+    run_key,
 )
-from slopetui.tui.messages import RunChosen
+from slopetui.tui.messages import RunChosen, RunMarked
 
-#: plotext colour names (slopetui.plots) as Rich colours; "orange" is ANSI 3 there too.
+#: plotext colour names (slopetui.plots) as Rich colours; "orange" is ANSI 3 there too,
+#: "blue+" ANSI 12, and "default" the terminal's foreground (failed runs).
 RICH_COLOR = {"cyan": "cyan", "green": "green", "magenta": "magenta", "orange": "yellow",
-              "red": "red", "gray": "bright_black"}
+              "red": "red", "blue+": "bright_blue", "gray": "bright_black",
+              "default": "default"}
 HOPF_STYLE = Style(bgcolor="grey30")
 INFERRED_STYLE = Style(dim=True)
 LABEL_WIDTH = 8  # y tick labels
@@ -48,8 +58,8 @@ FOOTER_ROWS = 3
 
 @dataclass
 class GridData:
-    """A sweep's grid: axis values and, per (ix, iy), the run id and its regime
-    (None while not done)."""
+    """A sweep's grid: axis values and, per (ix, iy), the run id and its label
+    (``cell_label``: a regime, DEPENDS, FAILED or CANCELLED; None while not finished)."""
 
     x_param: str
     y_param: str
@@ -71,6 +81,13 @@ class GridData:
     def n_unqueued(self) -> int:
         """Grid points without a run (an adaptive sweep's levels still to come)."""
         return len(self.xs) * len(self.ys) - len(self.runs)
+
+
+def cell_label(regime: str | None, status: str | None) -> str | None:
+    """A run's label in GridData.runs: its style key (run_key), None while pending (queued
+    or running), so that failed and cancelled runs are not drawn as runs to come."""
+    key = run_key(regime, status)
+    return None if key == PENDING else key
 
 
 def _style(regime: str | None) -> tuple[str, Style]:
@@ -104,6 +121,7 @@ class PhaseGrid(Widget, can_focus=True):
         Binding("up", "move(0, 1)", "↑", show=False),
         Binding("down", "move(0, -1)", "↓", show=False),
         Binding("enter", "choose", "Open run", id="grid.open"),
+        Binding("m", "mark", "Mark", id="grid.mark", show=False),
     ]
 
     cursor: reactive[tuple[int, int]] = reactive((0, 0))
@@ -195,7 +213,8 @@ class PhaseGrid(Widget, can_focus=True):
         self.cursor = (min(max(c + dx, 0), cols - 1), min(max(r + dy, 0), rows - 1))
 
     def cursor_run(self) -> tuple[int, float, float, str | None] | None:
-        """(run id, x, y, regime) of the run at the centre of the cursor's cell."""
+        """(run id, x, y, label) of the run at the centre of the cursor's cell: its regime,
+        "failed" or "cancelled", None while pending (GridData.runs)."""
         layout = self._layout()
         if layout is None or self.data is None:
             return None
@@ -211,6 +230,11 @@ class PhaseGrid(Widget, can_focus=True):
         found = self.cursor_run()
         if found is not None:
             self.post_message(RunChosen(found[0]))
+
+    def action_mark(self) -> None:
+        found = self.cursor_run()
+        if found is not None:
+            self.post_message(RunMarked(found[0]))
 
     # --- rendering ------------------------------------------------------------------------
     def render(self) -> Text:
@@ -265,7 +289,8 @@ class PhaseGrid(Widget, can_focus=True):
             out.append(label if used + len(label) <= width else f"  {FOLD_MARKER} fold")
         out.append("\n")
         if d.adaptive:  # a line of its own: the legend line has no room left at 80 columns
-            computed = sum(r is not None and p not in d.inferred
+            # computed: done (as sweep_diagram.adaptive_notes); a failed run gave no result
+            computed = sum(r not in (None, FAILED, CANCELLED) and p not in d.inferred
                            for p, (_, r) in d.runs.items())
             out.append(f"adaptive: {computed} computed, ")
             out.append(f"{len(d.inferred)} inferred (dim)", INFERRED_STYLE)

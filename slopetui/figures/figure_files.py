@@ -1,0 +1,76 @@
+"""The figure of a sweep or of runs, from what the store gave: what ``slopetui figure``
+and the application's figure key (f) share.
+
+The faces load the data (``slopetui.sweeps.diagram.load_diagram``,
+``slopetui.sweeps.recompute.load_run``); this module adds what the figure needs on top
+(the exact Hopf curve of the plane, the recomputed traces), names the file, and hands
+``slopetui.figures.output.write`` the drawing.
+"""
+
+from __future__ import annotations
+
+import glob
+from collections.abc import Callable, Sequence
+from itertools import count
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from slopetui.figures.output import Drawing
+
+if TYPE_CHECKING:
+    from slopetui.sweeps.diagram import SweepDiagram
+    from slopetui.sweeps.hopf_plane import Curve
+    from slopetui.sweeps.recompute import StoredRun
+
+#: The format of a figure written without a name (a paper's: vector, fonts embedded).
+DEFAULT_FORMAT = "pdf"
+
+
+def sweep_stem(sweep_id: int) -> str:
+    return f"sweep-{sweep_id}"
+
+
+def runs_stem(run_ids: Sequence[int]) -> str:
+    """run-12 for one run, runs-12-13 for a comparison."""
+    if len(run_ids) == 1:
+        return f"run-{run_ids[0]}"
+    return "runs-" + "-".join(map(str, run_ids))
+
+
+def unused_path(folder: Path, stem: str, fmt: str = DEFAULT_FORMAT) -> Path:
+    """folder/stem.fmt, or stem-2.fmt, stem-3.fmt... the first whose figure and data
+    files are all free: a key press never overwrites an earlier figure."""
+    for n in count(1):
+        name = stem if n == 1 else f"{stem}-{n}"
+        path = folder / f"{name}.{fmt}"
+        # the data beside it: <name>.csv and <name>.<table>.csv (output.data_paths)
+        if not (path.exists() or (folder / f"{name}.csv").exists()
+                or any(folder.glob(f"{glob.escape(name)}.*.csv"))):
+            return path
+    raise AssertionError("unreachable")
+
+
+def sweep_figure(diagram: SweepDiagram, *, hopf: bool = True, fold: Curve | None = None) -> Drawing:
+    """The sweep's phase diagram (with the exact Hopf curve of its plane, unless ``hopf``
+    is False, and the fold of cycles if given) or its bifurcation diagram (1-D)."""
+    from slopetui.figures.sweep_figure import sweep_drawing
+    from slopetui.sweeps.diagram import plane_hopf
+
+    curve = plane_hopf(diagram.spec) if hopf and diagram.spec.y is not None else None
+    return sweep_drawing(diagram, hopf=curve, fold=fold)
+
+
+def runs_figure(runs: Sequence[StoredRun], progress: Callable[[StoredRun], None] | None = None
+                ) -> Drawing:
+    """Recompute the runs (as long as each took; ``progress(run)`` before each) and draw
+    one run's four panels, or the comparison of several. Raises ParameterError for a
+    run whose stored inputs are invalid."""
+    from slopetui.figures.run_figure import run_drawing
+    from slopetui.sweeps.recompute import compute_traces
+
+    pairs = []
+    for run in runs:
+        if progress is not None:
+            progress(run)
+        pairs.append((run, compute_traces(*run.inputs(), run.carried_state())))
+    return run_drawing(pairs)
