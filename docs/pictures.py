@@ -66,26 +66,33 @@ def capture(name: str) -> None:
 
 
 def screens(env: dict[str, str]) -> None:
-    """The application at 80 x 24, colour off: the sweeps screen on the plane, the Fig. 4A
-    bifurcation diagram, a run's detail, and two runs compared."""
+    """A walk through every screen at 80 x 24, colour off, as a newcomer would take it:
+    the sweeps screen on the plane and on Fig. 4A, the help, the command palette, the
+    new-sweep form, a run's detail, two runs compared, the queue, the SQL console and
+    the continuations."""
     if shutil.which("tmux") is None:
         raise SystemExit("the captures need tmux")
     SCREENS.mkdir(exist_ok=True)
     command = " ".join([*SLOPETUI, "--no-workers"])
     tmux("new-session", "-d", "-s", "pics", "-x", str(SIZE[0]), "-y", str(SIZE[1]),
          "-e", f"SLOPETUI_DB={env['SLOPETUI_DB']}", "-e", "NO_COLOR=1", command)
+    # (capture name, keys to send first, seconds to wait before the capture)
+    steps = [("sweeps-plane", ["Down"], 4), ("sweeps-fig4a", ["Up"], 3),
+             ("help", ["?"], 2), ("palette", ["Escape", "C-p"], 2),
+             ("new-sweep", ["Escape", "n"], 3),
+             ("run-detail", ["Escape", "d", *["Right"] * 14, "Enter"], 6),
+             ("compare", ["m", "Escape", *["Right"] * 20, "m", "v"], 8),
+             ("queue", ["Escape", "Escape", "2"], 3),
+             ("sql", ["3", "C-r"], 3), ("branches", ["Tab", "4"], 3)]
     try:
-        steps = [("sweeps-plane", ["Down"], 4), ("sweeps-fig4a", ["Up"], 3),
-                 ("run-detail", ["d", *["Right"] * 14, "Enter"], 6),
-                 ("compare", ["m", "Escape", *["Right"] * 20, "m", "v"], 8)]
         time.sleep(4)
         for name, keys, wait in steps:
             for key in keys:
                 tmux("send-keys", "-t", "pics", key)
-                time.sleep(0.3)
+                time.sleep(0.4)
             time.sleep(wait)
             capture(name)
-        tmux("send-keys", "-t", "pics", "q")
+        tmux("send-keys", "-t", "pics", "C-q")
     finally:
         subprocess.run(["tmux", "-L", "slopetui-pictures", "kill-server"], capture_output=True)
 

@@ -16,6 +16,7 @@ from slopetui.cli import (
     continuation,
     control,
     db,
+    delete,
     example,
     figure,
     hysteresis,
@@ -62,7 +63,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for module in (run, orbit, continuation, branch, hysteresis, submit, example, status, show, figure, runs,
-                   control, sql, worker, workers, db, cluster, nblock, reproduce, completion):
+                   control, delete, sql, worker, workers, db, cluster, nblock, reproduce, completion):
         module.register(sub)
     return parser
 

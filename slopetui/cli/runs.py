@@ -7,11 +7,8 @@ from __future__ import annotations
 import argparse
 import errno
 import io
-import json
 import os
-import stat
 import sys
-import tempfile
 from collections.abc import Callable, Iterable
 from contextlib import closing
 from pathlib import Path
@@ -21,6 +18,7 @@ from core.regimes import REGIMES
 from slopetui.cli.options import UsageError, add_db_option, int_arg, open_db, sweep_arg
 from slopetui.display_text import terminal_safe, terminal_safe_lines
 from slopetui.store.statuses import RUN_STATUSES
+from slopetui.whole_files import as_text, write_whole
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -151,7 +149,7 @@ def _export_csv(db: Database, sweep: int, output: str | None) -> int:
     with closing(runs_of(db, sweep)) as runs:
         if not output:
             return csv_to_stdout(runs)
-        return _write_file(output, lambda out: _as_text(out, lambda text: _csv(runs, text)))
+        return _write_file(output, lambda out: as_text(out, lambda text: _csv(runs, text)))
 
 
 def _export_frame(db: Database, sweep: int, form: str, output: str | None) -> int:
@@ -162,7 +160,7 @@ def _export_frame(db: Database, sweep: int, form: str, output: str | None) -> in
     if output:
         if form == "parquet":
             return _write_file(output, lambda out: _parquet(frame, out))
-        return _write_file(output, lambda out: _as_text(out, lambda text: _json(frame, text)))
+        return _write_file(output, lambda out: as_text(out, lambda text: _json(frame, text)))
     if form == "parquet":  # not a terminal: handle_export refused that
         sys.stdout.flush()
         _parquet(frame, sys.stdout.buffer)
@@ -184,29 +182,13 @@ def _csv(runs: Iterable[Run], out: IO[str]) -> int:
 
 
 def _json(frame: pd.DataFrame, out: IO[str]) -> int:
-    """Strict JSON (no NaN literal: jq and JavaScript refuse it), one run a line, the text
-    as stored (UTF-8). The values: slopetui.sweeps.frames.json_rows."""
-    from slopetui.sweeps.frames import json_rows
-
-    rows = json_rows(frame)
-    out.write("[\n" if rows else "[")
-    out.write(",\n".join(json.dumps(row, allow_nan=False, ensure_ascii=False) for row in rows))
-    out.write("\n]\n")
-    return len(rows)
+    from slopetui.sweeps.export_files import write_json
+    return write_json(frame, out)
 
 
 def _parquet(frame: pd.DataFrame, out: IO[bytes]) -> int:
     frame.to_parquet(out, index=False)
     return len(frame)
-
-
-def _as_text(out: IO[bytes], write: Callable[[IO[str]], int]) -> int:
-    """``write`` text into the binary file ``out``, UTF-8, newlines as written."""
-    text = io.TextIOWrapper(out, encoding="utf-8", newline="")
-    n = write(text)
-    text.flush()
-    text.detach()  # ``out`` stays open: its owner closes it
-    return n
 
 
 def _write_file(path: str, write: Callable[[IO[bytes]], int]) -> int:
@@ -225,31 +207,10 @@ def _write_file(path: str, write: Callable[[IO[bytes]], int]) -> int:
         if target.exists() and not target.is_file():
             with target.open("wb") as out:
                 return write(out)
-        mode = (stat.S_IMODE(target.stat().st_mode) if target.is_file()
-                else 0o666 & ~_umask())  # as open() would create it
-        # (the name cut short: a name near the limit of 255 bytes must still fit)
-        fd, temp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name[:64]}.",
-                                    suffix=".part")
-        try:
-            with os.fdopen(fd, "wb") as out:
-                n = write(out)
-                out.flush()
-                os.fsync(out.fileno())
-            os.chmod(temp, mode)
-            os.replace(temp, target)
-        except BaseException:
-            Path(temp).unlink(missing_ok=True)
-            raise
-        return n
+        return write_whole(target, write)
     except BrokenPipeError:  # -o /dev/stdout into `head`: main() handles it
         raise
     except OSError as exc:
         raise UsageError(f"--output: cannot write {terminal_safe(path)}: "
                          f"{exc.strerror or exc} (allowed: a file in an existing folder "
                          "you can write to)") from None
-
-
-def _umask() -> int:
-    mask = os.umask(0)  # the only way to read it: set it, and set it back at once
-    os.umask(mask)
-    return mask

@@ -1,5 +1,9 @@
 """``slopetui status``: progress per sweep and the live workers.
 
+The % column counts done runs only (runs with a result): failed runs (fail) and runs
+cancelled before they ran (canc) have their own columns, so a sweep whose runs all failed
+reads 0%, status failed.
+
 An adaptive sweep says where its refinement is before its name: ``[level 2/3]`` while
 its levels run (done/total counts the runs of the levels queued so far against the
 final lattice), ``[612 computed, 3484 inferred]`` once refined. ``--json`` adds the
@@ -66,12 +70,14 @@ def handle(args: argparse.Namespace) -> int:
         print("no sweeps yet: slopetui submit --help")
     else:
         print(f"{'id':>4}  {'status':9} {'axes':9} {'done/total':>13} {'%':>4} {'run':>3} "
-              f"{'fail':>4} {'runs/min':>8} {'eta':>7}  name")
+              f"{'fail':>4} {'canc':>4} {'runs/min':>8} {'eta':>7}  name")
         for p in sweeps:  # stored text (names, statuses, worker ids) through terminal_safe
-            pct = 100 * (p.done + p.failed) // max(p.total, 1)
+            # done only: a sweep whose runs all failed is at 0%, not 100% (its fail column
+            # and its status say the rest)
+            pct = 100 * p.done // max(p.total, 1)
             print(f"{p.id:>4}  {terminal_safe(p.status):9} {terminal_safe(p.axes):9} "
-                  f"{p.done:>6}/{p.total:<6} {pct:>4} "
-                  f"{p.counts.get('running', 0):>3} {p.failed:>4} {p.runs_per_min:>8.1f} "
+                  f"{p.done:>6}/{p.total:<6} {pct:>4} {p.running:>3} {p.failed:>4} "
+                  f"{p.cancelled:>4} {p.runs_per_min:>8.1f} "
                   f"{format_eta(p.eta_s if workers else None):>7}  {adaptive_stage(p)}"
                   f"{terminal_safe(p.name)}")
     for what, counts, where in (("continuations", branches, "slopetui branch"),

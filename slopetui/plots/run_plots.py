@@ -21,6 +21,10 @@ Decisions:
   the spectrum's buckets are log-spaced to match its log frequency axis. The phase
   portrait and the lambda_max curve, which have no isolated extremes to lose, take a
   uniform stride.
+* **The time series can show the last n periods** of the dominant frequency instead of
+  the whole window (the run detail starts at TIME_PERIODS and zooms out with z): a
+  1000-unit window holds ~400 periods at k = 12, τ = 2, a solid wall of braille at any
+  terminal size. A fixed point has no period: it is shown whole.
 * **A fixed point** (the sliding regime) has an orbit that round-off alone spreads over
   ~1e-16: the phase portrait says so instead of magnifying it to the whole canvas.
 * **Markers.** Traces are drawn in braille dots (the finest plotext has); a second
@@ -163,25 +167,43 @@ def _trace_legend(text: str, color_name: str = TRACE_COLOR) -> LegendEntry:
     return LegendEntry(TRACE_LEGEND_MARKER, color_name, text)
 
 
-def render_time_series(t: np.ndarray, m_x: np.ndarray, m_y: np.ndarray, *, title: str = "",
-                       width: int = 80, height: int = 24, color: bool = True) -> str:
-    """m_x − trend and m_y against time t over the analysis window (model units).
+def render_time_series(t: np.ndarray, m_x: np.ndarray, m_y: np.ndarray, *,
+                       frequency: float = math.nan, periods: int | None = None,
+                       title: str = "", width: int = 80, height: int = 24,
+                       color: bool = True) -> str:
+    """m_x − trend and m_y against time t (model units): the last ``periods`` periods of
+    ``frequency`` (the classifier's dominant frequency of m_y, Summary.frequency) before
+    the window's end, or the whole analysis window with ``periods`` None, at a fixed
+    point, or without a frequency. The x label says which ("t (the last 10 periods)",
+    "t (the whole window)").
 
-    m_x is detrended (module docstring); the legend gives the slope removed. Non-finite
-    samples are left out. Returns exactly ``height`` lines of at most ``width`` columns;
-    with ``color`` False, no ANSI escapes. Raises ValueError for arrays of unequal length
-    or a size too small.
+    A window holds hundreds of periods: drawn whole, they fill the canvas with braille
+    and no cycle can be read. m_x is detrended over the whole window before it is cut
+    (module docstring), so a shorter span is a true zoom of the whole plot; the legend
+    gives the slope removed. Non-finite samples are left out. Returns exactly ``height``
+    lines of at most ``width`` columns; with ``color`` False, no ANSI escapes. Raises
+    ValueError for arrays of unequal length or a size too small.
     """
     t, m_x, m_y = finite(t, m_x, m_y)
     if len(t) < 2:
         return message_block("No samples in the analysis window to plot.", width, height)
     x_rel, slope = detrend(t, m_x)
+    start = float(t[0])
+    if periods is not None:  # without a period (a fixed point), recent_start gives t[0]
+        start = recent_start([t], [period_of(t, m_x, m_y, frequency)], periods)
+    shown = t >= start
+    if start <= float(t[0]) or shown.sum() < 2:  # n periods are the window, or more
+        shown = np.ones(len(t), dtype=bool)
+        x_label = "t (the whole window)"
+    else:
+        x_label = f"t (the last {periods} periods)"
+    t, x_rel, m_y = t[shown], x_rel[shown], m_y[shown]
     n = envelope_points(width)
     series = [Series(*envelope(t, x_rel, n), marker=MX_MARKER, color=MX_COLOR, line=True),
               Series(*envelope(t, m_y, n), marker=TRACE_MARKER, color=MY_COLOR, line=True)]
     legend = [LegendEntry(MX_MARKER, MX_COLOR, f"{MX_LABEL} (slope {slope:.4g} removed)"),
               _trace_legend(MY_LABEL, MY_COLOR)]
-    return render(series, legend, x_label="t", y_label="", x_log=False, y_log=False,
+    return render(series, legend, x_label=x_label, y_label="", x_log=False, y_log=False,
                   title=title, width=width, height=height, color=color)
 
 

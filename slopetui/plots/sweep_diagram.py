@@ -30,13 +30,14 @@ if TYPE_CHECKING:  # slopetui.sweeps.diagram loads the store: imported where use
 
 def render_sweep(diagram: SweepDiagram, *, width: int, height: int, color: bool,
                  hopf: bool = True, fold: tuple[np.ndarray, np.ndarray] | None = None,
-                 title: str | None = None) -> str:
+                 title: str | None = None, cursor: float | None = None) -> str:
     """The sweep's phase diagram (2-D) or bifurcation diagram (1-D), ``height`` lines of
     at most ``width`` columns, ANSI-coloured when ``color``. ``hopf`` draws the exact Hopf
     curve over a phase diagram whose plane has one; ``fold`` is a fold-of-cycles curve in
     the plane's (x, y) values to draw over it (core.fold_curve). ``title`` defaults to the sweep's id,
-    name (escaped: it is stored text) and progress. Raises ValueError as the renderers do
-    (e.g. a size too small)."""
+    name (escaped: it is stored text) and progress. ``cursor``, a value of the swept
+    parameter, draws a bifurcation diagram's cursor line there (a phase diagram has
+    none). Raises ValueError as the renderers do (e.g. a size too small)."""
     spec = diagram.spec
     if title is None:
         title = (f"sweep {diagram.id}: {terminal_safe(diagram.name)} "
@@ -58,7 +59,8 @@ def render_sweep(diagram: SweepDiagram, *, width: int, height: int, color: bool,
     x = spec.x
     if spec.y is None:
         return render_bifurcation(x.param, xs, peaks, regimes, log=x.spacing == "log",
-                                  title=title, width=width, height=height, color=color)
+                                  title=title, width=width, height=height, color=color,
+                                  cursor=cursor)
     from slopetui.sweeps.diagram import plane_hopf
 
     y = spec.y

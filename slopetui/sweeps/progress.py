@@ -8,10 +8,12 @@ runs are written. It is ``done`` only then: between two levels nothing is queued
 the next level is still to come. ``stage`` says where it is ("level 2/3", "refined").
 
 A sweep with nothing left to compute whose runs all failed is ``failed``, not ``done``:
-the word would say it is complete when not one run gave a result. Its runs still count
-as finished (``done`` + ``failed`` make the share of the progress bars: nothing is left
-to wait for), and ``failed`` counts them apart, as ``slopetui status`` and the
-application show.
+the word would say it is complete when not one run gave a result. ``done`` counts the
+runs with a result only; ``failed`` and ``cancelled`` count the others apart, and the
+faces show each for what it is (``slopetui status``'s columns, the application's bar:
+done green, failed red, cancelled dim), never one share that reaches 100% when every run
+failed. The pool's progress line counts failed runs as finished (nothing is left to
+wait for) and says how many failed.
 """
 
 from __future__ import annotations
@@ -55,6 +57,15 @@ class SweepProgress:
     @property
     def failed(self) -> int:
         return self.counts.get("failed", 0)
+
+    @property
+    def cancelled(self) -> int:
+        """Runs cancelled before they ran (resume queues them again)."""
+        return self.counts.get("cancelled", 0)
+
+    @property
+    def running(self) -> int:
+        return self.counts.get("running", 0)
 
     @property
     def left(self) -> int:

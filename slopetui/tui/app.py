@@ -7,26 +7,36 @@ on after the application quits: queued work is never lost by quitting.
 
 The app's thread workers (opening the store, the pool, pausing a sweep) report back as the
 screens' do: with a message, handled on the UI thread.
+
+Keys: the footer of every screen shows the app's two (? help, ctrl+q quit) besides the
+screen's own; the others (1-4, n, v) are in the help (? or F1, generated from the
+bindings) and in the command palette (ctrl+p, ``slopetui.tui.commands``), which also
+takes what a key cannot (open run 12, new sweep from a preset, export a sweep).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
+from rich.text import Text
 from textual import on, work
-from textual.app import App
+from textual.app import App, SystemCommand
 from textual.binding import Binding
 from textual.message import Message
+from textual.screen import Screen
+from textual.widgets import Select
 
 from slopetui.store.database import Database
 from slopetui.store.open import open_store
 from slopetui.sweeps.fold_overlay import Curve
+from slopetui.tui.commands import SlopeCommands
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.screens.branches import BranchesScreen
-from slopetui.tui.screens.error import ErrorScreen
+from slopetui.tui.screens.error import StoreChoice, StoreErrorScreen
+from slopetui.tui.screens.help import HelpScreen
 from slopetui.tui.screens.queue import QueueScreen
 from slopetui.tui.screens.sql import SqlScreen
 from slopetui.tui.screens.sweeps import SweepsScreen
@@ -40,7 +50,13 @@ if TYPE_CHECKING:  # matplotlib is loaded by the first figure, not by the applic
 REFRESH_S = 2.0
 
 
-class SlopeApp(App[None]):
+#: What the sweeps screen says while there is no store (SlopeApp.store_status).
+OPENING_STORE = "Opening the store…"
+
+
+# inherit_bindings=False: App's own ctrl+q (hidden, and first in the footer's order) is
+# replaced by the one below, shown after "? Help"; ctrl+c's reminder is kept.
+class SlopeApp(App[None], inherit_bindings=False):
     """The researcher's cockpit over one store."""
 
     CSS_PATH = "slopetui.tcss"
@@ -49,15 +65,38 @@ class SlopeApp(App[None]):
     MODES = {"sweeps": SweepsScreen, "queue": QueueScreen, "sql": SqlScreen,
              "branches": BranchesScreen}
     DEFAULT_MODE = "sweeps"
+    # Textual's system commands (theme, keys, screenshot...) and slopetui's own.
+    COMMANDS = App.COMMANDS | {SlopeCommands}
+    # In every footer: "? Help" and "^q Quit" only (with Textual's "^p palette"), so that
+    # each screen's own keys fit 80 columns. The rest are in the help and the palette.
     BINDINGS = [
-        Binding("1", "switch_mode('sweeps')", "Sweeps", id="mode.sweeps"),
-        Binding("2", "switch_mode('queue')", "Queue", id="mode.queue"),
-        Binding("3", "switch_mode('sql')", "SQL", id="mode.sql"),
-        Binding("4", "switch_mode('branches')", "Branches", id="mode.branches"),
-        Binding("n", "new_sweep", "New sweep", id="new_sweep"),
-        # out of the footer (80 columns hold no more): marking a run says "v compares them"
-        Binding("v", "compare", "Compare", id="compare", show=False),
-        Binding("q", "quit", "Quit", id="quit"),
+        # not priority: a focused text field takes "?" (F1 still opens the help there)
+        Binding("question_mark,f1", "help", "Help", id="help",
+                tooltip="List every key of this screen, the hidden ones too"),
+        # priority: quits from every screen, the SQL editor included, where q is typed
+        Binding("ctrl+q", "quit", "Quit", id="quit", priority=True,
+                tooltip="Quit slopetui (q too, where no text field has focus); the worker pool "
+                        "keeps running, queued work is kept"),
+        # not priority: a focused Input or TextArea still gets the letter
+        Binding("q", "quit", "Quit", id="quit.q", show=False,
+                tooltip="Quit (where no text field has focus; ctrl+q quits everywhere)"),
+        Binding("ctrl+c", "help_quit", show=False, system=True),
+        Binding("1", "switch_mode('sweeps')", "Sweeps", id="mode.sweeps", show=False,
+                tooltip="The sweeps and the selected sweep's diagram"),
+        Binding("2", "switch_mode('queue')", "Queue", id="mode.queue", show=False,
+                tooltip="The workers and the queue; pause, resume, cancel a sweep"),
+        Binding("3", "switch_mode('sql')", "SQL", id="mode.sql", show=False,
+                tooltip="Read-only SQL over the store"),
+        Binding("4", "switch_mode('branches')", "Branches", id="mode.branches", show=False,
+                tooltip="Continuations: branches of periodic orbits and their folds"),
+        Binding("n", "new_sweep", "New sweep", id="new_sweep", show=False,
+                tooltip="Design a sweep (a preset from the palette fills the form)"),
+        # marking a run says "v compares them"
+        Binding("v", "compare", "Compare", id="compare", show=False,
+                tooltip="Compare the runs marked with m (two or more)"),
+        # only while the store could not be opened (check_action): the sweeps screen names it
+        Binding("ctrl+o", "store_dialog", "Retry store", id="store", show=False,
+                tooltip="Retry opening the store, or open another one"),
     ]
 
     def __init__(self, db_url: str | None = None, *, start_workers: bool = True,
@@ -72,8 +111,11 @@ class SlopeApp(App[None]):
         self.fold_curves: dict[int, Curve] = {}
         #: Runs marked with m for the compare screen (v), in the order marked.
         self.marked: list[int] = []
-        #: Where the figure key (f) writes: the folder the application was started in.
+        #: Where the figure key (f) and the palette's exports write: the folder the
+        #: application was started in.
         self.figure_folder = Path.cwd()
+        #: Why the store could not be opened (None: it is open, or being opened).
+        self.store_error: str | None = None
 
     # -- messages from the app's workers --
 
@@ -115,8 +157,39 @@ class SlopeApp(App[None]):
     class FigureFailed(Message):
         cause: str
 
+    @dataclass
+    class SweepExported(Message):
+        text: str
+
+    @dataclass
+    class ExportFailed(Message):
+        sweep_id: int
+        cause: str
+
     def on_mount(self) -> None:
         self.open_store()
+
+    # -- keys, help and the palette --
+
+    def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
+        if action == "store_dialog":  # only while there is a failure to act on
+            return self.store_error is not None
+        return True
+
+    def action_help(self) -> None:
+        self.show_help(self.screen)
+
+    def show_help(self, screen: Screen[Any]) -> None:
+        """The keys of ``screen`` (the one in view; the palette passes the one it was
+        opened from)."""
+        if not isinstance(screen, HelpScreen):
+            self.push_screen(HelpScreen.of(screen))
+
+    def get_system_commands(self, screen: Screen[Any]) -> Iterable[SystemCommand]:
+        # Textual's, but its Quit: slopetui.tui.commands has one that says what quitting keeps
+        for command in super().get_system_commands(screen):
+            if command.title != "Quit":
+                yield command
 
     @work(thread=True, exclusive=True, group="store")
     def open_store(self) -> None:
@@ -150,11 +223,46 @@ class SlopeApp(App[None]):
     @on(StoreOpened)
     def _store_opened(self, message: StoreOpened) -> None:
         self.db = message.db  # on the UI thread, before the screen in view is told
+        self.store_error = None
         self.refresh_active_screen()
 
     @on(StoreOpenFailed)
     def _store_open_failed(self, message: StoreOpenFailed) -> None:
-        self.push_screen(ErrorScreen("The database cannot be opened", message.cause))
+        self.store_error = message.cause
+        self.refresh_bindings()  # ctrl+o is active now
+        self.action_store_dialog()
+
+    @property
+    def store_status(self) -> Text:
+        """What a screen without a store says: that it is being opened, or why it could
+        not be and how to try again. A Text: the cause may hold brackets."""
+        if self.store_error is None:
+            return Text(OPENING_STORE)
+        return Text.assemble(("The store could not be opened: ", "bold"), self.store_error,
+                             "\nctrl+o retries it or opens another store "
+                             "(or ctrl+p: Retry opening the store).")
+
+    def action_store_dialog(self) -> None:
+        """Retry opening the store, open another one, or quit."""
+        if self.store_error is not None and not isinstance(self.screen, StoreErrorScreen):
+            self.push_screen(StoreErrorScreen(self.store_error), self._store_chosen)
+
+    def _store_chosen(self, choice: StoreChoice | None) -> None:
+        if choice is None:  # closed: the sweeps screen says how to come back
+            self.refresh_active_screen()
+            return
+        if choice.action == "open":
+            self.db_url = choice.url
+        self.retry_store()
+
+    def retry_store(self) -> None:
+        """Open the store (db_url) again, e.g. once its folder exists."""
+        if self.db is not None:
+            return
+        self.store_error = None
+        self.refresh_bindings()
+        self.refresh_active_screen()  # "Opening the store…" again
+        self.open_store()
 
     @on(PoolAttached)
     def _pool_attached(self, message: PoolAttached) -> None:
@@ -192,9 +300,17 @@ class SlopeApp(App[None]):
         self.notify(f"{message.action} sweep {message.sweep_id}: {message.cause}",
                     severity="error", timeout=8)
 
-    def action_new_sweep(self) -> None:
+    async def action_new_sweep(self) -> None:
+        await self.new_sweep()
+
+    async def new_sweep(self, preset: str | None = None) -> None:
+        """The new-sweep form, filled with ``preset`` (a key of sweeps.presets) if given:
+        choosing it in the form's preset list fills the fields, as a click would."""
         from slopetui.tui.screens.new_sweep import NewSweepScreen
-        self.push_screen(NewSweepScreen())
+        screen = NewSweepScreen()
+        await self.push_screen(screen)  # mounted: its fields exist
+        if preset is not None:
+            screen.query_one("#preset", Select).value = preset
 
     def open_run(self, run_id: int) -> None:
         from slopetui.tui.screens.run_detail import RunDetailScreen
@@ -258,6 +374,30 @@ class SlopeApp(App[None]):
     @on(FigureFailed)
     def _figure_failed(self, message: FigureFailed) -> None:
         self.notify(f"could not write the figure: {message.cause}", severity="error", timeout=10)
+
+    @work(thread=True, group="export")
+    def export_sweep(self, sweep_id: int, fmt: str) -> None:
+        """Write the sweep's runs as CSV or JSON (``slopetui export``'s formats) into a new
+        file in ``figure_folder``, off the UI thread."""
+        from slopetui.sweeps.export_files import export_sweep
+        try:
+            if self.db is None:
+                raise RuntimeError("the database is not open yet")
+            exported = export_sweep(self.db, sweep_id, fmt, self.figure_folder)
+        except Exception as exc:  # an unknown sweep, an unwritable folder: shown
+            self.post_message(self.ExportFailed(sweep_id, f"{type(exc).__name__}: {exc}"))
+            return
+        self.post_message(self.SweepExported(
+            f"{exported.runs} runs of sweep {sweep_id} written to {exported.path}"))
+
+    @on(SweepExported)
+    def _sweep_exported(self, message: SweepExported) -> None:
+        self.notify(message.text, timeout=10, markup=False)  # a path may hold brackets
+
+    @on(ExportFailed)
+    def _export_failed(self, message: ExportFailed) -> None:
+        self.notify(f"could not export sweep {message.sweep_id}: {message.cause}",
+                    severity="error", timeout=10, markup=False)
 
 
 def run_app(db_url: str | None = None, *, start_workers: bool = True) -> int:

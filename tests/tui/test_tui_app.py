@@ -9,6 +9,7 @@ from slopetui.store import Database, Run, Sweep, Worker
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 from slopetui.tui.app import SlopeApp
+from slopetui.tui.screens.confirm import ConfirmScreen
 from slopetui.tui.screens.error import ErrorScreen
 from slopetui.tui.screens.new_sweep import NewSweepScreen
 from slopetui.tui.screens.queue import QueueScreen
@@ -217,7 +218,9 @@ def test_queue_screen_shows_workers_and_pauses_a_sweep(db):
             await wait_until(pilot, lambda: _sweep_status(db, sweep) == "paused")
             await pilot.press("r")
             await wait_until(pilot, lambda: _sweep_status(db, sweep) == "active")
-            await pilot.press("c")
+            await pilot.press("c")  # asks first (screens.confirm): y cancels
+            await wait_until(pilot, lambda: isinstance(app.screen, ConfirmScreen))
+            await pilot.press("y")
             await wait_until(pilot, lambda: _sweep_status(db, sweep) == "cancelled")
             # the lines `slopetui pause|resume|cancel` prints (sweeps.control.apply)
             await wait_until(pilot, lambda: len(said) == 3)

@@ -124,7 +124,7 @@ def test_paused_sweeps_are_not_handed_out_and_cancel_cancels_queued_runs(store):
     second = submit_quick(store, 2, tau=3.0)
     assert control.pause(store, first.sweep_id) == "paused"
     assert jobs.claim(store, "w").sweep_id == second.sweep_id
-    assert control.resume(store, first.sweep_id) == "active"
+    assert control.resume(store, first.sweep_id) == control.Resumed("active", 0)
     assert jobs.claim(store, "w").sweep_id == first.sweep_id
     assert control.cancel(store, first.sweep_id) == 1
     assert statuses(store, first.sweep_id) == {"running": 1, "cancelled": 1}

@@ -213,6 +213,8 @@ class BranchesScreen(SlopeScreen[None]):
     def refresh_data(self) -> None:
         if self.db is not None:
             self.load(self.selected)
+        else:  # being opened, or it could not be: say which, and how to retry
+            self.query_one("#branch-detail", Static).update(self.app.store_status)
 
     @work(thread=True, exclusive=True, group="branches-load")
     def load(self, selected: Selection | None) -> None:

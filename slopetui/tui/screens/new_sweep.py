@@ -4,6 +4,15 @@ The form is a view of a spec mapping (``slopetui.sweeps.spec``): every change re
 it, so the form and ``slopetui submit`` accept and refuse exactly the same sweeps.
 "adaptive levels" (beside the name, so the form still fits 80x24) makes a phase
 diagram adaptive (``[adaptive] levels``); empty means every point is computed.
+
+At 80x24 the form scrolls (the buttons sit below the fold; ctrl+s submits from
+anywhere). It opens on the name, the first field one types (the preset above it is a
+shortcut, not a field). The axis rows have a heading row (start, stop, points, spacing)
+over their inputs, in the same widths. A parameter chosen as an axis is swept: its
+fixed input is disabled and shows "swept" (its value is kept and comes back when the
+parameter is no longer swept), so the form never shows a value it does not use. The
+λmax checkbox shows ✓ or a blank, not an X whose colour alone says on or off (nothing
+under NO_COLOR).
 """
 
 from __future__ import annotations
@@ -43,6 +52,23 @@ DEFAULTS = Params()
 AXIS_CHOICES = [(p, p) for p in PARAM_NAMES]
 SPACING_CHOICES = [("linear", "linear"), ("log", "log")]
 NO_AXIS = "none"
+#: What a swept parameter's fixed input shows instead of its value.
+SWEPT = "swept"
+
+
+class OnOffCheckbox(Checkbox):
+    """A checkbox whose mark says on or off without colour: Textual's ToggleButton draws
+    the same X either way and only recolours it, invisible under NO_COLOR."""
+
+    ON_MARK = "✓"
+    OFF_MARK = " "
+    # an initial False is no change of value, so no watcher runs: the class's mark is off
+    BUTTON_INNER = OFF_MARK
+
+    def watch_value(self) -> None:
+        # an instance attribute over the class's: ToggleButton._button reads it per render
+        self.BUTTON_INNER = self.ON_MARK if self.value else self.OFF_MARK
+        super().watch_value()
 
 
 def _axis_row(axis: str, param: str, start: str, stop: str, num: str) -> Horizontal:
@@ -59,6 +85,16 @@ def _axis_row(axis: str, param: str, start: str, stop: str, num: str) -> Horizon
         classes="form-row")
 
 
+def _axis_heading() -> Horizontal:
+    """The headings of the axis rows' columns, in the widths of their inputs."""
+    return Horizontal(
+        Label("", classes="row-label"),
+        Label("parameter", classes="axis-param"),
+        *(Label(text, classes="heading-num") for text in ("start", "stop", "points")),
+        Label("spacing", classes="spacing"),
+        id="axis-heading")
+
+
 def _fixed_row(names: tuple[str, ...]) -> Horizontal:
     cells: list[Any] = [Label("fixed:" if names[0] == "a" else "", classes="row-label")]
     for name in names:
@@ -70,6 +106,16 @@ def _fixed_row(names: tuple[str, ...]) -> Horizontal:
 
 class NewSweepScreen(SlopeScreen[int | None]):
     """Dismissed with the new sweep's id, or None when cancelled."""
+
+    #: Without it the scrolling form itself takes the focus, and typing goes nowhere.
+    AUTO_FOCUS = "#name"
+    # The heading row's own rules (the form's layout is in slopetui.tcss): one line right
+    # above the x row, muted, its cells as wide as the inputs under them (Input.num: 10).
+    DEFAULT_CSS = """
+    NewSweepScreen #axis-heading { height: 1; }
+    NewSweepScreen #axis-heading Label { color: $text-muted; text-style: italic; }
+    NewSweepScreen #axis-heading .heading-num { width: 10; }
+    """
 
     BINDINGS = [
         Binding("ctrl+s", "submit", "Submit", id="new_sweep.submit", priority=True),
@@ -101,6 +147,8 @@ class NewSweepScreen(SlopeScreen[int | None]):
         #: Seconds per step measured on this store (sweeps.estimate.measured_speeds);
         #: empty until read, and for a method no run was computed with yet.
         self.speeds: dict[tuple[str, bool], float] = {}
+        #: The fixed values of the swept parameters, shown again when no longer swept.
+        self.unswept: dict[str, str] = {}
 
     def compose(self) -> ComposeResult:
         yield Header()
@@ -114,6 +162,7 @@ class NewSweepScreen(SlopeScreen[int | None]):
                              Input(placeholder="off", compact=True, id="adaptive-levels",
                                    classes="num"),
                              classes="form-row")
+            yield _axis_heading()
             yield _axis_row("x", "k", "2", "20", "19")
             yield _axis_row("y", "tau", "0.5", "10", "12")
             yield _fixed_row(("a", "b", "c", "d"))
@@ -127,7 +176,7 @@ class NewSweepScreen(SlopeScreen[int | None]):
                 Input("1e5", compact=True, id="solver-t_end", classes="num"),
                 Label("window", classes="param-label"),
                 Input("1000", compact=True, id="solver-window", classes="num"),
-                Checkbox("λmax", value=True, compact=True, id="solver-lyap"),
+                OnOffCheckbox("λmax", value=True, compact=True, id="solver-lyap"),
                 classes="form-row")
             yield Horizontal(
                 Label("start:", classes="row-label"),
@@ -207,9 +256,7 @@ class NewSweepScreen(SlopeScreen[int | None]):
     def validate_form(self) -> SweepSpec | None:
         for widget in self.query(".-invalid"):
             widget.remove_class("-invalid")
-        for name in PARAM_NAMES:  # a swept parameter's fixed value is not used
-            self.query_one(f"#fixed-{name}").disabled = name in (
-                self._choice("x-param"), self._choice("y-param"))
+        self._show_swept()
         error = self.query_one("#form-error", Static)
         try:
             # the admission checks of `slopetui submit` too (limits, characters of the name)
@@ -228,6 +275,28 @@ class NewSweepScreen(SlopeScreen[int | None]):
         self.query_one("#form-warnings", Static).update(
             "\n".join(f"⚠ {w}" for w in warnings))
         return spec
+
+    def _show_swept(self) -> None:
+        """Disable the fixed input of each swept parameter (its value is not used) and
+        show "swept" in it; give an input its value back once its parameter is not swept.
+
+        Idempotent: it runs on every change, including the Input.Changed it causes. A
+        value written into a swept input meanwhile (a preset) is the one kept."""
+        swept = {self._choice("x-param"), self._choice("y-param")}
+        for name in PARAM_NAMES:
+            box = self.query_one(f"#fixed-{name}", Input)
+            if name in swept:
+                if box.value:  # just swept, or a preset filled it: keep the value aside
+                    self.unswept[name] = box.value
+                    box.value = ""
+                box.placeholder = SWEPT
+                box.disabled = True
+            elif box.disabled:
+                if not box.value:  # a preset may have filled it already
+                    box.value = self.unswept.get(name, f"{getattr(DEFAULTS, name):g}")
+                self.unswept.pop(name, None)
+                box.placeholder = ""
+                box.disabled = False
 
     def _mark_invalid(self, field: str) -> None:
         section, _, name = field.partition(".")

@@ -1,4 +1,5 @@
-"""Queue and workers: the live workers and what each runs; pause, resume, cancel."""
+"""Queue and workers: the live workers and what each runs; pause, resume, cancel (which
+asks first, in the modal of ``screens.confirm``: one key once cancelled 1,072 runs)."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ from textual.message import Message
 from textual.widgets import DataTable, Footer, Header, Static
 
 from slopetui.display_text import terminal_safe
+from slopetui.sweeps.control import EXPLAINED
 from slopetui.sweeps.progress import (
     SweepProgress,
     WorkerInfo,
@@ -21,14 +23,24 @@ from slopetui.sweeps.progress import (
 )
 from slopetui.tui.messages import StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
+from slopetui.tui.screens.confirm import ask_then_control
 
 
 class QueueScreen(SlopeScreen[None]):
+    # short labels: the footer holds the app's few keys beside these at 80 columns
     BINDINGS = [
-        Binding("p", "control('pause')", "Pause", id="queue.pause"),
-        Binding("r", "control('resume')", "Resume", id="queue.resume"),
-        Binding("c", "control('cancel')", "Cancel sweep", id="queue.cancel"),
+        Binding("p", "control('pause')", "Pause", id="queue.pause",
+                tooltip=EXPLAINED["pause"]),
+        Binding("r", "control('resume')", "Resume", id="queue.resume",
+                tooltip=EXPLAINED["resume"]),
+        Binding("c", "control('cancel')", "Cancel", id="queue.cancel",
+                tooltip=EXPLAINED["cancel"]),
     ]
+
+    def __init__(self) -> None:
+        super().__init__()
+        #: The sweeps as last loaded (the cancel question names the sweep and its runs).
+        self._sweeps: list[SweepProgress] = []
 
     @dataclass
     class Loaded(Message):
@@ -81,6 +93,7 @@ class QueueScreen(SlopeScreen[None]):
         table = self.query_one("#queue-table", DataTable)
         row = table.cursor_row
         table.clear()
+        self._sweeps = message.sweeps
         for p in message.sweeps:
             c = p.counts
             table.add_row(str(p.id), Text(terminal_safe(p.status)), str(c.get("queued", 0)),
@@ -95,5 +108,8 @@ class QueueScreen(SlopeScreen[None]):
         if table.row_count == 0 or self.db is None:
             return
         key = table.coordinate_to_cell_key(table.cursor_coordinate).row_key.value
-        if key is not None:
-            self.app.control_sweep(action, int(key))
+        if key is None:
+            return
+        sweep = next((p for p in self._sweeps if p.id == int(key)), None)
+        if sweep is not None:  # cancel asks first
+            ask_then_control(self.app, action, sweep)

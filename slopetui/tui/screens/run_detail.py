@@ -14,6 +14,13 @@ copy of the run, its recomputation and the tolerance policy are UI-free, in
 ``slopetui.sweeps.recompute``; the result lines of the header list the fields of
 ``core.result_fields`` marked ``detail``.
 
+The time series shows the last TIME_PERIODS periods of the run's dominant frequency
+(a window holds hundreds: drawn whole it is a solid wall of braille); z zooms out to
+50 periods, then to the whole window, then back (a fixed point has no period and is
+always shown whole). The footer shows the screen's own keys only (back, recompute,
+zoom, figure, mark): the tab keys t, p, s, l are hidden there, as the tabs are on
+screen and clickable, and the help lists them.
+
 Runs that are not done (queued, running, failed, cancelled) show their status and
 stored error; their traces are computed only on request (r), and only when their
 inputs are valid. So are the *inferred* runs of an adaptive sweep: the screen says that
@@ -38,6 +45,7 @@ from core import ParameterError, Params, SolverSettings
 from core.jit_cache import source_digest
 from core.result_fields import DETAIL_FIELDS, ResultField
 from slopetui.plots.run_plots import (
+    TIME_PERIODS,
     render_lyapunov,
     render_phase_portrait,
     render_spectrum,
@@ -64,6 +72,10 @@ RECOMPUTED_NOTE = "Traces are recomputed on demand (the store keeps summaries on
 PEAKS_SHOWN = 2
 #: Stored result fields per line of the header (core.result_fields.DETAIL_FIELDS).
 ITEMS_PER_LINE = 4
+
+#: The spans of the time series that z steps through: periods of the dominant frequency
+#: before the window's end, None for the whole window.
+ZOOMS: tuple[int | None, ...] = (TIME_PERIODS, 50, None)
 
 #: Tab pane ids, in tab order.
 TAB_TIME, TAB_PHASE, TAB_SPECTRUM, TAB_LYAP = "tab-time", "tab-phase", "tab-spectrum", "tab-lyap"
@@ -171,13 +183,22 @@ def recompute_text(run: StoredRun) -> str:
     return f"recomputing (t_end = {run.t_end:g})…"
 
 
-def renderers(traces: Traces) -> dict[str, Renderer]:
-    """One PlotView renderer per tab, drawing the recomputed traces."""
+def time_series_renderer(traces: Traces, periods: int | None = TIME_PERIODS) -> Renderer:
+    """The time series of the recomputed traces: the last ``periods`` periods of their
+    dominant frequency, or the whole window (None)."""
+    def time_series(w: int, h: int, c: bool) -> str:
+        return render_time_series(traces.t, traces.m_x, traces.m_y,
+                                  frequency=traces.summary.frequency, periods=periods,
+                                  width=w, height=h, color=c)
+    return time_series
+
+
+def renderers(traces: Traces, periods: int | None = TIME_PERIODS) -> dict[str, Renderer]:
+    """One PlotView renderer per tab, drawing the recomputed traces; the time series over
+    the last ``periods`` periods (None: the whole window)."""
     t, m_x, m_y = traces.t, traces.m_x, traces.m_y
     estimate = traces.lyap.format() if traces.lyap else ""
-
-    def time_series(w: int, h: int, c: bool) -> str:
-        return render_time_series(t, m_x, m_y, width=w, height=h, color=c)
+    time_series = time_series_renderer(traces, periods)
 
     def phase(w: int, h: int, c: bool) -> str:
         return render_phase_portrait(t, m_x, m_y, width=w, height=h, color=c)
@@ -201,12 +222,16 @@ class RunDetailScreen(SlopeScreen[None]):
     BINDINGS = [
         Binding("escape", "back", "Back", id="run_detail.back"),
         Binding("r", "recompute", "Recompute", id="run_detail.recompute"),
-        Binding("t", f"show_tab('{TAB_TIME}')", "Time", id="run_detail.tab_time"),
-        Binding("p", f"show_tab('{TAB_PHASE}')", "Phase", id="run_detail.tab_phase"),
-        Binding("s", f"show_tab('{TAB_SPECTRUM}')", "Spectrum", id="run_detail.tab_spectrum"),
-        Binding("l", f"show_tab('{TAB_LYAP}')", "λmax", id="run_detail.tab_lyap"),
-        Binding("m", "mark", "Mark", id="run_detail.mark"),
+        Binding("z", "zoom", "Zoom", id="run_detail.zoom"),
         Binding("f", "figure", "Figure", id="run_detail.figure"),
+        Binding("m", "mark", "Mark", id="run_detail.mark"),
+        # the tabs are on screen and clickable: their keys stay out of the footer (80 columns)
+        Binding("t", f"show_tab('{TAB_TIME}')", "Time", id="run_detail.tab_time", show=False),
+        Binding("p", f"show_tab('{TAB_PHASE}')", "Phase", id="run_detail.tab_phase",
+                show=False),
+        Binding("s", f"show_tab('{TAB_SPECTRUM}')", "Spectrum", id="run_detail.tab_spectrum",
+                show=False),
+        Binding("l", f"show_tab('{TAB_LYAP}')", "λmax", id="run_detail.tab_lyap", show=False),
     ]
 
     def __init__(self, run_id: int) -> None:
@@ -218,6 +243,8 @@ class RunDetailScreen(SlopeScreen[None]):
         #: Bumped by each recomputation: results of an older one are dropped (a thread
         #: worker cannot be stopped mid-integration, only ignored).
         self._generation = 0
+        #: Which of ZOOMS the time series shows (kept across recomputations).
+        self.zoom = 0
 
     def compose(self) -> ComposeResult:
         yield Header()
@@ -301,7 +328,7 @@ class RunDetailScreen(SlopeScreen[None]):
             return
         self._loading(False)
         self.traces = message.traces
-        for tab, renderer in renderers(message.traces).items():
+        for tab, renderer in renderers(message.traces, ZOOMS[self.zoom]).items():
             self._plot(tab).show(renderer)
         verdict = compare(self.run, message.traces, source_digest())
         self._status(verdict.text, "ok" if verdict.ok else "warning")
@@ -328,6 +355,13 @@ class RunDetailScreen(SlopeScreen[None]):
 
     def action_mark(self) -> None:
         self.app.toggle_mark(self.run_id)
+
+    def action_zoom(self) -> None:
+        """The time series' next span of ZOOMS, brought into view (z acts on it alone)."""
+        self.zoom = (self.zoom + 1) % len(ZOOMS)
+        self.action_show_tab(TAB_TIME)
+        if self.traces is not None:
+            self._plot(TAB_TIME).show(time_series_renderer(self.traces, ZOOMS[self.zoom]))
 
     def action_figure(self) -> None:
         """Write the four panels on show as a figure (slopetui figure --run ID)."""

@@ -210,8 +210,10 @@ class SqlScreen(SlopeScreen[None]):
     def refresh_data(self) -> None:
         """The app calls this once its database is open: load the schema, run a query
         that waited for it."""
-        if self.db is None:
-            self.set_status(OPENING, "-info")
+        if self.db is None:  # being opened, or it could not be (then: why, and how to retry)
+            error = self.app.store_error is not None
+            self.set_status(self.app.store_status.plain if error else OPENING,
+                            "-error" if error else "-info")
             return
         if not self._schema_requested:
             self._schema_requested = True

@@ -1,13 +1,27 @@
 """Sweeps: the list with progress, and the selected sweep's diagram filling live; over a
-(k, tau) phase diagram (or (a|b|c, tau)), on request, the fold of cycles (key o)."""
+(k, tau) phase diagram (or (a|b|c, tau)), on request, the fold of cycles (key o).
+
+Cancel (c) and delete (x) ask first, in a modal naming the sweep and what it would touch
+(``screens.confirm``); pause and resume do not: each undoes the other, and resume also
+undoes a cancel (its cancelled runs are queued again, ``sweeps.control``).
+
+The progress bar shows each kind of run for what it is: done green, failed red, cancelled
+dim yellow, left grey, in distinct characters too (█ ▓ ▒ ░) for a terminal without colour
+(NO_COLOR); its percentage counts done runs only. A sweep whose runs all failed is a red
+bar at 0%, not a full green one.
+
+The name column takes the width the other columns leave (at least NAME_MIN), computed
+anew on every refresh and resize from the screen's width.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import accumulate, pairwise
 from typing import Any
 
 from rich.text import Text
-from textual import on, work
+from textual import events, on, work
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Vertical
@@ -17,6 +31,7 @@ from textual.worker import get_current_worker
 
 from slopetui.display_text import terminal_safe
 from slopetui.sweeps import fold_overlay
+from slopetui.sweeps.control import EXPLAINED
 from slopetui.sweeps.diagram import SweepDiagram, load_diagram, plane_hopf
 from slopetui.sweeps.hopf_plane import Curve
 from slopetui.sweeps.initial_dependence import condition_notes, drawn
@@ -24,17 +39,45 @@ from slopetui.sweeps.progress import SweepProgress, format_eta, sweep_progress
 from slopetui.sweeps.spec import SweepSpec
 from slopetui.tui.messages import RunChosen, RunMarked, StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
+from slopetui.tui.screens.confirm import ask_then_control
 from slopetui.tui.widgets.bifurcation_view import BifurcationView
 from slopetui.tui.widgets.phase_grid import GridData, PhaseGrid
 
 BAR_WIDTH = 10
-#: Names are cut to this many characters, so the table fits 80 columns.
-NAME_WIDTH = 20
+#: Names are cut to the width the other columns leave, but never to fewer characters than
+#: this (at 80 columns the table is then a little wider than the screen, as before).
+NAME_MIN = 20
+#: The bar's cells: done, failed, cancelled, left. Distinct characters as well as colours,
+#: so that the bar reads the same without colour (NO_COLOR, a monochrome terminal).
+BAR_CELLS = (("█", "green"), ("▓", "red"), ("▒", "yellow dim"), ("░", "bright_black"))
+#: The table's columns, in order; the name is the one that takes the room left.
+COLUMNS = ("id", "name", "progress", "done", "r/min", "ETA", "status")
+NAME_COLUMN = COLUMNS.index("name")
 
 
-def progress_bar(done: int, total: int) -> Text:
-    filled = round(BAR_WIDTH * done / total) if total else 0
-    return Text.assemble(("█" * filled, "green"), ("░" * (BAR_WIDTH - filled), "bright_black"),
+def bar_cells(total: int, done: int, failed: int = 0, cancelled: int = 0) -> list[int]:
+    """How many of the BAR_WIDTH cells are done, failed, cancelled and left. Cumulative
+    rounding keeps the four at BAR_WIDTH; a failed or cancelled run, however few, takes at
+    least one cell (from the largest other part): what went wrong stays visible."""
+    counts = [done, failed, cancelled]
+    bounds = [round(BAR_WIDTH * min(n, total) / total) if total else 0
+              for n in accumulate(counts, initial=0)]
+    cells = [b - a for a, b in pairwise(bounds)]
+    cells.append(BAR_WIDTH - bounds[-1])
+    for i in (1, 2):
+        if counts[i] and not cells[i]:
+            donor = max((j for j in range(4) if j != i), key=lambda j: cells[j])
+            if cells[donor] > 1 or (donor == 3 and cells[donor]):
+                cells[donor] -= 1
+                cells[i] += 1
+    return cells
+
+
+def progress_bar(done: int, total: int, failed: int = 0, cancelled: int = 0) -> Text:
+    """The bar and the share of runs done (failed and cancelled runs are not done)."""
+    cells = bar_cells(total, done, failed, cancelled)
+    return Text.assemble(*((char * n, style) for (char, style), n in zip(BAR_CELLS, cells,
+                                                                          strict=True)),
                          f" {100 * done // max(total, 1):>3}%")
 
 
@@ -62,14 +105,23 @@ class SweepsScreen(SlopeScreen[None]):
     """Enter on a sweep moves to its diagram; arrows move the cursor there, enter opens
     the run under it, m marks it for comparison (v); f writes the diagram's figure."""
 
+    # The footer shows five, in about 45 columns (the app adds its own few at 80); the
+    # others are in the help screen and the command palette.
     BINDINGS = [
-        Binding("p", "pause", "Pause", id="sweeps.pause"),
-        Binding("r", "resume", "Resume", id="sweeps.resume"),
-        # short labels: the footer has 140 columns at most for all of them (f took room)
-        Binding("c", "cancel", "Cancel", id="sweeps.cancel"),
-        Binding("d", "focus_diagram", "Diagram", id="sweeps.diagram"),
-        Binding("o", "fold_curve", "Fold", id="sweeps.fold"),
-        Binding("f", "figure", "Figure", id="sweeps.figure"),
+        Binding("p", "pause", "Pause", id="sweeps.pause",
+                tooltip=EXPLAINED["pause"]),
+        Binding("r", "resume", "Resume", id="sweeps.resume",
+                tooltip=EXPLAINED["resume"]),
+        Binding("c", "cancel", "Cancel", id="sweeps.cancel",
+                tooltip=EXPLAINED["cancel"]),
+        Binding("f", "figure", "Figure", id="sweeps.figure",
+                tooltip="Write the shown diagram's figure (as slopetui figure SWEEP)"),
+        Binding("o", "fold_curve", "Fold", id="sweeps.fold",
+                tooltip="Draw the fold of cycles over a (k, tau) phase diagram"),
+        Binding("d", "focus_diagram", "Diagram", id="sweeps.diagram", show=False,
+                tooltip="Move to the diagram: arrows move, enter opens a run, m marks it"),
+        Binding("x", "delete", "Delete sweep", id="sweeps.delete", show=False,
+                tooltip=EXPLAINED["delete"]),
         Binding("escape", "focus_list", "Sweep list", show=False),
     ]
 
@@ -111,11 +163,13 @@ class SweepsScreen(SlopeScreen[None]):
         #: The sweep whose fold curve is being computed, and how far it got (tau done, of).
         self._fold_for: int | None = None
         self._fold_done: tuple[int, int] = (0, 0)
+        #: The sweeps as last loaded (the confirmations name them; a resize refills).
+        self._sweeps: list[SweepProgress] = []
 
     def compose(self) -> ComposeResult:
         yield Header()
         table: DataTable[Any] = DataTable(id="sweep-table", cursor_type="row", zebra_stripes=True)
-        table.add_columns("id", "name", "progress", "done", "r/min", "ETA", "status")
+        table.add_columns(*COLUMNS)
         yield table
         with Vertical(id="diagram-pane"):
             with ContentSwitcher(initial="diagram-empty", id="diagram-switcher"):
@@ -131,6 +185,8 @@ class SweepsScreen(SlopeScreen[None]):
     def refresh_data(self) -> None:
         if self.db is not None:
             self.load(self.selected)
+        else:  # the store is being opened, or could not be: say which, and how to retry
+            self.query_one("#diagram-empty", Static).update(self.app.store_status)
 
     @work(thread=True, exclusive=True, group="sweeps-load")
     def load(self, sweep_id: int | None) -> None:
@@ -139,8 +195,8 @@ class SweepsScreen(SlopeScreen[None]):
             return
         try:
             sweeps = sweep_progress(db)
-            if sweep_id is None and sweeps:
-                sweep_id = sweeps[0].id
+            if sweep_id not in {p.id for p in sweeps}:  # none yet, or it was deleted
+                sweep_id = sweeps[0].id if sweeps else None
             diagram = load_diagram(db, sweep_id) if sweep_id is not None else None
         except Exception as exc:  # a locked or vanished database: say so, keep running
             self.post_message(StoreFailed("read the sweeps", f"{type(exc).__name__}: {exc}"))
@@ -154,32 +210,60 @@ class SweepsScreen(SlopeScreen[None]):
         self.post_message(self.Loaded(sweeps, diagram, grid))
 
     def on_sweeps_screen_loaded(self, message: Loaded) -> None:
-        self._fill_table(message.sweeps)
+        ids = [p.id for p in message.sweeps]
+        if self.selected not in ids:  # none yet, or deleted: the one load() fell back to
+            self.selected = message.diagram.id if message.diagram is not None else None
+        self._sweeps = message.sweeps
+        self._fill_table()
         self._shown = message.diagram
         self._show_diagram(message.diagram, message.grid)
 
-    def _fill_table(self, sweeps: list[SweepProgress]) -> None:
+    def on_resize(self, event: events.Resize) -> None:
+        if self._sweeps:  # the name column's width follows the screen's
+            self._fill_table()
+
+    @staticmethod
+    def _row(p: SweepProgress) -> list[Text]:
+        """The row of a sweep, its name not yet cut to the column."""
+        # stored text: escaped (control characters) and a Text (a str cell would be read
+        # as markup: "[bold red]x" styled, "[/x]" a MarkupError that stops the screen)
+        status = terminal_safe(p.status)
+        status = f"{status}, {p.failed} failed" if p.failed else status
+        if p.adaptive_levels is not None and not p.refined:  # short: fits 80 columns
+            status += f", L{p.level}/{p.adaptive_levels}"
+        return [Text(str(p.id)), Text(terminal_safe(p.name)),
+                progress_bar(p.done, p.total, p.failed, p.cancelled),
+                Text(f"{p.done}/{p.total}"), Text(f"{p.runs_per_min:.0f}"),
+                Text(format_eta(p.eta_s)), Text(status)]
+
+    def _fill_table(self) -> None:
         table = self.query_one("#sweep-table", DataTable)
+        sweeps = self._sweeps
+        rows = [self._row(p) for p in sweeps]
+        # Every column as wide as its widest cell; the name as wide as the room the others
+        # leave (the scrollbar's gutter kept free), at least NAME_MIN: set each time, as an
+        # auto-width column never narrows again after a resize.
+        widths = [max([len(label), *(row[i].cell_len for row in rows)])
+                  for i, label in enumerate(COLUMNS)]
+        others = sum(w for i, w in enumerate(widths) if i != NAME_COLUMN)
+        room = (self.size.width - 2 * table.cell_padding * len(COLUMNS) - others
+                - table.styles.scrollbar_size_vertical)
+        name_width = max(NAME_MIN, room)
+        widths[NAME_COLUMN] = min(widths[NAME_COLUMN], name_width)
+        for column, width in zip(table.columns.values(), widths, strict=True):
+            column.auto_width, column.width = False, width
         keep = table.cursor_row
         table.clear()
-        for p in sweeps:
-            # stored text: escaped (control characters) and a Text (a str cell would be read
-            # as markup: "[bold red]x" styled, "[/x]" a MarkupError that stops the screen)
-            name = terminal_safe(p.name)
-            name = name if len(name) <= NAME_WIDTH else name[:NAME_WIDTH - 1] + "…"
-            status = terminal_safe(p.status)
-            status = f"{status}, {p.failed} failed" if p.failed else status
-            if p.adaptive_levels is not None and not p.refined:  # short: fits 80 columns
-                status += f", L{p.level}/{p.adaptive_levels}"
-            table.add_row(str(p.id), Text(name), progress_bar(p.done + p.failed, p.total),
-                          f"{p.done}/{p.total}", f"{p.runs_per_min:.0f}", format_eta(p.eta_s),
-                          Text(status), key=str(p.id))
+        for p, row in zip(sweeps, rows, strict=True):
+            name = row[NAME_COLUMN]
+            if name.cell_len > name_width:
+                name.truncate(name_width - 1)
+                name.append("…")
+            table.add_row(*row, key=str(p.id))
         if sweeps:
-            if self.selected is None:
-                self.selected = sweeps[0].id
             ids = [p.id for p in sweeps]
-            row = ids.index(self.selected) if self.selected in ids else min(keep, len(ids) - 1)
-            table.move_cursor(row=row, animate=False)
+            at = ids.index(self.selected) if self.selected in ids else min(keep, len(ids) - 1)
+            table.move_cursor(row=at, animate=False)
         else:
             self.query_one("#diagram-empty", Static).update(
                 "No sweeps yet: press n to design one (or slopetui submit).")
@@ -235,6 +319,11 @@ class SweepsScreen(SlopeScreen[None]):
         if self.selected is not None and self.db is not None:
             self.app.control_sweep(action, self.selected)
 
+    def _selected_sweep(self) -> SweepProgress | None:
+        if self.db is None:
+            return None
+        return next((p for p in self._sweeps if p.id == self.selected), None)
+
     def action_pause(self) -> None:
         self._control("pause")
 
@@ -242,7 +331,21 @@ class SweepsScreen(SlopeScreen[None]):
         self._control("resume")
 
     def action_cancel(self) -> None:
-        self._control("cancel")
+        """Cancel the selected sweep's queued runs, once the modal says yes."""
+        p = self._selected_sweep()
+        if p is not None:
+            ask_then_control(self.app, "cancel", p)
+
+    def action_delete(self) -> None:
+        """Delete the selected sweep and its runs, once the modal says yes."""
+        p = self._selected_sweep()
+        if p is None:
+            self.notify("no sweep to delete", severity="warning")
+        elif p.running:  # the store would refuse: say so now rather than after a yes
+            self.notify(f"sweep {p.id} has {p.running} running runs: cancel it (c), wait "
+                        "for them to finish, then delete it", severity="warning", timeout=8)
+        else:
+            ask_then_control(self.app, "delete", p)
 
 
     # -- the fold of cycles over a (k, tau) plane --

@@ -1,4 +1,9 @@
-"""The bifurcation diagram of a 1-D sweep, with a cursor that steps along the parameter."""
+"""The bifurcation diagram of a 1-D sweep, with a cursor that steps along the parameter.
+
+The cursor is drawn on the plot, a vertical line at the chosen run's value
+(slopetui.plots.bifurcation.CURSOR_MARKER, legible with colour off), and the title
+names the run: the title alone left the eye to find the value on the axis.
+"""
 
 from __future__ import annotations
 
@@ -13,13 +18,14 @@ from slopetui.tui.widgets.plot_view import PlotView
 
 
 class BifurcationView(PlotView, can_focus=True):
-    """Left/right choose a run (its value is marked in the title); enter opens it, m marks
-    it for comparison."""
+    """Left/right choose a run (a line at its value, and the title names it); enter opens
+    it, m marks it for comparison."""
 
     BINDINGS = [
         Binding("left", "step(-1)", "←", show=False),
         Binding("right", "step(1)", "→", show=False),
-        Binding("enter", "choose", "Open run", id="bifurcation.open"),
+        # out of the footer (which must keep ^q Quit at 80 columns): the title names the run
+        Binding("enter", "choose", "Open run", id="bifurcation.open", show=False),
         Binding("m", "mark", "Mark", id="bifurcation.mark", show=False),
     ]
 
@@ -44,7 +50,8 @@ class BifurcationView(PlotView, can_focus=True):
         label = terminal_safe(run.regime or run.status)
         title = (f"{x.param} = {run.x:.5g}: {label} (run {run.id}) "
                  f"- {d.n_done}/{len(d.runs)} done")
-        return render_sweep(d, width=width, height=height, color=color, title=title)
+        return render_sweep(d, width=width, height=height, color=color, title=title,
+                            cursor=run.x)
 
     def action_step(self, delta: int) -> None:
         if self.diagram is not None and self.diagram.runs:

@@ -120,7 +120,8 @@ class PhaseGrid(Widget, can_focus=True):
         Binding("right", "move(1, 0)", "→", show=False),
         Binding("up", "move(0, 1)", "↑", show=False),
         Binding("down", "move(0, -1)", "↓", show=False),
-        Binding("enter", "choose", "Open run", id="grid.open"),
+        # out of the footer: the cursor line under the grid says "enter opens it"
+        Binding("enter", "choose", "Open run", id="grid.open", show=False),
         Binding("m", "mark", "Mark", id="grid.mark", show=False),
     ]
 

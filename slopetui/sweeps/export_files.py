@@ -1,0 +1,92 @@
+"""A sweep's runs written as a new file in a folder, in a format of ``slopetui export``:
+CSV (``slopetui.sweeps.export.write_csv``, streamed from the store) or JSON (the rows of
+``slopetui.sweeps.frames.json_rows``, strict JSON, one run a line).
+
+The application's command palette exports the selected sweep this way into the folder
+figures go to. It lives here, not in ``slopetui.cli``, because the faces may not import
+each other (the layers of pyproject.toml). Like the figure key, an export never replaces
+an earlier file: the name takes -2, -3... when taken, and the file appears whole or not
+at all (written beside it under a temporary name, then renamed).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from contextlib import closing
+from dataclasses import dataclass
+from itertools import count
+from pathlib import Path
+from typing import IO, TYPE_CHECKING
+
+from slopetui.store.queries import runs_of, sweep_exists
+from slopetui.sweeps.control import UnknownSweep
+from slopetui.whole_files import as_text, write_whole
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from slopetui.store.database import Database
+
+#: The formats, as ``slopetui export`` names them (its --parquet needs an optional extra).
+FORMATS = ("csv", "json")
+
+
+@dataclass(frozen=True)
+class Exported:
+    path: Path
+    runs: int
+
+
+def export_stem(sweep_id: int) -> str:
+    """sweep-3-runs: not the figure's sweep-3, whose data file is sweep-3.csv."""
+    return f"sweep-{sweep_id}-runs"
+
+
+def unused_export_path(folder: Path, sweep_id: int, fmt: str) -> Path:
+    """folder/sweep-N-runs.fmt, or -2, -3... the first that does not exist."""
+    for n in count(1):
+        name = export_stem(sweep_id) if n == 1 else f"{export_stem(sweep_id)}-{n}"
+        path = folder / f"{name}.{fmt}"
+        if not path.exists():
+            return path
+    raise AssertionError("unreachable")
+
+
+def write_json(frame: pd.DataFrame, out: IO[str]) -> int:
+    """Strict JSON (no NaN literal: jq and JavaScript refuse it), one run a line, the text
+    as stored: what ``slopetui export --json`` writes."""
+    from slopetui.sweeps.frames import json_rows
+
+    rows = json_rows(frame)
+    out.write("[\n" if rows else "[")
+    out.write(",\n".join(json.dumps(row, allow_nan=False, ensure_ascii=False) for row in rows))
+    out.write("\n]\n")
+    return len(rows)
+
+
+def export_sweep(db: Database, sweep_id: int, fmt: str, folder: Path) -> Exported:
+    """Write the sweep's runs as ``fmt`` (one of FORMATS) into a new file in ``folder``.
+
+    Raises UnknownSweep for a sweep the store does not hold, ValueError for another
+    format, OSError if the folder cannot be written to."""
+    if fmt not in FORMATS:
+        raise ValueError(f"format {fmt!r}: allowed one of {', '.join(FORMATS)}")
+    if not sweep_exists(db, sweep_id):
+        raise UnknownSweep(sweep_id)
+    write: Callable[[IO[str]], int]
+    if fmt == "csv":
+        from slopetui.sweeps.export import write_csv
+
+        def write(out: IO[str]) -> int:
+            with closing(runs_of(db, sweep_id)) as runs:  # the session closes if a write fails
+                return write_csv(runs, out)
+    else:
+        from slopetui.sweeps.frames import runs_frame
+
+        frame = runs_frame(db, sweep_id)
+
+        def write(out: IO[str]) -> int:
+            return write_json(frame, out)
+    path = unused_export_path(folder, sweep_id, fmt)
+    return Exported(path, write_whole(path, lambda out: as_text(out, write)))

@@ -1,0 +1,57 @@
+"""A file written whole or not at all: into a new file beside it, synced, then renamed
+over the target, so that a failure (a full disk, a database error, Ctrl-C, kill -9) leaves
+no partial file and an older file as it was. The one writer of ``slopetui export -o`` and
+the application's exports.
+
+The new file gets the mode the target would get: the old file's, or 0o666 less the umask
+(mkstemp's 0o600 would survive the rename). A shared leaf: it imports nothing of slopetui.
+(The figures stage several files before renaming any, so that a figure and its data
+appear together: ``slopetui.figures.output.write``, the same steps for a set of files.)
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import stat
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from typing import IO
+
+
+def write_whole(target: Path, write: Callable[[IO[bytes]], int]) -> int:
+    """Call ``write(out)`` on a new binary file beside ``target``, sync it, and rename it
+    over ``target``; returns what ``write`` returned. Raises what the write or the file
+    system raised (OSError), leaving no temporary file behind."""
+    mode = stat.S_IMODE(target.stat().st_mode) if target.is_file() else 0o666 & ~_umask()
+    # the name cut short: a name near the limit of 255 bytes must still fit
+    fd, temp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name[:64]}.", suffix=".part")
+    try:
+        with os.fdopen(fd, "wb") as out:
+            n = write(out)
+            out.flush()
+            os.fsync(out.fileno())
+        os.chmod(temp, mode)
+        os.replace(temp, target)
+    except BaseException:
+        Path(temp).unlink(missing_ok=True)
+        raise
+    return n
+
+
+def as_text(out: IO[bytes], write: Callable[[IO[str]], int]) -> int:
+    """``write`` text into the binary file ``out`` (UTF-8, newlines as written); ``out``
+    stays open for its owner (write_whole syncs and closes it)."""
+    text = io.TextIOWrapper(out, encoding="utf-8", newline="")
+    try:
+        return write(text)
+    finally:
+        text.flush()
+        text.detach()
+
+
+def _umask() -> int:
+    mask = os.umask(0)  # the only way to read it: set it, and set it back at once
+    os.umask(mask)
+    return mask
