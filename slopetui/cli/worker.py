@@ -35,6 +35,9 @@ HEARTBEAT_RANGE = (0.1, 600.0)
 #: A lease covers at least two heartbeats, and at most a day (s).
 MAX_LEASE_S = 86_400.0
 MAX_ATTEMPTS_RANGE = (1, 100)
+#: A worker's memory budget for a batch (MiB): 64 MiB holds a few paper runs (~10 MB
+#: each); 512 GiB is beyond any node we run on.
+MEMORY_RANGE = (64, 512 * 1024)
 #: A pool's connection budget on a server database (slopetui.store.connection_slots).
 CONNECTIONS_RANGE = (1, 64)
 #: What a --host-id may hold: it is written into worker ids and log lines.
@@ -85,6 +88,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                         f"{MAX_BATCH} (default {defaults.DEFAULT_BATCH}); Euler batches go "
                         "through the batched kernel, RK4 runs are computed and stored one "
                         "by one")
+    p.add_argument("--memory", type=int, default=defaults.MEMORY_MIB, metavar="MIB",
+                   help=f"memory the runs of a batch may take together, {MEMORY_RANGE[0]} to "
+                        f"{MEMORY_RANGE[1]} MiB (default {defaults.MEMORY_MIB}): a batch of "
+                        "long windows is cut to fit, the rest left queued")
     p.add_argument("--connections", type=int, default=DEFAULT_CONNECTIONS, metavar="N",
                    help=f"on a PostgreSQL store: database connections the pool and its "
                         f"workers hold at once, {CONNECTIONS_RANGE[0]} to "
@@ -113,6 +120,7 @@ def _check(args: argparse.Namespace) -> None:
         raise UsageError("--stop and --detach exclude each other")
     _in_range("--jobs", args.jobs, 1, MAX_JOBS)
     _in_range("--batch", args.batch, 1, MAX_BATCH)
+    _in_range("--memory", args.memory, *MEMORY_RANGE, unit=" of MiB")
     _in_range("--max-attempts", args.max_attempts, *MAX_ATTEMPTS_RANGE)
     _in_range("--heartbeat", args.heartbeat, *HEARTBEAT_RANGE, unit=" of seconds")
     _in_range("--connections", args.connections, *CONNECTIONS_RANGE)
@@ -137,7 +145,7 @@ def _detach(args: argparse.Namespace, db: Database, log: Path) -> int:
     from slopetui.queue.local_pool import PoolRunning, start_detached_pool
     extra = ["--lease", str(args.lease), "--heartbeat", str(args.heartbeat),
              "--max-attempts", str(args.max_attempts), "--batch", str(args.batch),
-             "--connections", str(args.connections)]
+             "--memory", str(args.memory), "--connections", str(args.connections)]
     if args.host_id:
         extra += ["--host-id", args.host_id]
     if args.exit_when_idle:
@@ -182,7 +190,7 @@ def handle(args: argparse.Namespace) -> int:
     opts = WorkerOptions(db_url=url, log_path=str(log), heartbeat_s=args.heartbeat,
                          lease_s=args.lease, max_attempts=args.max_attempts,
                          exit_when_idle=args.exit_when_idle, batch=args.batch,
-                         idle_hook=advance_all, progress=PoolProgress,
+                         memory_mib=args.memory, idle_hook=advance_all, progress=PoolProgress,
                          host_id=args.host_id, connections=args.connections)
     os.environ.setdefault("PYTHONUNBUFFERED", "1")
     return run_pool(opts, args.jobs)

@@ -55,6 +55,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from slopetui.queue import branch_jobs, defaults, hysteresis_jobs, jobs
+from slopetui.queue.batch_memory import MIB, fitting
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
 from slopetui.queue.warm_up import watched_warm_up
 from slopetui.store.claims import queue_drained
@@ -97,6 +98,9 @@ class WorkerOptions:
     exit_when_idle: bool = False
     #: Runs claimed and computed together (see the module docstring); 1: one at a time.
     batch: int = defaults.DEFAULT_BATCH
+    #: The memory the runs of a batch may take together (MiB; slopetui.queue.batch_memory):
+    #: a batch of long windows is cut to fit, the rest given back to the queue.
+    memory_mib: int = defaults.MEMORY_MIB
     #: See IdleHook; None: no step.
     idle_hook: IdleHook | None = None
     #: See ProgressSource; None: the pool logs no progress line.
@@ -120,8 +124,9 @@ class WorkerOptions:
                 raise ValueError(f"WorkerOptions.{name} must be finite and > 0, got {value}")
         if self.lease_s < 2 * self.heartbeat_s:
             raise ValueError("WorkerOptions.lease_s must be >= 2 x heartbeat_s")
-        if self.max_attempts < 1 or self.batch < 1 or self.connections < 1:
-            raise ValueError("WorkerOptions.max_attempts, batch and connections must be >= 1")
+        if min(self.max_attempts, self.batch, self.connections, self.memory_mib) < 1:
+            raise ValueError("WorkerOptions.max_attempts, batch, connections and memory_mib "
+                             "must be >= 1")
 
     @property
     def host(self) -> str:
@@ -278,6 +283,19 @@ def _run(fn: Callable[[], Any], executor: ThreadPoolExecutor, control: Control
     return future if _wait(future, control) else None
 
 
+def _within_memory(db: Database, wid: str, batch: list[jobs.Job], memory_mib: int) -> list[jobs.Job]:
+    """The leading runs of the batch that fit the memory budget; the others go back to the
+    queue unstarted (slopetui.queue.batch_memory)."""
+    if len(batch) < 2:
+        return batch
+    keep = fitting(batch, memory_mib * MIB)
+    if keep < len(batch):
+        log.info("batch cut to %d of %d runs: the memory budget is %d MiB (worker --memory)",
+                 keep, len(batch), memory_mib)
+        _give_back(db, wid, batch[keep:])
+    return batch[:keep]
+
+
 def _give_back(db: Database, wid: str, held: list[jobs.Job]) -> None:
     """Release held runs: a started run's attempt is returned, an unstarted run was never
     charged."""
@@ -416,7 +434,8 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
                 hysteresis_jobs.compute(db, wid, sweep, lambda fn: _run(fn, executor, control),
                                         control, opts.max_attempts)
                 continue
-            batch = jobs.claim_batch(db, wid, opts.batch, BATCHED_METHODS)
+            batch = _within_memory(db, wid, jobs.claim_batch(db, wid, opts.batch, BATCHED_METHODS),
+                                   opts.memory_mib)
             if batch:
                 _process(db, wid, batch, executor, control, opts)
                 if not control.aborting() and opts.idle_hook is not None:

@@ -45,6 +45,7 @@ def private_state(tmp_path, monkeypatch):
     (["--batch", "0"], "--batch must be a finite number from 1 to 256"),
     (["--batch", "257"], "--batch must be"),
     (["--max-attempts", "0"], "--max-attempts must be a finite number from 1 to 100"),
+    (["--memory", "10"], "--memory must be a finite number of MiB from 64 to 524288, got 10"),
     (["--now"], "--now goes with --stop"),
 ])
 def test_bad_numbers_are_refused_with_one_line(tmp_path, capsys, args, error):
