@@ -285,8 +285,9 @@ def _run(fn: Callable[[], Any], executor: ThreadPoolExecutor, control: Control
 
 def _within_memory(db: Database, wid: str, batch: list[jobs.Job], memory_mib: int) -> list[jobs.Job]:
     """The leading runs of the batch that fit the memory budget; the others go back to the
-    queue unstarted (slopetui.queue.batch_memory)."""
-    if len(batch) < 2:
+    queue unstarted (slopetui.queue.batch_memory). Only a batch for the batched kernel:
+    other batches are computed run by run, each run's buffers freed before the next."""
+    if len(batch) < 2 or batch[0].settings.method not in BATCHED_METHODS:
         return batch
     keep = fitting(batch, memory_mib * MIB)
     if keep < len(batch):

@@ -64,3 +64,17 @@ def test_a_worker_cuts_its_batches_to_the_budget_and_computes_every_run(db, db_u
     sizes = [int(n) for n in re.findall(r"batch of (\d+)\)", log)]
     assert sizes and max(sizes) == fits
     assert f"batch cut to {fits} of 12 runs" in log
+
+
+def test_a_batch_computed_run_by_run_is_not_cut(db, db_url, capfd):
+    """RK4 batches are computed one run at a time (worker_process.BATCHED_METHODS): only
+    one run's buffers are held at once, so the budget leaves them whole."""
+    spec = parse_spec({"x": {"param": "k", "start": 4, "stop": 12, "num": 4},
+                       "solver": {"method": "rk4", "dt": 0.01, "t_end": 2000.0, "window": 1000.0}})
+    submit(db, spec)
+    opts = WorkerOptions(db_url=db_url, exit_when_idle=True, batch=4, memory_mib=1)
+    assert Pool(opts, 1).run() == 0
+    captured = capfd.readouterr()
+    assert "batch cut" not in captured.out + captured.err
+    with db.sessions() as s:
+        assert s.scalar(select(func.count()).where(Run.status == "done")) == 4
