@@ -16,6 +16,7 @@ import os
 import stat
 import tempfile
 from collections.abc import Callable
+from itertools import count
 from pathlib import Path
 from typing import IO
 
@@ -38,6 +39,18 @@ def write_whole(target: Path, write: Callable[[IO[bytes]], int]) -> int:
         Path(temp).unlink(missing_ok=True)
         raise
     return n
+
+
+def first_free(folder: Path, stem: str, ext: str,
+               taken: Callable[[Path], bool] = Path.exists) -> Path:
+    """folder/stem.ext, or stem-2.ext, stem-3.ext... the first that ``taken`` says is free
+    (by default: no file by that name): what a key press writes never replaces an earlier
+    file."""
+    for n in count(1):
+        path = folder / (f"{stem}.{ext}" if n == 1 else f"{stem}-{n}.{ext}")
+        if not taken(path):
+            return path
+    raise AssertionError("unreachable")
 
 
 def as_text(out: IO[bytes], write: Callable[[IO[str]], int]) -> int:

@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import glob
 from collections.abc import Callable, Sequence
-from itertools import count
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from slopetui.figures.output import Drawing
+from slopetui.whole_files import first_free
 
 if TYPE_CHECKING:
     from slopetui.sweeps.diagram import SweepDiagram
@@ -38,16 +38,16 @@ def runs_stem(run_ids: Sequence[int]) -> str:
 
 
 def unused_path(folder: Path, stem: str, fmt: str = DEFAULT_FORMAT) -> Path:
-    """folder/stem.fmt, or stem-2.fmt, stem-3.fmt... the first whose figure and data
-    files are all free: a key press never overwrites an earlier figure."""
-    for n in count(1):
-        name = stem if n == 1 else f"{stem}-{n}"
-        path = folder / f"{name}.{fmt}"
-        # the data beside it: <name>.csv and <name>.<table>.csv (output.data_paths)
-        if not (path.exists() or (folder / f"{name}.csv").exists()
-                or any(folder.glob(f"{glob.escape(name)}.*.csv"))):
-            return path
-    raise AssertionError("unreachable")
+    """folder/stem.fmt, or stem-2.fmt, stem-3.fmt... the first whose figure and data files
+    are all free (whole_files.first_free): a key press never overwrites an earlier figure."""
+    return first_free(folder, stem, fmt, _figure_taken)
+
+
+def _figure_taken(path: Path) -> bool:
+    # the data beside it: <name>.csv and <name>.<table>.csv (output.data_paths)
+    name = path.stem
+    return (path.exists() or path.with_name(f"{name}.csv").exists()
+            or any(path.parent.glob(f"{glob.escape(name)}.*.csv")))
 
 
 def sweep_figure(diagram: SweepDiagram, *, hopf: bool = True, fold: Curve | None = None) -> Drawing:
@@ -66,11 +66,11 @@ def runs_figure(runs: Sequence[StoredRun], progress: Callable[[StoredRun], None]
     one run's four panels, or the comparison of several. Raises ParameterError for a
     run whose stored inputs are invalid."""
     from slopetui.figures.run_figure import run_drawing
-    from slopetui.sweeps.recompute import compute_traces
+    from slopetui.sweeps.recompute import recompute
 
     pairs = []
     for run in runs:
         if progress is not None:
             progress(run)
-        pairs.append((run, compute_traces(*run.inputs(), run.carried_state())))
+        pairs.append((run, recompute(run)))
     return run_drawing(pairs)

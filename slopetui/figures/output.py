@@ -28,17 +28,15 @@ Decisions:
 * **Resolution.** PNG_DPI 200: a 6.4 x 4.8 in diagram is 1280 x 960 pixels, sharp on a
   screen and in a draft. Rasterised parts of a PDF or SVG (the cells of a phase
   diagram, dense traces) take RASTER_DPI 300, the resolution journals ask of images.
-* **CSV cells** as ``slopetui export --csv`` writes them (slopetui.sweeps.export.cell):
-  NaN and infinities as nan, inf, -inf; None (a value that does not exist) as an empty
-  cell; lists as JSON. Written out here for numpy scalars too, and without importing the
-  exporter, which loads the store's models.
+* **CSV cells** as ``slopetui export --csv`` writes them, by its own function
+  (slopetui.sweeps.export.cell): NaN and infinities as nan, inf, -inf; None (a value that
+  does not exist) as an empty cell; lists as JSON; numpy values as the numbers they hold.
 """
 
 from __future__ import annotations
 
 import contextlib
 import csv
-import json
 import os
 import secrets
 import threading
@@ -48,16 +46,15 @@ from functools import partial
 from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any
 
-import numpy as np
-
 from slopetui import __version__
 from slopetui.display_text import terminal_safe
+from slopetui.sweeps.export import cell
 
 if TYPE_CHECKING:  # matplotlib is imported when a figure is drawn or saved, not before
     from matplotlib.figure import Figure
 
 __all__ = ["CREATOR", "FORMATS", "PNG_DPI", "RASTER_DPI", "Drawing", "FigureError", "Table",
-           "check_output", "csv_cell", "data_paths", "write"]
+           "check_output", "data_paths", "write"]
 
 #: The figure formats, by extension (without the dot).
 FORMATS: tuple[str, ...] = ("pdf", "svg", "png")
@@ -152,23 +149,6 @@ def data_paths(path: Path, drawing: Drawing) -> list[Path]:
             for i, table in enumerate(drawing.tables)]
 
 
-def csv_cell(value: Any) -> str:
-    """One CSV cell (module docstring): nan, inf, -inf; None empty; lists as JSON."""
-    if value is None:
-        return ""
-    if isinstance(value, (bool, np.bool_)):
-        return str(bool(value))
-    if isinstance(value, (int, np.integer)):
-        return str(int(value))
-    if isinstance(value, (float, np.floating)):
-        return repr(float(value))  # the shortest text that reads back; nan, inf, -inf
-    if isinstance(value, np.ndarray):
-        return json.dumps(value.tolist())
-    if isinstance(value, (list, tuple)):
-        return json.dumps([float(v) if isinstance(v, np.floating) else v for v in value])
-    return str(value)
-
-
 def _save_options(fmt: str) -> dict[str, Any]:
     if fmt == "png":
         return {"dpi": PNG_DPI, "metadata": {"Software": CREATOR}}
@@ -193,7 +173,7 @@ def _write_table(table: Table, out: IO[str]) -> None:
         if len(row) != width:
             raise ValueError(f"table {table.name!r}: row {i} has {len(row)} cells, "
                              f"the header {width}")
-        writer.writerow([csv_cell(v) for v in row])
+        writer.writerow([cell(v) for v in row])
 
 
 def _temp_for(target: Path) -> tuple[int, Path]:

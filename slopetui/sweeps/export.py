@@ -11,11 +11,15 @@ import csv
 import json
 import math
 from collections.abc import Iterable
-from typing import IO, Any
+from typing import IO, TYPE_CHECKING, Any
+
+import numpy as np
 
 from core import PARAM_NAMES
 from core.result_fields import RESULT_NAMES
-from slopetui.store.models import Run
+
+if TYPE_CHECKING:  # only named: the figures' tables use cell() without the store's models
+    from slopetui.store.models import Run
 
 COLUMNS = ("id", "sweep_id", "ix", "iy", "ic", *PARAM_NAMES, "history", "method", "dt",
            "t_end", "window", "lyap", "status", *RESULT_NAMES, "attempts", "worker_id",
@@ -24,7 +28,12 @@ COLUMNS = ("id", "sweep_id", "ix", "iy", "ic", *PARAM_NAMES, "history", "method"
 
 def cell(value: Any) -> Any:
     """CSV cells: NaN and infinities spelled out (nan, inf, -inf), peaks as a JSON list,
-    and an empty cell only for a value that does not exist (e.g. no blow-up)."""
+    and an empty cell only for a value that does not exist (e.g. no blow-up). numpy scalars
+    and arrays (the figures' tables, slopetui.figures.output) as the Python values they hold."""
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    elif isinstance(value, np.generic):
+        value = value.item()
     if value is None:
         return ""
     if isinstance(value, float) and not math.isfinite(value):

@@ -15,13 +15,12 @@ import json
 from collections.abc import Callable
 from contextlib import closing
 from dataclasses import dataclass
-from itertools import count
 from pathlib import Path
 from typing import IO, TYPE_CHECKING
 
 from slopetui.store.queries import runs_of, sweep_exists
 from slopetui.sweeps.control import UnknownSweep
-from slopetui.whole_files import as_text, write_whole
+from slopetui.whole_files import as_text, first_free, write_whole
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -45,12 +44,7 @@ def export_stem(sweep_id: int) -> str:
 
 def unused_export_path(folder: Path, sweep_id: int, fmt: str) -> Path:
     """folder/sweep-N-runs.fmt, or -2, -3... the first that does not exist."""
-    for n in count(1):
-        name = export_stem(sweep_id) if n == 1 else f"{export_stem(sweep_id)}-{n}"
-        path = folder / f"{name}.{fmt}"
-        if not path.exists():
-            return path
-    raise AssertionError("unreachable")
+    return first_free(folder, export_stem(sweep_id), fmt)
 
 
 def write_json(frame: pd.DataFrame, out: IO[str]) -> int:

@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from slopetui.store.models import Run
 
 __all__ = ["LAMBDA_REL_TOL", "LAMBDA_SIGMAS", "MATCH_TEXT", "StoredRun", "Traces", "Verdict",
-           "compare", "compute_traces", "lambda_text", "load_run"]
+           "compare", "compute_traces", "lambda_text", "load_run", "recompute"]
 
 MATCH_TEXT = "recomputed: matches the stored result"
 #: Two lambda_max values are "the same" within this relative difference (last digits of
@@ -168,6 +168,12 @@ def compute_traces(params: Params, settings: SolverSettings,
     note = (bias_note(params, result.summary.attractor, result.settings.method, tr.grid.dt,
                       result.lyap.value) if result.lyap else "")
     return Traces(t, m_x, m_y, freq, power, lam_t, lam, result.summary, result.lyap, note)
+
+
+def recompute(run: StoredRun) -> Traces:
+    """The stored run integrated again from its own inputs and history (compute_traces).
+    Raises ParameterError for inputs the engine refuses."""
+    return compute_traces(*run.inputs(), run.carried_state())
 
 
 def lambda_text(value: float, error: float) -> str:

@@ -20,7 +20,7 @@ from textual.widgets import Footer, Header, Static, TabbedContent, TabPane
 from textual.worker import get_current_worker
 
 from slopetui.plots.compare_plots import Overlay, render_compare_phase, render_compare_time
-from slopetui.sweeps.recompute import StoredRun, Traces, compute_traces, load_run
+from slopetui.sweeps.recompute import StoredRun, Traces, load_run, recompute
 from slopetui.sweeps.run_labels import run_labels
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.screens.run_detail import cause_of
@@ -96,7 +96,7 @@ class CompareScreen(SlopeScreen[None]):
                 if run is None:
                     failures.append(f"run {run_id}: not in this store")
                     continue
-                computed.append((run, compute_traces(*run.inputs(), run.carried_state())))
+                computed.append((run, recompute(run)))
             except Exception as exc:  # one run's failure is named, the others still shown
                 failures.append(f"run {run_id}: {cause_of(exc)}")
         self.post_message(CompareReady(computed, failures))
