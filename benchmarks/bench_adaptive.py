@@ -3,6 +3,7 @@ their diagram (computed and inferred runs) agrees with the brute-force one.
 
 Run:  python benchmarks/bench_adaptive.py [--num 128] [--levels 3] [--planes k-tau,c-tau]
           [--method rk4] [--dt 0.01] [--t-end 2000] [--window 500] [--lyap] [--workers N]
+          [--adaptive-only]
 
 For each plane, the same final lattice (num x num) twice, each in its own temporary
 SQLite store (one store would let the adaptive sweep copy every point from the brute
@@ -19,6 +20,11 @@ Two checks that need no further computation: the model is deterministic, so the
 adaptive sweep's computed points carry the brute-force labels, and replaying the pure
 geometry (``refine_in_memory``) on the brute-force labels must give the store's result
 exactly; the same replay at other ``levels`` shows what they would have cost and missed.
+
+``--adaptive-only`` computes the adaptive sweep alone (runs per level, wall time): a lattice
+whose brute force would take too long, checked against brute force on a smaller one (issue
+17's end-to-end diagram: 100 x 100 at the paper's settings, Euler dt 1e-3 to t = 1e5, with
+lambda_max; docs/speed.md).
 
 Runs are computed in this process (one core) unless ``--workers N``, which starts
 ``slopetui worker -j N --exit-when-idle`` for each level. ``--keep DIR`` keeps the
@@ -156,6 +162,11 @@ def main() -> None:
     ap.add_argument("--lyap", action="store_true", help="compute lambda_max (off by default)")
     ap.add_argument("--workers", type=int, default=0,
                     help="compute with `slopetui worker -j N` (default: in this process)")
+    ap.add_argument("--adaptive-only", action="store_true",
+                    help="compute the adaptive sweep only (no brute force to compare with)")
+    ap.add_argument("--markdown", type=Path, metavar="FILE",
+                    help="also add a row per plane to the Markdown table in FILE (made with "
+                         "its header if missing)")
     ap.add_argument("--keep", metavar="DIR",
                     help="keep the stores in DIR (default: a temporary folder, deleted)")
     args = ap.parse_args()
@@ -177,8 +188,32 @@ def main() -> None:
             report(Path(tmp), plane, args)
 
 
+def add_row(args: argparse.Namespace, row: str) -> None:
+    """Append a row to --markdown's table (with its header, and the settings, if new)."""
+    if args.markdown is None:
+        return
+    if not args.markdown.exists():
+        args.markdown.write_text(
+            f"| lattice ({args.method} dt {args.dt:g} to t = {args.t_end:g}, window "
+            f"{args.window:g}, λmax {'on' if args.lyap else 'off'}, {args.workers or 1} "
+            f"worker(s)) | runs computed | wall time | points agreeing with brute force |\n"
+            "|---|---:|---:|---:|\n")
+    with args.markdown.open("a") as f:
+        f.write(row + "\n")
+
+
 def report(folder: Path, plane: str, args: argparse.Namespace) -> None:
     n = args.num
+    if args.adaptive_only:
+        every, computed, t_adaptive, per_level = adaptive(folder, plane, args)
+        print(f"\n{plane}: {n} x {n}, regimes {dict(Counter(every.values()))}")
+        print(f"  runs computed   adaptive {len(computed)} of {n * n} (per level {per_level}), "
+              f"{n * n / len(computed):.2f}x fewer than brute force")
+        print(f"  wall time       adaptive {t_adaptive:.1f} s ({t_adaptive / 60:.1f} min)")
+        add_row(args, f"| {plane} {n} × {n}, adaptive only | {len(computed)} of {n * n} "
+                      f"({n * n / len(computed):.2f}× fewer) | **{t_adaptive / 60:.1f} min** | "
+                      f"(no brute force) |")
+        return
     brute, t_brute = brute_force(folder, plane, args)
     every, computed, t_adaptive, per_level = adaptive(folder, plane, args)
     same = sum(every[p] == brute[p] for p in brute)
@@ -190,6 +225,10 @@ def report(folder: Path, plane: str, args: argparse.Namespace) -> None:
           f"({len(brute) - same} differ"
           f"{': ' + ', '.join(f'{k} {v}' for k, v in wrong.most_common()) if wrong else ''})")
     print(f"  wall time       brute force {t_brute:.1f} s, adaptive {t_adaptive:.1f} s")
+    add_row(args, f"| {plane} {n} × {n}, brute force | {len(brute)} | {t_brute / 60:.1f} min "
+                  f"| (reference) |")
+    add_row(args, f"| {plane} {n} × {n}, adaptive | {len(computed)} ({len(brute) / len(computed):.2f}"
+                  f"× fewer) | {t_adaptive / 60:.1f} min | **{100 * same / len(brute):.2f}%** |")
     # determinism: the store's adaptive sweep is the pure geometry run on brute force labels
     replay = refine_in_memory(n, n, args.levels, lambda ix, iy: brute[ix, iy])
     exact = set(replay.computed) == set(computed) and replay.labels == every

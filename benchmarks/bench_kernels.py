@@ -1,15 +1,28 @@
-"""ns per point-step of the kernels, single-trajectory and batched, on one core.
+"""ns per point-step of the batched kernels against the yardstick and the single kernels.
 
-Run:  python benchmarks/bench_kernels.py [--t-end T] [--repeat R]
+Run:  python benchmarks/bench_kernels.py [--t-end T] [--repeat R] [--markdown FILE]
+          [--small-groups FILE]
 
-The same 64 parameter points for every variant: k from 6 to 16 times 8 delays tau from 5 to
-15, half of them off the dt grid (so the lanes have different ring-buffer lengths and step
-sizes), default friction (eq. 8). Each run is integrated to t_end with the analysis window
-at the paper's share of the run (1%) and the usual 2000-point trace. Printed per variant:
-best-of-R ns per point-step (time / total steps of all points), ns per unit of model time,
-and the batched kernel's speed-up over the single kernel measured in the same run.
-Targets (issue 6): batched Euler <= 3 ns per point-step, <= 6 ns with lambda_max.
+A (k, tau) plane of 64 k values (6 to 16) times 3 delays (5, 6.4321 off the dt grid, 10):
+three groups of 64 lanes that share tau, as the workers claim them. Per variant (Euler and
+RK4, with and without lambda_max), three contenders, timed in CPU time (process_time) in
+one process and interleaved round by round (each round in another order), so that a busy
+machine slows all of them alike:
+
+* yardstick: the minimal kernel of the same shape (benchmarks/yardstick.py) on each group;
+* batched: core.batch.simulate_batch on all 192 points, with the analysis window at the
+  paper's share of the run (1%, and as long a window at the middle) and a 2000-point trace;
+* single: core.solve.simulate, run by run, on 8 points per tau.
+
+Printed: the median ns per point-step of each, the median of the rounds' batched /
+yardstick ratios, and the batched speed-up over the single kernel with the same lambda
+setting. Issue 17's targets: Euler and Euler + lambda_max batched within 1.25x of the
+yardstick; RK4 and RK4 + lambda_max batched >= 4x faster than the single RK4.
 Kernels are compiled (or loaded from numba's cache) before timing.
+
+``--small-groups FILE`` also times groups of 2 to 5 points of one tau (tau = 10), the
+batches an adaptive sweep's refined levels make, against the single kernel, in ns per
+point-step (best of 3): where core.batch.MIN_LANES comes from.
 """
 
 from __future__ import annotations
@@ -17,57 +30,154 @@ from __future__ import annotations
 import argparse
 import os
 import platform
+import statistics
 import time
 from collections.abc import Callable
+from functools import partial
+from pathlib import Path
 
 import numpy as np
+import yardstick  # beside this script (python puts the script's folder on sys.path)
 
 from core import Params, SolverSettings, simulate
-from core.batch import LANES, simulate_batch
+from core.batch import simulate_batch
+from core.model import coefficients
+from core.solve import make_grid
 
-POINTS = [Params(k=float(k), tau=float(tau)) for k in np.linspace(6.0, 16.0, 8)
-          for tau in (5.0, 6.4321, 7.5, 8.8765, 10.0, 11.2345, 12.5, 15.0)]
+TAUS = (5.0, 6.4321, 10.0)
+POINTS = [Params(k=float(k), tau=tau) for tau in TAUS for k in np.linspace(6.0, 16.0, 64)]
+SINGLE = [p for i, p in enumerate(POINTS) if i % 8 == 0]  # 8 per tau
+VARIANTS = (("euler", False), ("euler", True), ("rk4", False), ("rk4", True))
+TARGET_RATIO = 1.25
+TARGET_SPEEDUP = 4.0
 
 
-def best_time(run: Callable[[], int], repeat: int) -> tuple[float, int]:
-    """Best-of-repeat seconds of run(), and the steps it integrated."""
-    best, steps = float("inf"), 0
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        steps = run()
-        best = min(best, time.perf_counter() - t0)
-    return best, steps
+def settings(method: str, lyap: bool, t_end: float) -> SolverSettings:
+    """The variant's settings: Euler at dt 1e-3 to t_end, RK4 at dt 1e-2 to 10 t_end."""
+    t = t_end if method == "euler" else 10 * t_end
+    return SolverSettings(method=method, t_end=t, window=t / 100, lyap=lyap)
+
+
+def contenders(method: str, lyap: bool, s: SolverSettings) -> dict[str, Callable[[], int]]:
+    """Each contender as a call returning the point-steps it integrated."""
+    kernel = getattr(yardstick, method)
+    groups = []
+    for tau in TAUS:
+        members = [p for p in POINTS if p.tau == tau]
+        g = make_grid(members[0], s)
+        groups.append((np.stack([coefficients(p) for p in members]), g.dt, g.n_delay, g.n_steps))
+
+    def run_yardstick() -> int:
+        for coef, dt, n_delay, n_steps in groups:
+            kernel(coef, dt, n_delay, n_steps, lyap)
+        return sum(c.shape[0] * n for c, _, _, n in groups)
+
+    def run_batched() -> int:
+        return sum(t.steps_done for t in simulate_batch(POINTS, s))
+
+    def run_single() -> int:
+        return sum(simulate(p, s).steps_done for p in SINGLE)
+
+    return {"yardstick": run_yardstick, "batched": run_batched, "single": run_single}
+
+
+def warm_up(method: str, lyap: bool) -> None:
+    """Compile (or load) every kernel of the variant before timing it."""
+    s = SolverSettings(method=method, t_end=1.0, window=1.0, lyap=lyap)
+    coef = np.stack([coefficients(p) for p in POINTS[:2]])
+    getattr(yardstick, method)(coef, s.step, 10, 20, lyap)
+    simulate_batch(POINTS[:2], s)
+    simulate(POINTS[0], s)
+
+
+def measure(method: str, lyap: bool, t_end: float, repeat: int) -> dict[str, float]:
+    """Median ns per point-step of each contender, the median batched/yardstick ratio and
+    the median single/batched speed-up, over ``repeat`` interleaved rounds."""
+    warm_up(method, lyap)
+    calls = contenders(method, lyap, settings(method, lyap, t_end))
+    ns: dict[str, list[float]] = {name: [] for name in calls}
+    names = list(calls)
+    for r in range(repeat):  # each round in another order: no contender always runs first
+        for name in names[r % len(names):] + names[:r % len(names)]:
+            t0 = time.process_time()
+            steps = calls[name]()
+            ns[name].append((time.process_time() - t0) / steps * 1e9)
+    ratios = [b / y for b, y in zip(ns["batched"], ns["yardstick"], strict=True)]
+    speedups = [s / b for s, b in zip(ns["single"], ns["batched"], strict=True)]
+    return {**{name: statistics.median(v) for name, v in ns.items()},
+            "ratio": statistics.median(ratios), "speedup": statistics.median(speedups)}
+
+
+def best_ns(call: Callable[[], object], point_steps: int) -> float:
+    """Best of 3 CPU times of call(), in ns per point-step."""
+    times = []
+    for _ in range(3):
+        t0 = time.process_time()
+        call()
+        times.append(time.process_time() - t0)
+    return min(times) / point_steps * 1e9
+
+
+def small_groups(t_end: float) -> list[str]:
+    """Single kernel against kernel calls on groups of 2-5 points (core.batch._integrate,
+    padded to whole vectors), ns per point-step, best of 3, as a Markdown table."""
+    from core.batch import _integrate  # the one call, below simulate_batch's MIN_LANES rule
+    out = ["| ns per point-step | single kernel | batch of 2 | 3 | 4 | 5 |",
+           "|---|---:|---:|---:|---:|---:|"]
+    for method, lyap in VARIANTS:
+        s = settings(method, lyap, t_end)
+        points = [Params(k=6.0 + i, tau=10.0) for i in range(5)]
+        g = make_grid(points[0], s)
+        warm_up(method, lyap)
+
+        cells = [best_ns(partial(simulate, points[0], s), g.n_steps)]
+        cells += [best_ns(partial(_integrate, g, points[:n], s), n * g.n_steps)
+                  for n in (2, 3, 4, 5)]
+        name = method + (" + λmax" if lyap else "")
+        out.append(f"| {name} | " + " | ".join(f"{c:.1f}" for c in cells) + " |")
+        print(out[-1], flush=True)
+    return out
+
+
+def table(rows: list[tuple[str, dict[str, float]]]) -> list[str]:
+    """The figures as a Markdown table."""
+    out = ["| variant | yardstick, ns/point-step | batched | single | batched / yardstick "
+           "| batched speed-up over single | target |",
+           "|---|---:|---:|---:|---:|---:|---|"]
+    for name, m in rows:
+        if name.startswith("euler"):
+            target = f"ratio ≤ {TARGET_RATIO}: " + ("met" if m["ratio"] <= TARGET_RATIO else "**not met**")
+        else:
+            target = f"speed-up ≥ {TARGET_SPEEDUP:g}×: " + (
+                "met" if m["speedup"] >= TARGET_SPEEDUP else "**not met**")
+        out.append(f"| {name} | {m['yardstick']:.2f} | **{m['batched']:.2f}** | {m['single']:.2f} "
+                   f"| {m['ratio']:.2f}× | {m['speedup']:.1f}× | {target} |")
+    return out
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--t-end", type=float, default=2000.0, help="model time per run (Euler; "
-                    "RK4 runs 10x longer at its 10x larger step)")
-    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--t-end", type=float, default=2000.0,
+                    help="model time per Euler run (RK4 runs 10x longer at its 10x larger step)")
+    ap.add_argument("--repeat", type=int, default=5, help="interleaved rounds (median)")
+    ap.add_argument("--markdown", type=Path, help="also write the table to this file")
+    ap.add_argument("--small-groups", type=Path, metavar="FILE",
+                    help="also time groups of 2-5 points and write that table to FILE")
     args = ap.parse_args()
-    print(f"# {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-          f"python {platform.python_version()}; {len(POINTS)} points (k x tau, 8 ring "
-          f"lengths), {LANES} slots per batch; best of {args.repeat}")
-    print(f"{'variant':<22}{'dt':>7}{'ns/point-step':>15}{'ns/time unit':>14}{'speed-up':>10}")
-    for method in ("euler", "rk4"):
-        t_end = args.t_end * (1 if method == "euler" else 10)
-        for lyap in (False, True):
-            s = SolverSettings(method=method, t_end=t_end, window=t_end / 100, lyap=lyap)
-            simulate(POINTS[0], SolverSettings(method=method, t_end=1.0, window=1.0,
-                                               lyap=lyap))
-            simulate_batch(POINTS[:2], SolverSettings(method=method, t_end=1.0, window=1.0,
-                                                      lyap=lyap))
-            single, n = best_time(lambda s=s: sum(simulate(p, s).steps_done for p in POINTS),
-                                  args.repeat)
-            batched, n_b = best_time(
-                lambda s=s: sum(t.steps_done for t in simulate_batch(POINTS, s)), args.repeat)
-            assert n == n_b
-            dt = s.step
-            name = method + ("+lyap" if lyap else "")
-            for label, sec, ratio in ((f"{name} single", single, ""),
-                                      (f"{name} batched", batched, f"{single / batched:.2f}x")):
-                ns = sec / n * 1e9
-                print(f"{label:<22}{dt:>7g}{ns:>15.2f}{ns / dt:>14.1f}{ratio:>10}")
+    print(f"# {platform.processor() or platform.machine()}, {os.cpu_count()} cores, python "
+          f"{platform.python_version()}; {len(POINTS)} points in {len(TAUS)} groups sharing "
+          f"tau; median of {args.repeat} interleaved rounds, CPU time")
+    rows = []
+    for method, lyap in VARIANTS:
+        name = method + (" + λmax" if lyap else "")
+        rows.append((name, measure(method, lyap, args.t_end, args.repeat)))
+        print(table(rows)[-1], flush=True)
+    lines = table(rows)
+    print("\n".join(lines))
+    if args.markdown:
+        args.markdown.write_text("\n".join(lines) + "\n")
+    if args.small_groups:
+        args.small_groups.write_text("\n".join(small_groups(args.t_end)) + "\n")
 
 
 if __name__ == "__main__":

@@ -1,43 +1,56 @@
-"""Many parameter points in one numba call: the batched Euler and RK4 kernels.
+"""Many parameter points that share tau in one numba call: the batched Euler and RK4 kernels.
 
 One trajectory is a chain of dependent floating-point operations: each step waits for the
 previous one, so a single run is bound by the latency of that chain (~6 ns per Euler step),
 not by the machine's throughput. A batch advances up to ``LANES`` points ("lanes") side by
-side, with the state in a structure of arrays: the equations of one step are computed for
-all lanes in one loop that LLVM vectorises (AVX: 4 lanes per instruction), and the
-independent lanes keep the core's pipelines full.
+side, and the equations of one step are computed for all lanes in one loop that LLVM
+vectorises (AVX-512: 8 lanes per instruction).
 
-Lanes differ in everything the single kernels take per run: coefficients, step dt' (core.solve
-adjusts dt so that tau = N dt'), delay N (each lane has its own ring buffer), length,
-samplers and renormalisation interval. Each slot keeps its own step counter.
+**Lanes share tau.** Points with the same tau (and solver settings) have the same grid
+(core.solve.make_grid: step dt' = tau / N, delay N, length, samplers, renormalisation
+interval), so they share one step counter and every event (a window or trace sample, a
+tangent renormalisation, the end) falls on the same step for all of them. simulate_batch
+groups the points it is given by grid; the workers claim runs of one tau together
+(slopetui.store.claims), and a plane of n x m points has n points per tau.
 
-* **Delay in blocks.** Reading m_x(t - tau) from a ring buffer is a scalar gather per lane
-  and step, which would cost as much as the equations. But the K next delayed values of a
-  lane are already in its buffer when K <= N (they were written N steps earlier), so the
-  kernel copies K values per lane into a block, runs K vectorised steps, and writes the K
-  new values back: the buffer is touched by contiguous copies only.
-* **Events** (a tangent renormalisation, the end of a run) are rare: all slots advance
-  until the next event of any slot, then the slots that have one handle it.
-* **Trace samples are taken inside the blocks.** A lane samples its trace every ~1000
-  steps, but 16 lanes of different tau do so at different steps: as events they would
-  cut the chunks to ~60 steps. The step loop instead stops at the next step at which any
-  slot samples its trace (one comparison per step) and copies that slot's state.
-* **Window samples come from the blocks.** The window samples every 10 steps, and lanes
-  of different tau sample at different steps: as events they would cut the chunks down
-  to a step or two (with the window half of the run: 58 ns per point-step, not 4). A
-  block during which a slot samples its window keeps every step's state (planes of
-  ``made``), and the samples are copied out of it afterwards (sample_block).
-* **Lanes leave without stalling the others.** A lane that has finished or blown up frees
-  its slot for the next waiting lane; when none is waiting, the last slot moves into the
-  gap, so the vector loop stays dense. Blow-up is found at the exact step (per lane, no
-  branch in the vector loop); such a lane leaves at its next event or after at most
-  ``MAX_CHUNK`` steps.
+The layout is what lets LLVM vectorise the lane loop with plain vector loads and stores:
+
+* the state is one flat array ``st`` of rows with a compile-time stride LANES
+  (st[r * LANES + j]: row r of lane j), so LLVM proves the rows never overlap;
+* the delay ring is delay-major: ring[pos * L + j] is m_x at ring slot pos for lane j
+  (RK4: (m_x, m_y) as rows 2 pos and 2 pos + 1), so a step reads and writes one contiguous
+  row of lanes, with no gather and no copying into blocks;
+* ring indices are unsigned (a signed index would need a wraparound test per element);
+* the trip count of the lane loop is a runtime value, so LLVM's loop vectoriser (not the
+  SLP one) takes it;
+* with lambda_max the tangent has its own lane loop (Euler), and RK4 writes the delay rows
+  in a small loop of their own before the step reads them: one loop that both writes and
+  reads the ring at rows only known at run time is not vectorised.
+
+**Events** (a tangent renormalisation, the end) are handled between chunks of steps: the
+steps up to the next event of the group run as one tight loop (at most MAX_CHUNK steps),
+then the event is handled for every lane. Samples are taken inside the chunk, at the step
+they are due (one comparison per step).
+
+**Blow-up** is marked without a branch in the vector loop; after the chunk such a lane
+leaves, the last active lane moving into its column so that the loop stays dense. RK4 keeps
+the exact step in a row (BAD); Euler, whose loop that row slowed by 15%, marks the lane with
+m_y = NaN, and simulate_batch computes the lane again with the single kernel, which gives
+its exact step and results (runs that blow up are rare: none in the (k, tau) plane; Fig.
+7's low a).
 
 Each lane performs the same operations in the same order as the single kernel (core.euler,
-core.rk4) on its run: without lambda_max its window, trace and blow-up step equal the single
-kernel's bit for bit. With lambda_max, LLVM fuses a few multiply-adds differently (see
-euler_block), and a lane agrees with the single kernel to rounding; tests/unit/test_batch.py
-checks both, and that regimes and lambda_max agree.
+core.rk4) on its run. Euler without lambda_max: its window, trace and blow-up step equal the
+single kernel's bit for bit. RK4: LLVM fuses the multiply-adds of the vectorised loop (and of
+its scalar remainder) a little differently from the single kernel's ("contract" in
+core.model.JIT), so a lane agrees with it to rounding (1.4e-13 after 3e5 steps on the test
+points, the same blow-up steps). With lambda_max the tangent's renormalisation also sums
+each lane's ring in another order (across lanes, row by row, where the single kernel keeps
+four partial sums). tests/unit/test_batch.py checks each, and that regimes and lambda_max
+agree.
+
+Measured against a minimal kernel of each shape (benchmarks/yardstick.py) by
+benchmarks/bench_kernels.py: see docs/speed.md.
 """
 
 from __future__ import annotations
@@ -50,503 +63,498 @@ from numba import njit, uint64
 
 from core.model import JIT, coefficients, rhs, rhs_tangent
 from core.params import Params
-from core.recording import blown_up, renormalise
+from core.recording import blown_up
 from core.rk4 import hermite_mid
-from core.solve import SolverSettings, Trajectory, make_grid, simulate, trajectory_of
+from core.solve import Grid, SolverSettings, Trajectory, make_grid, simulate, trajectory_of
 
 #: The engine's numba options, with numpy's error model: Python's would test every
 #: division (RK4's dt / 6) for zero, and a possible exception stops LLVM vectorising.
 BATCH_JIT = {**JIT, "error_model": "numpy"}
-#: Slots of the batch. A compile-time constant, so that LLVM can prove the rows of the
-#: state (fl[r * LANES + j]) never overlap and vectorise the step loop without checks.
-LANES = 16
-#: Steps per delay block (fewer when a lane's delay N is shorter).
-BLOCK = 64
+#: Lanes of one kernel call, and the compile-time stride of the state's rows. 64 lanes are
+#: 8 AVX-512 vectors: the per-step overhead (the ring position, the loop's set-up) is
+#: shared by 64 point-steps. A prototype measured 1.09 ns per point-step at 64 lanes and
+#: 1.14 at 32 (Euler, tau = 10, one core).
+LANES = 64
+#: Doubles in one vector (AVX-512); a call's lanes are padded to whole vectors (_integrate).
+#: With AVX2 LLVM takes two vectors of 4 per iteration: 8 suits both.
+VECTOR = 8
+#: A group of fewer points goes to the single kernel, which is then faster. ns per point-step
+#: (t_end 2000, RK4 2e4, tau = 10), single kernel against a padded batch of 2 / 3 / 4:
+#: Euler 7.0 against 8.4 / 5.8 / 4.2, Euler + lambda_max 9.1 against 19 / 13 / 8.4, RK4
+#: 30 against 32 / 21 / 15, RK4 + lambda_max 46 against 88 / 58 / 40.
+MIN_LANES = 4
 #: A lane that blew up stops costing work after at most this many steps.
-MAX_CHUNK = 512
+MAX_CHUNK = 1024
+#: done (and BAD) of an Euler lane that blew up: simulate_batch computes it again with
+#: the single kernel, which finds the exact step (euler_steps).
+AGAIN = -1
 
-# Rows of the flat float state ``fl`` (row r of slot j is fl[r * LANES + j]): the five
-# variables, their tangents, the coefficients, the step, and per-slot numbers the vector
-# loop needs as floats (the delay N, the step at the start of the block, and the blow-up
-# step within the current chunk, 0 if none).
-(M_X, M_Y, S_X, S_Y, U, E_X, E_Y, E_SX, E_SY, E_U, CA, CQ, CF1, CK, CD, DELTA, DT,
- N_DELAY_F, STEP_F, BAD) = range(20)
-N_FLOAT = 20
-# Rows of the flat integer state ``ints``: the lane in the slot, its ring-buffer row, its
-# step and its next events.
-(LANE, ROW, STEP, N_DELAY, NEXT_W, I_W, NEXT_T, I_T, NEXT_R, I_R) = range(10)
-N_INT = 10
-# Planes of the flat delay blocks (block[at(plane, i, j)]: step i of the block, slot j):
-# m_x, m_y and their tangents, then s_x, s_y, u. ``past`` holds what the block reads from
-# the ring buffers (the first 4 planes), ``made`` the state each step started from (all 7:
-# what it writes to the ring buffers, and the samples). Two arrays, not one: LLVM does not
-# vectorise a loop that reads and writes one array at offsets it cannot compare.
-(BX, BY, BEX, BEY, BSX, BSY, BU) = range(7)  # a variable's tangent is two planes after it
-N_PAST, N_MADE = 4, 7
-# Columns of the per-lane ``plan`` (the core.solve.Grid of each lane).
-# The window sampler's columns are those of Grid.sample_start, n_samples, sample_jump and
-# win_start (where it resumes after the middle window; core.recording.sample).
-(P_N_DELAY, P_N_STEPS, P_WIN_START, P_WIN_STRIDE, P_N_WIN, P_TRACE_STRIDE, P_N_TRACE,
- P_RENORM, P_WIN_JUMP, P_WIN_RESUME) = range(10)
-PLAN = ("n_delay", "n_steps", "sample_start", "win_stride", "n_samples", "trace_stride", "n_trace",
-        "renorm_steps", "sample_jump", "win_start")
+# Rows of the flat state ``st`` (row r of lane j is st[r * LANES + j]): the five variables,
+# their tangents, the coefficients, delta, the first step of the chunk after which the
+# lane is out of bounds (0 if none), and RK4's delayed m_x at the step's three stage times
+# (t - tau, the half step, t + dt - tau) and their tangents (rk4_steps).
+(M_X, M_Y, S_X, S_Y, U, E_X, E_Y, E_SX, E_SY, E_U, CA, CQ, CF1, CK, CD, DELTA, BAD,
+ X_0, X_H, X_1, EX_0, EX_H, EX_1) = range(23)
+N_ROWS = 23
+#: Rows of RK4's scratch ``stages``: (m_y, s_y, u) at the four stages of the step, which the
+#: tangent's stages need (rk4_steps).
+N_STAGE_ROWS = 12
 
 
 @njit(**BATCH_JIT)
-def at(plane, i, j):
-    """Index of (plane, step i, slot j) in the flat block: constant strides, like fl's."""
-    return (plane * (BLOCK + 1) + i) * LANES + j
+def start_lanes(n_lanes, coef, st):
+    """Lane j at t = 0: eq. (19), the tangent as core.euler starts it, its coefficients."""
+    for j in range(n_lanes):
+        delta = coef[j, 5]
+        for r in range(M_X, U + 1):
+            st[r * LANES + j] = delta                         # (19)
+        st[E_X * LANES + j] = 0.0
+        for r in range(E_Y, E_U + 1):
+            st[r * LANES + j] = 1.0
+        for r in range(6):
+            st[(CA + r) * LANES + j] = coef[j, r]
 
 
 @njit(**BATCH_JIT)
-def start_lane(j, lane, fl, ints, coef, dt, plan, hist, e_hist, lyap):
-    """Put lane ``lane`` in slot j at t = 0: eq. (19), its constant history, its events."""
-    delta = coef[lane, 5]
-    for r in range(M_X, U + 1):
-        fl[r * LANES + j] = delta                             # (19)
-    fl[E_X * LANES + j] = 0.0                                 # the tangent, as core.euler
-    for r in range(E_Y, E_U + 1):
-        fl[r * LANES + j] = 1.0
-    for r in range(6):
-        fl[(CA + r) * LANES + j] = coef[lane, r]
-    fl[DT * LANES + j] = dt[lane]
-    row, nd = ints[ROW * LANES + j], plan[lane, P_N_DELAY]
-    fl[N_DELAY_F * LANES + j] = nd
-    fl[BAD * LANES + j] = 0.0
-    hist[row, :, :nd + 1] = delta                             # m_x(t) = delta for t <= 0
-    if lyap:
-        e_hist[row, :, :nd + 1] = 0.0
-    ints[LANE * LANES + j] = lane
-    ints[STEP * LANES + j] = 0
-    ints[N_DELAY * LANES + j] = nd
-    ints[NEXT_W * LANES + j] = plan[lane, P_WIN_START]
-    ints[I_W * LANES + j] = 0
-    ints[NEXT_T * LANES + j] = 0
-    ints[I_T * LANES + j] = 0
-    ints[NEXT_R * LANES + j] = plan[lane, P_RENORM]
-    ints[I_R * LANES + j] = 0
+def euler_steps(m, n, n_a, width, st, ring, e_ring, pos, size, n_delay, dt, lyap, due, smp,
+                win, trace, lane_of):
+    """m Euler steps from step n of the n_a active lanes (core.euler's loop body), with the
+    samples due on the way (take_samples, from step ``due``); returns the ring position
+    after them and the next step a sample is due.
+
+    Ring row pos holds m_x(t - tau) and gets m_x(t), as in core.euler (one row read and
+    written in place: a row read and another written cost 25% more); without delay (tau =
+    0) m_x itself is the delayed value. A lane that leaves the bounds is marked by m_y =
+    NaN, which every later step keeps: the cheapest mark (a select; a row of first bad
+    steps, as RK4 keeps, cost 15% more here). Such a lane is computed again by the single
+    kernel (mark_nan_lanes), which gives its exact blow-up step: keeping the rows a chunk
+    reads, to compute the chunk again, cost more than the mark saved (2.4 ns per
+    point-step against 1.1), and a second row to write (a ring a chunk longer, which a
+    chunk never overwrites as it reads) 25%."""
+    delayed = n_delay > 0
+    for i in range(m):
+        if n + i == due:
+            due = take_samples(n + i, n_a, st, smp, win, trace, lane_of)
+        row = uint64(pos) * uint64(width)
+        if lyap:
+            for j in range(n_a):
+                e_x, e_ring_x = st[E_X * LANES + j], e_ring[row + uint64(j)]
+                e_tau = e_ring_x if delayed else e_x
+                e_ring[row + uint64(j)] = e_x
+                f = rhs_tangent(st[M_Y * LANES + j], st[S_Y * LANES + j], st[U * LANES + j],
+                                e_x, st[E_Y * LANES + j], st[E_SX * LANES + j],
+                                st[E_SY * LANES + j], st[E_U * LANES + j], e_tau,
+                                st[CA * LANES + j], st[CQ * LANES + j], st[CF1 * LANES + j],
+                                st[CK * LANES + j])
+                st[E_X * LANES + j] = e_x + dt * f[0]
+                st[E_Y * LANES + j] += dt * f[1]
+                st[E_SX * LANES + j] += dt * f[2]
+                st[E_SY * LANES + j] += dt * f[3]
+                st[E_U * LANES + j] += dt * f[4]
+        for j in range(n_a):  # (6a-6e)
+            m_x, ring_x = st[M_X * LANES + j], ring[row + uint64(j)]
+            m_x_tau = ring_x if delayed else m_x
+            ring[row + uint64(j)] = m_x
+            f = rhs(m_x, st[M_Y * LANES + j], st[S_X * LANES + j], st[S_Y * LANES + j],
+                    st[U * LANES + j], m_x_tau, st[CA * LANES + j], st[CQ * LANES + j],
+                    st[CF1 * LANES + j], st[CK * LANES + j], st[CD * LANES + j])
+            st[M_X * LANES + j] = m_x + dt * f[0]
+            m_y = st[M_Y * LANES + j] + dt * f[1]
+            s_y = st[S_Y * LANES + j] + dt * f[3]
+            st[M_Y * LANES + j] = np.nan if blown_up(m_y, s_y) else m_y
+            st[S_X * LANES + j] += dt * f[2]
+            st[S_Y * LANES + j] = s_y
+            st[U * LANES + j] += dt * f[4]
+        pos += 1
+        if pos == size:
+            pos = 0
+    return pos, due
 
 
 @njit(**BATCH_JIT)
-def move_slot(src, dst, fl, ints):
-    """Slot src takes the place of slot dst (whose lane has left); their buffers swap."""
-    row = ints[ROW * LANES + dst]
-    for r in range(N_FLOAT):
-        fl[r * LANES + dst] = fl[r * LANES + src]
-    for r in range(N_INT):
-        ints[r * LANES + dst] = ints[r * LANES + src]
-    ints[ROW * LANES + src] = row
+def mark_nan_lanes(n_a, st):
+    """After an Euler chunk: a lane marked out of bounds (m_y = NaN) leaves, to be computed
+    again by the single kernel (BAD = AGAIN)."""
+    for j in range(n_a):
+        if st[M_Y * LANES + j] != st[M_Y * LANES + j]:
+            st[BAD * LANES + j] = AGAIN
 
 
 @njit(**BATCH_JIT)
-def lane_events(j, fl, ints, plan, e_hist, win, trace, lyap, logs, rows):
-    """Slot j's renormalisation at its current step, and at the end of its run the window
-    and trace samples of its last state (the blocks sample earlier steps: sample_block,
-    take_trace)."""
-    lane, n, row = ints[LANE * LANES + j], ints[STEP * LANES + j], ints[ROW * LANES + j]
-    if lyap and n == ints[NEXT_R * LANES + j]:
-        nd = ints[N_DELAY * LANES + j]
-        if rows == 2:  # RK4: the stale slot (step n - N) must vanish from the norm
-            pos = n % (nd + 1)
-            e_hist[row, 0, pos] = fl[E_X * LANES + j]
-            e_hist[row, 1, pos] = 0.0
-        i_r = ints[I_R * LANES + j]
-        (logs[lane, i_r], fl[E_X * LANES + j], fl[E_Y * LANES + j], fl[E_SX * LANES + j],
-         fl[E_SY * LANES + j], fl[E_U * LANES + j]) = renormalise(
-            fl[E_X * LANES + j], fl[E_Y * LANES + j], fl[E_SX * LANES + j],
-            fl[E_SY * LANES + j], fl[E_U * LANES + j], e_hist[row], nd + rows - 1,
-            fl[DT * LANES + j])
-        ints[I_R * LANES + j] = i_r + 1
-        ints[NEXT_R * LANES + j] += plan[lane, P_RENORM]
-    if n == plan[lane, P_N_STEPS]:
-        sample_slot(win[lane], plan[lane, P_N_WIN], plan[lane, P_WIN_STRIDE],
-                    plan[lane, P_WIN_JUMP], plan[lane, P_WIN_RESUME], NEXT_W, I_W, n, j, fl, ints)
-        sample_slot(trace[lane], plan[lane, P_N_TRACE], plan[lane, P_TRACE_STRIDE], -1, 0, NEXT_T,
-                    I_T, n, j, fl, ints)
+def mark_blow_up(i, j, m_y, s_y, st):
+    """RK4: remember the first step i of the chunk after which lane j is out of bounds,
+    without a branch: BAD stays 0 while the lane is in bounds. (Written as a select: the same
+    as ``BAD += (blown & (BAD == 0)) * (i + 1)`` stopped LLVM vectorising RK4's loop.)"""
+    bad = st[BAD * LANES + j]
+    st[BAD * LANES + j] = bad if bad != 0.0 else blown_up(m_y, s_y) * (i + 1.0)
 
 
 @njit(**BATCH_JIT)
-def sample_slot(out, count, stride, jump, resume, next_row, i_row, n, j, fl, ints):
-    """One sampler of slot j (its next step and column in rows next_row, i_row of ints):
-    if it is due at step n, store the slot's state in out[column] (core.recording.sample,
-    with the samples as rows)."""
-    i = ints[i_row * LANES + j]
-    if ints[next_row * LANES + j] == n and i < count:
-        for v in range(5):
-            out[i, v] = fl[(M_X + v) * LANES + j]
-        ints[i_row * LANES + j] = i + 1
-        if i + 1 == jump:
-            ints[next_row * LANES + j] = resume
+def rk4_steps(m, n, n_a, width, st, stages, ring, e_ring, pos, size, n_delay, dt, lyap, due,
+              smp, win, trace, lane_of):
+    """m RK4 steps from step n of the n_a active lanes (core.rk4's loop body), with the
+    samples due on the way (as euler_steps); returns the ring position after them and the
+    next step a sample is due. Ring rows 2 pos, 2 pos + 1 get (m_x, m_y) at step n; the
+    stages read steps n - N and n - N + 1 (slots old and nxt).
+
+    Each step is a few loops, so that LLVM vectorises them all: the ring writes; the
+    delayed values, read from the rings into rows of ``st`` (one loop per ring); then the
+    step, which touches ``st`` alone; with lambda_max, the tangent's step in a loop of its
+    own, with the state's stages kept for it in ``stages``. A loop that reads two rings at
+    four run-time offsets each and writes ``st`` needs more run-time overlap checks than
+    LLVM makes, and it stayed scalar (RK4 + lambda_max: 47 ns per point-step); so did the
+    tangent's loop with the stages in rows of ``st`` (too many accesses to one array for
+    LLVM's dependence analysis: 34 ns).
+    The step is written out in the loop, with small helpers only: LLVM vectorises a loop
+    once everything in it is inlined, and it did not inline a whole RK4 lane step as one
+    function (numba's inline="always" neither), which left the loop scalar (33 ns)."""
+    delayed = n_delay > 0
+    h, w = 0.5 * dt, dt / 6.0
+    for i in range(m):
+        if n + i == due:
+            due = take_samples(n + i, n_a, st, smp, win, trace, lane_of)
+        base = uint64(2 * pos) * uint64(width)
+        write_ring(n_a, width, base, st, M_X, ring)
+        if lyap:
+            write_ring(n_a, width, base, st, E_X, e_ring)
+        old = pos + 1 if pos + 1 < size else 0   # step n - N
+        nxt = old + 1 if old + 1 < size else 0   # step n - N + 1
+        pos = old
+        # t_n + dt - tau <= 0: the delayed values are the history delta (tangent 0)
+        history = n + i < n_delay
+        b_old, b_nxt = uint64(2 * old) * uint64(width), uint64(2 * nxt) * uint64(width)
+        # lyap chooses between two loops, not inside one (LLVM does not unswitch a loop this
+        # large). Without it the step reads the ring itself (4.9 ns per point-step, 7.3
+        # through rows of st).
+        if not lyap:
+            for j in range(n_a):
+                y, c = state(st, j, M_X), coefs(st, j)
+                x = delayed_values(ring, b_old, b_nxt, width, j, history, st[DELTA * LANES + j], dt)
+                k1 = field(y, x[0] if delayed else y[0], c)
+                y2 = stage(y, h, k1)
+                k2 = field(y2, x[1] if delayed else y2[0], c)
+                y3 = stage(y, h, k2)
+                k3 = field(y3, x[1] if delayed else y3[0], c)
+                y4 = stage(y, dt, k3)
+                k4 = field(y4, x[2] if delayed else y4[0], c)
+                y = combine(y, w, k1, k2, k3, k4)
+                put(st, M_X, j, y)
+                mark_blow_up(i, j, y[1], y[3], st)
         else:
-            ints[next_row * LANES + j] += stride
+            read_ring(n_a, width, b_old, b_nxt, ring, history, st, DELTA, X_0, dt)
+            read_ring(n_a, width, b_old, b_nxt, e_ring, history, st, -1, EX_0, dt)
+            for j in range(n_a):  # the same steps, keeping the stages for the tangent's
+                y, c, x = state(st, j, M_X), coefs(st, j), delayed_x(st, j, X_0)
+                k1 = field(y, x[0] if delayed else y[0], c)
+                y2 = stage(y, h, k1)
+                k2 = field(y2, x[1] if delayed else y2[0], c)
+                y3 = stage(y, h, k2)
+                k3 = field(y3, x[1] if delayed else y3[0], c)
+                y4 = stage(y, dt, k3)
+                k4 = field(y4, x[2] if delayed else y4[0], c)
+                keep_stages(stages, j, y, y2, y3, y4)
+                y = combine(y, w, k1, k2, k3, k4)
+                put(st, M_X, j, y)
+                mark_blow_up(i, j, y[1], y[3], st)
+            for j in range(n_a):  # the same stages, differentiated: K_i = J(X_i) (e + c_i dt
+                # K_{i-1}) + J_tau e_tau, with X_i's (m_y, s_y, u) kept in ``stages``
+                c, e, ex = coefs(st, j), state(st, j, E_X), delayed_x(st, j, EX_0)
+                t1 = tangent_field(delayed_x(stages, j, 0), e, ex[0] if delayed else e[0], c)
+                g = stage(e, h, t1)
+                t2 = tangent_field(delayed_x(stages, j, 3), g, ex[1] if delayed else g[0], c)
+                g = stage(e, h, t2)
+                t3 = tangent_field(delayed_x(stages, j, 6), g, ex[1] if delayed else g[0], c)
+                g = stage(e, dt, t3)
+                t4 = tangent_field(delayed_x(stages, j, 9), g, ex[2] if delayed else g[0], c)
+                put(st, E_X, j, combine(e, w, t1, t2, t3, t4))
+    return pos, due
 
 
 @njit(**BATCH_JIT)
-def steps_to_next_event(n_active, ints, plan, lyap):
-    """How many steps every active slot can take before one of them has an event."""
-    m = MAX_CHUNK
-    for j in range(n_active):
-        lane, n = ints[LANE * LANES + j], ints[STEP * LANES + j]
-        until = plan[lane, P_N_STEPS]
-        if lyap:
-            until = min(until, ints[NEXT_R * LANES + j])
-        m = min(m, until - n)
-    return m
+def field(y, x_tau, c):
+    """(6a-6e) at the state y = (m_x, m_y, s_x, s_y, u) and delayed m_x x_tau, with the
+    coefficients c = (a, q, F1, k, d)."""
+    return rhs(y[0], y[1], y[2], y[3], y[4], x_tau, c[0], c[1], c[2], c[3], c[4])
 
 
 @njit(**BATCH_JIT)
-def block_length(m, n_active, ints, rows):
-    """Steps of the next delay block: at most BLOCK and m, and short enough that every value
-    it reads was written before it (K <= N for Euler, K <= N - 1 for RK4)."""
-    k = min(BLOCK, m)
-    for j in range(n_active):
-        nd = ints[N_DELAY * LANES + j]
-        if nd > 0:
-            k = min(k, nd - (rows - 1))
-    return max(k, 1)
+def tangent_field(y, e, e_tau, c):
+    """The tangent-linear map at (m_y, s_y, u) = y applied to the tangent e and the delayed
+    tangent e_tau."""
+    return rhs_tangent(y[0], y[1], y[2], e[0], e[1], e[2], e[3], e[4], e_tau, c[0], c[1], c[2], c[3])
 
 
 @njit(**BATCH_JIT)
-def read_block(k, n_active, fl, ints, flat, e_flat, width, past, lyap, rows):
-    """Copy each slot's delayed values for the next k steps from its ring buffer.
+def write_ring(n_a, width, base, st, first, ring):
+    """Ring rows base, base + width (one slot) = rows first, first + 1 of st (m_x and m_y,
+    or their tangents)."""
+    for j in range(n_a):
+        ring[base + uint64(j)] = st[first * LANES + j]
+        ring[base + uint64(width + j)] = st[(first + 1) * LANES + j]
 
-    Step s is kept at position s mod N (Euler) or s mod (N + 1) (RK4), as in the single
-    kernels. Euler steps n..n+k-1 read steps n-N..n-N+k-1; RK4 reads k + 1 steps from n-N.
-    """
-    for j in range(n_active):
-        nd = ints[N_DELAY * LANES + j]
-        if nd == 0:
+
+@njit(**BATCH_JIT)
+def delayed_values(ring, b_old, b_nxt, width, j, history, before, dt):
+    """The delayed value of lane j at the step's three stage times (t - tau, its half step,
+    t + dt - tau), from the ring slots of steps n - N and n - N + 1 (core.rk4: the half step
+    from the Hermite cubic, m_y being the slope of m_x); while t + dt - tau <= 0, the
+    history ``before``. Loads are unconditional, the choice a select."""
+    v0, v1 = ring[b_old + uint64(j)], ring[b_nxt + uint64(j)]
+    vh = hermite_mid(v0, v1, ring[b_old + uint64(width + j)], ring[b_nxt + uint64(width + j)], dt)
+    return (before if history else v0), (before if history else vh), (before if history else v1)
+
+
+@njit(**BATCH_JIT)
+def read_ring(n_a, width, b_old, b_nxt, ring, history, st, before, first, dt):
+    """Rows first..first + 2 of st = every lane's delayed_values; the history is row
+    ``before`` of st (delta), or 0 (before = -1: the tangent's)."""
+    for j in range(n_a):
+        old = st[before * LANES + j] if before >= 0 else 0.0
+        x = delayed_values(ring, b_old, b_nxt, width, j, history, old, dt)
+        st[first * LANES + j] = x[0]
+        st[(first + 1) * LANES + j] = x[1]
+        st[(first + 2) * LANES + j] = x[2]
+
+
+@njit(**BATCH_JIT)
+def state(st, j, first):
+    """Lane j's five variables (m_x, m_y, s_x, s_y, u) from row first = M_X, or their
+    tangents from row first = E_X."""
+    return (st[first * LANES + j], st[(first + 1) * LANES + j], st[(first + 2) * LANES + j],
+            st[(first + 3) * LANES + j], st[(first + 4) * LANES + j])
+
+
+@njit(**BATCH_JIT)
+def delayed_x(st, j, first):
+    """Lane j's delayed values at the three stage times (read_ring)."""
+    return st[first * LANES + j], st[(first + 1) * LANES + j], st[(first + 2) * LANES + j]
+
+
+@njit(**BATCH_JIT)
+def keep_stages(stages, j, y1, y2, y3, y4):
+    """Lane j's (m_y, s_y, u) at the four stages, for the tangent's loop."""
+    keep_stage(stages, j, 0, y1)
+    keep_stage(stages, j, 1, y2)
+    keep_stage(stages, j, 2, y3)
+    keep_stage(stages, j, 3, y4)
+
+
+@njit(**BATCH_JIT)
+def keep_stage(stages, j, s, y):
+    """(m_y, s_y, u) of stage s of lane j (keep_stages). (A loop over the tuple of stages
+    stopped LLVM vectorising the step.)"""
+    stages[3 * s * LANES + j] = y[1]
+    stages[(3 * s + 1) * LANES + j] = y[3]
+    stages[(3 * s + 2) * LANES + j] = y[4]
+
+
+@njit(**BATCH_JIT)
+def coefs(st, j):
+    """Lane j's coefficients (a, q, F1, k, d)."""
+    return (st[CA * LANES + j], st[CQ * LANES + j], st[CF1 * LANES + j], st[CK * LANES + j],
+            st[CD * LANES + j])
+
+
+@njit(**BATCH_JIT)
+def put(st, first, j, y):
+    """Lane j's five rows from row ``first`` = y. (Spelled out: a loop over the tuple
+    stopped LLVM vectorising the tangent's loop.)"""
+    st[first * LANES + j] = y[0]
+    st[(first + 1) * LANES + j] = y[1]
+    st[(first + 2) * LANES + j] = y[2]
+    st[(first + 3) * LANES + j] = y[3]
+    st[(first + 4) * LANES + j] = y[4]
+
+
+@njit(**BATCH_JIT)
+def stage(y, c, k):
+    """An RK4 stage's state y + c k."""
+    return (y[0] + c * k[0], y[1] + c * k[1], y[2] + c * k[2], y[3] + c * k[3], y[4] + c * k[4])
+
+
+@njit(**BATCH_JIT)
+def combine(y, w, k1, k2, k3, k4):
+    """The RK4 step y + w (k1 + 2 (k2 + k3) + k4), w = dt / 6, as core.rk4 sums it."""
+    return (y[0] + w * (k1[0] + 2.0 * (k2[0] + k3[0]) + k4[0]),
+            y[1] + w * (k1[1] + 2.0 * (k2[1] + k3[1]) + k4[1]),
+            y[2] + w * (k1[2] + 2.0 * (k2[2] + k3[2]) + k4[2]),
+            y[3] + w * (k1[3] + 2.0 * (k2[3] + k3[3]) + k4[3]),
+            y[4] + w * (k1[4] + 2.0 * (k2[4] + k3[4]) + k4[4]))
+
+
+@njit(**BATCH_JIT)
+def renormalise_lanes(n_a, width, st, e_ring, rows, shifted, dt, logs, lane_of, i_r):
+    """core.recording.renormalise for every active lane at once: project out the neutral
+    shift (e_x from m_x's ring rows, those with ``shifted`` row parity 0), measure the
+    tangent with the delay ring's first ``rows`` rows weighted by dt, log its growth, scale
+    it to 1.
+
+    The sums run over the ring rows with the lanes inside: one contiguous row at a time,
+    vectorised across lanes (the single kernel sums one lane's ring in 4 partial sums)."""
+    acc = np.zeros(n_a)
+    for r in range(rows):
+        base = uint64(r) * uint64(width)
+        shift = 1.0 if r % shifted == 0 else 0.0
+        for j in range(n_a):
+            h = e_ring[base + uint64(j)] - shift * st[E_X * LANES + j]
+            acc[j] += h * h
+    for j in range(n_a):
+        e_y, e_sx = st[E_Y * LANES + j], st[E_SX * LANES + j]
+        e_sy, e_u = st[E_SY * LANES + j], st[E_U * LANES + j]
+        norm = np.sqrt(e_y * e_y + e_sx * e_sx + e_sy * e_sy + e_u * e_u + dt * acc[j])
+        logs[lane_of[j], i_r] = np.log(norm)
+        acc[j] = 1.0 / norm
+    for r in range(rows):
+        base = uint64(r) * uint64(width)
+        shift = 1.0 if r % shifted == 0 else 0.0
+        for j in range(n_a):
+            e_ring[base + uint64(j)] = (e_ring[base + uint64(j)] - shift * st[E_X * LANES + j]) * acc[j]
+    for j in range(n_a):
+        st[E_X * LANES + j] = 0.0
+        for r in range(E_Y, E_U + 1):
+            st[r * LANES + j] *= acc[j]
+
+
+# Fields of the samplers' state ``smp`` (int64): the window's next step, column, stride,
+# jump and resume (core.solve.Grid: sample_start, win_stride, sample_jump, win_start) and
+# columns; the trace's next step, column, stride and columns.
+(W_NEXT, W_I, W_STRIDE, W_JUMP, W_RESUME, W_COUNT, T_NEXT, T_I, T_STRIDE, T_COUNT) = range(10)
+#: "No sample is due any more": beyond every run's last step (core.solve.MAX_STEPS).
+NEVER = 1 << 62
+
+
+@njit(**BATCH_JIT)
+def next_due(smp):
+    """The next step at which the window or the trace takes a sample."""
+    w = smp[W_NEXT] if smp[W_I] < smp[W_COUNT] else NEVER
+    t = smp[T_NEXT] if smp[T_I] < smp[T_COUNT] else NEVER
+    return min(w, t)
+
+
+@njit(**BATCH_JIT)
+def take_samples(n, n_a, st, smp, win, trace, lane_of):
+    """The window and trace samples due at step n (the state before the step, as
+    core.recording.sample takes it); returns the next step one is due. Samples are taken
+    inside the chunks of steps, not as events between them: the window samples every
+    step (RK4 at dt = 1e-2) or every 10 (Euler), and as events they cut the chunks to a
+    step or ten (RK4 batched: 6.2 ns per point-step, against 4.6 without a window)."""
+    if smp[W_NEXT] == n and smp[W_I] < smp[W_COUNT]:
+        sample_lanes(n_a, st, win, smp[W_I], lane_of)
+        smp[W_I] += 1
+        smp[W_NEXT] = smp[W_RESUME] if smp[W_I] == smp[W_JUMP] else smp[W_NEXT] + smp[W_STRIDE]
+    if smp[T_NEXT] == n and smp[T_I] < smp[T_COUNT]:
+        sample_lanes(n_a, st, trace, smp[T_I], lane_of)
+        smp[T_I] += 1
+        smp[T_NEXT] += smp[T_STRIDE]
+    return next_due(smp)
+
+
+@njit(**BATCH_JIT)
+def sample_lanes(n_a, st, out, i, lane_of):
+    """Column i of every active lane's sampler ``out`` (rows of 5 values per lane): the
+    state at this step, as core.recording.sample stores it."""
+    for j in range(n_a):
+        for v in range(5):
+            out[lane_of[j], i, v] = st[(M_X + v) * LANES + j]
+
+
+@njit(**BATCH_JIT)
+def drop_blown(start, n_a, width, st, ring, e_ring, lane_of, done):
+    """Lanes out of bounds after the chunk that began at step ``start`` leave (done gets
+    the step count the single kernel returns, or AGAIN); the last active lane takes each
+    one's column, ring column included. Returns the number of active lanes."""
+    j = 0
+    while j < n_a:
+        bad = st[BAD * LANES + j]
+        if bad == 0.0:
+            j += 1
             continue
-        row, size = ints[ROW * LANES + j], nd + rows - 1
-        start = (ints[STEP * LANES + j] + rows - 1) % size  # where step n - N is kept
-        count = k + rows - 1
-        for var in range(rows):  # m_x, and m_y for RK4: planes BX + var and BEX + var
-            base = (row * rows + var) * width
-            copy_from_ring(flat, base, size, start, count, past, BX + var, j)
-            if lyap:
-                copy_from_ring(e_flat, base, size, start, count, past, BEX + var, j)
-        if rows == 2 and nd == 1:  # tau = dt: RK4's second value is step n, the current state
-            past[at(BX, 1, j)], past[at(BY, 1, j)] = fl[M_X * LANES + j], fl[M_Y * LANES + j]
-            past[at(BEX, 1, j)], past[at(BEY, 1, j)] = fl[E_X * LANES + j], fl[E_Y * LANES + j]
+        done[lane_of[j]] = AGAIN if bad == AGAIN else start + int(bad)
+        n_a -= 1
+        for r in range(N_ROWS):
+            st[r * LANES + j] = st[r * LANES + n_a]
+        for r in range(ring.shape[0] // width):
+            ring[r * width + j] = ring[r * width + n_a]
+        for r in range(e_ring.shape[0] // width):
+            e_ring[r * width + j] = e_ring[r * width + n_a]
+        lane_of[j] = lane_of[n_a]
+    return n_a
 
 
 @njit(**BATCH_JIT)
-def copy_from_ring(flat, base, size, start, count, block, plane, j):
-    """block[plane, 0..count-1, j] = the ring at flat[base:base + size], from position start,
-    wrapping at size.
+def batch(rk4, coef, dt, n_delay, n_steps, sampler, trace_stride, lyap, renorm, win, trace,
+          logs, done):
+    """Integrate every lane (row of coef, at most LANES) on one grid to its end or blow-up;
+    done[lane] gets its number of steps, as the single kernels return.
 
-    Flat arrays and unsigned indices: a slice or reshape per call would cost a reference
-    count (~20 ns), and a signed index a wraparound test per element."""
-    first = min(count, size - start)
-    src, dst = uint64(base + start), uint64(at(plane, 0, j))
-    for i in range(first):
-        block[dst + uint64(i * LANES)] = flat[src + uint64(i)]
-    src = uint64(base)
-    for i in range(first, count):
-        block[dst + uint64(i * LANES)] = flat[src + uint64(i - first)]
-
-
-@njit(**BATCH_JIT)
-def copy_to_ring(flat, base, size, start, count, block, plane, j):
-    """The ring at flat[base:base + size], from position start, wrapping at size =
-    block[plane, 0..count-1, j]."""
-    first = min(count, size - start)
-    src, dst = uint64(at(plane, 0, j)), uint64(base + start)
-    for i in range(first):
-        flat[dst + uint64(i)] = block[src + uint64(i * LANES)]
-    dst = uint64(base)
-    for i in range(first, count):
-        flat[dst + uint64(i - first)] = block[src + uint64(i * LANES)]
-
-
-@njit(**BATCH_JIT)
-def write_block(k, n_active, ints, flat, e_flat, width, made, lyap, rows):
-    """Store the k states the block started its steps from in the ring buffers: Euler's
-    step n + i overwrites step n + i - N, as core.euler does."""
-    for j in range(n_active):
-        nd = ints[N_DELAY * LANES + j]
-        if nd == 0 and rows == 1:
-            continue
-        row, size = ints[ROW * LANES + j], nd + rows - 1
-        start = ints[STEP * LANES + j] % size
-        for var in range(rows):
-            base = (row * rows + var) * width
-            copy_to_ring(flat, base, size, start, k, made, BX + var, j)
-            if lyap:
-                copy_to_ring(e_flat, base, size, start, k, made, BEX + var, j)
-
-
-@njit(**BATCH_JIT)
-def window_due(k, n_active, ints, plan):
-    """Whether a slot samples its window during the next k steps."""
-    for j in range(n_active):
-        lane = ints[LANE * LANES + j]
-        if (ints[I_W * LANES + j] < plan[lane, P_N_WIN]
-                and ints[NEXT_W * LANES + j] < ints[STEP * LANES + j] + k):
-            return True
-    return False
-
-
-@njit(**BATCH_JIT)
-def sample_block(k, n_active, ints, plan, made, win):
-    """Copy the window samples of the block's k steps out of ``made``: the samples
-    core.recording.sample would have taken at steps n..n+k-1 of each slot. A lane that
-    blew up in the block also gets the samples after it, which trajectory_of drops (the
-    single kernel stopped before them)."""
-    for j in range(n_active):
-        lane, n = ints[LANE * LANES + j], ints[STEP * LANES + j]
-        ints[NEXT_W * LANES + j], ints[I_W * LANES + j] = sample_steps(
-            n, n + k, ints[NEXT_W * LANES + j], ints[I_W * LANES + j],
-            plan[lane, P_WIN_STRIDE], plan[lane, P_N_WIN], plan[lane, P_WIN_JUMP],
-            plan[lane, P_WIN_RESUME], win[lane], made, j)
-
-
-@njit(**BATCH_JIT)
-def sample_steps(n, end, next_n, i, stride, count, jump, resume, out, made, j):
-    """One sampler over the block's steps n..end-1 of slot j; return (next_n, i)."""
-    while next_n < end and i < count:
-        b = next_n - n
-        out[i, 0] = made[at(BX, b, j)]
-        out[i, 1] = made[at(BY, b, j)]
-        out[i, 2] = made[at(BSX, b, j)]
-        out[i, 3] = made[at(BSY, b, j)]
-        out[i, 4] = made[at(BU, b, j)]
-        i += 1
-        next_n = resume if i == jump else next_n + stride
-    return next_n, i
-
-
-@njit(**BATCH_JIT)
-def next_trace(k, n_active, ints, plan):
-    """The first step i < k of the block at which a slot samples its trace, else k."""
-    due = k
-    for j in range(n_active):
-        if ints[I_T * LANES + j] < plan[ints[LANE * LANES + j], P_N_TRACE]:
-            due = min(due, ints[NEXT_T * LANES + j] - ints[STEP * LANES + j])
-    return due
-
-
-@njit(**BATCH_JIT)
-def take_trace(i, k, n_active, fl, ints, plan, trace):
-    """The trace samples due at step i of the block (the state before the step, as
-    core.recording.sample); return the next step at which one is due (next_trace)."""
-    for j in range(n_active):
-        n = ints[STEP * LANES + j] + i
-        if ints[NEXT_T * LANES + j] == n:  # before making a view of the lane's trace
-            lane = ints[LANE * LANES + j]
-            sample_slot(trace[lane], plan[lane, P_N_TRACE], plan[lane, P_TRACE_STRIDE], -1, 0,
-                        NEXT_T, I_T, n, j, fl, ints)
-    return next_trace(k, n_active, ints, plan)
-
-
-@njit(**BATCH_JIT)
-def mark_blow_up(step, j, fl):
-    """Remember the first step of the chunk after which slot j is out of bounds, without a
-    branch: BAD stays 0 while the lane is in bounds."""
-    first = blown_up(fl[M_Y * LANES + j], fl[S_Y * LANES + j]) & (fl[BAD * LANES + j] == 0.0)
-    fl[BAD * LANES + j] += first * (step + 1.0)
-
-
-@njit(**BATCH_JIT)
-def euler_block(k, c, n_active, fl, ints, plan, past, made, trace, lyap, record):
-    """Euler steps c..c+k-1 of the chunk for every active slot (core.euler's loop body).
-
-    Loads are unconditional and choices are selects, so that both loops vectorise. The
-    tangent has its own loop: one loop with both bodies is too large for LLVM to vectorise
-    (3x slower). LLVM then fuses the multiply-adds of the two loops a little differently
-    from the single kernel, so with lambda_max a lane agrees with it to rounding, not to the
-    bit (tests/unit/test_batch.py); without lambda_max it is bit for bit equal. The five row
-    updates of each loop are spelled out: a shared helper looping over the rows stopped
-    LLVM vectorising the tangent loop (9.5 ns per point-step against 6.6).
-    """
-    due = next_trace(k, n_active, ints, plan)
-    for i in range(k):
-        if lyap:
-            for j in range(n_active):
-                e_x, e_buf = fl[E_X * LANES + j], past[at(BEX, i, j)]
-                e_tau = e_x if fl[N_DELAY_F * LANES + j] == 0.0 else e_buf
-                made[at(BEX, i, j)] = e_x
-                f = rhs_tangent(fl[M_Y * LANES + j], fl[S_Y * LANES + j], fl[U * LANES + j],
-                                e_x, fl[E_Y * LANES + j], fl[E_SX * LANES + j],
-                                fl[E_SY * LANES + j], fl[E_U * LANES + j], e_tau,
-                                fl[CA * LANES + j], fl[CQ * LANES + j], fl[CF1 * LANES + j],
-                                fl[CK * LANES + j])
-                dt = fl[DT * LANES + j]
-                fl[E_X * LANES + j] = e_x + dt * f[0]
-                fl[E_Y * LANES + j] += dt * f[1]
-                fl[E_SX * LANES + j] += dt * f[2]
-                fl[E_SY * LANES + j] += dt * f[3]
-                fl[E_U * LANES + j] += dt * f[4]
-        if record:  # the rest of the state, for the window samples (sample_block)
-            for j in range(n_active):
-                made[at(BY, i, j)] = fl[M_Y * LANES + j]
-                made[at(BSX, i, j)] = fl[S_X * LANES + j]
-                made[at(BSY, i, j)] = fl[S_Y * LANES + j]
-                made[at(BU, i, j)] = fl[U * LANES + j]
-        if i == due:
-            due = take_trace(i, k, n_active, fl, ints, plan, trace)
-        for j in range(n_active):  # (6a-6e)
-            m_x, m_x_buf = fl[M_X * LANES + j], past[at(BX, i, j)]
-            m_x_tau = m_x if fl[N_DELAY_F * LANES + j] == 0.0 else m_x_buf
-            made[at(BX, i, j)] = m_x
-            f = rhs(m_x, fl[M_Y * LANES + j], fl[S_X * LANES + j], fl[S_Y * LANES + j],
-                    fl[U * LANES + j], m_x_tau, fl[CA * LANES + j], fl[CQ * LANES + j],
-                    fl[CF1 * LANES + j], fl[CK * LANES + j], fl[CD * LANES + j])
-            dt = fl[DT * LANES + j]
-            fl[M_X * LANES + j] = m_x + dt * f[0]
-            fl[M_Y * LANES + j] += dt * f[1]
-            fl[S_X * LANES + j] += dt * f[2]
-            fl[S_Y * LANES + j] += dt * f[3]
-            fl[U * LANES + j] += dt * f[4]
-            mark_blow_up(c + i, j, fl)
-
-
-@njit(**BATCH_JIT)
-def rk4_block(k, c, n_active, fl, ints, plan, past, made, trace, lyap):
-    """RK4 steps c..c+k-1 of the chunk for every active slot (core.rk4's loop body)."""
-    due = next_trace(k, n_active, ints, plan)
-    for i in range(k):
-        if i == due:
-            due = take_trace(i, k, n_active, fl, ints, plan, trace)
-        for j in range(n_active):
-            rk4_lane(i, j, fl, past, made, lyap)
-            mark_blow_up(c + i, j, fl)
-
-
-@njit(inline="always", **BATCH_JIT)
-def rk4_lane(i, j, fl, past, made, lyap):
-    """Step i of the block for slot j and its tangent: the arithmetic of core.rk4.rk4."""
-    a, q, f1 = fl[CA * LANES + j], fl[CQ * LANES + j], fl[CF1 * LANES + j]
-    k, d, dt = fl[CK * LANES + j], fl[CD * LANES + j], fl[DT * LANES + j]
-    h = 0.5 * dt
-    nd = fl[N_DELAY_F * LANES + j]
-    no_delay = nd == 0.0
-    m_x, m_y, s_x = fl[M_X * LANES + j], fl[M_Y * LANES + j], fl[S_X * LANES + j]
-    s_y, u = fl[S_Y * LANES + j], fl[U * LANES + j]
-    made[at(BX, i, j)], made[at(BY, i, j)] = m_x, m_y
-    made[at(BSX, i, j)], made[at(BSY, i, j)], made[at(BU, i, j)] = s_x, s_y, u
-    # t_n + dt - tau <= 0: the delayed values are the history delta (tangent 0)
-    history = fl[STEP_F * LANES + j] + i < nd
-    delta = fl[DELTA * LANES + j]
-    b0, b1 = past[at(BX, i, j)], past[at(BX, i + 1, j)]  # unconditional loads: selects
-    bh = hermite_mid(b0, b1, past[at(BY, i, j)], past[at(BY, i + 1, j)], dt)
-    x0 = delta if history else b0
-    x1 = delta if history else b1
-    xh = delta if history else bh
-    k1 = rhs(m_x, m_y, s_x, s_y, u, m_x if no_delay else x0, a, q, f1, k, d)
-    x2, y2, sx2, sy2, u2 = m_x + h * k1[0], m_y + h * k1[1], s_x + h * k1[2], s_y + h * k1[3], u + h * k1[4]
-    k2 = rhs(x2, y2, sx2, sy2, u2, x2 if no_delay else xh, a, q, f1, k, d)
-    x3, y3, sx3, sy3, u3 = m_x + h * k2[0], m_y + h * k2[1], s_x + h * k2[2], s_y + h * k2[3], u + h * k2[4]
-    k3 = rhs(x3, y3, sx3, sy3, u3, x3 if no_delay else xh, a, q, f1, k, d)
-    x4, y4, sx4, sy4, u4 = m_x + dt * k3[0], m_y + dt * k3[1], s_x + dt * k3[2], s_y + dt * k3[3], u + dt * k3[4]
-    k4 = rhs(x4, y4, sx4, sy4, u4, x4 if no_delay else x1, a, q, f1, k, d)
-    w = dt / 6.0
-    if lyap:
-        e_x, e_y, e_sx = fl[E_X * LANES + j], fl[E_Y * LANES + j], fl[E_SX * LANES + j]
-        e_sy, e_u = fl[E_SY * LANES + j], fl[E_U * LANES + j]
-        made[at(BEX, i, j)], made[at(BEY, i, j)] = e_x, e_y
-        c0, c1 = past[at(BEX, i, j)], past[at(BEX, i + 1, j)]
-        ch = hermite_mid(c0, c1, past[at(BEY, i, j)], past[at(BEY, i + 1, j)], dt)
-        ex0 = 0.0 if history else c0
-        ex1 = 0.0 if history else c1
-        exh = 0.0 if history else ch
-        t1 = rhs_tangent(m_y, s_y, u, e_x, e_y, e_sx, e_sy, e_u, e_x if no_delay else ex0, a, q, f1, k)
-        g = (e_x + h * t1[0], e_y + h * t1[1], e_sx + h * t1[2], e_sy + h * t1[3], e_u + h * t1[4])
-        t2 = rhs_tangent(y2, sy2, u2, g[0], g[1], g[2], g[3], g[4], g[0] if no_delay else exh, a, q, f1, k)
-        g = (e_x + h * t2[0], e_y + h * t2[1], e_sx + h * t2[2], e_sy + h * t2[3], e_u + h * t2[4])
-        t3 = rhs_tangent(y3, sy3, u3, g[0], g[1], g[2], g[3], g[4], g[0] if no_delay else exh, a, q, f1, k)
-        g = (e_x + dt * t3[0], e_y + dt * t3[1], e_sx + dt * t3[2], e_sy + dt * t3[3], e_u + dt * t3[4])
-        t4 = rhs_tangent(y4, sy4, u4, g[0], g[1], g[2], g[3], g[4], g[0] if no_delay else ex1, a, q, f1, k)
-        fl[E_X * LANES + j] = e_x + w * (t1[0] + 2.0 * (t2[0] + t3[0]) + t4[0])
-        fl[E_Y * LANES + j] = e_y + w * (t1[1] + 2.0 * (t2[1] + t3[1]) + t4[1])
-        fl[E_SX * LANES + j] = e_sx + w * (t1[2] + 2.0 * (t2[2] + t3[2]) + t4[2])
-        fl[E_SY * LANES + j] = e_sy + w * (t1[3] + 2.0 * (t2[3] + t3[3]) + t4[3])
-        fl[E_U * LANES + j] = e_u + w * (t1[4] + 2.0 * (t2[4] + t3[4]) + t4[4])
-    fl[M_X * LANES + j] = m_x + w * (k1[0] + 2.0 * (k2[0] + k3[0]) + k4[0])
-    fl[M_Y * LANES + j] = m_y + w * (k1[1] + 2.0 * (k2[1] + k3[1]) + k4[1])
-    fl[S_X * LANES + j] = s_x + w * (k1[2] + 2.0 * (k2[2] + k3[2]) + k4[2])
-    fl[S_Y * LANES + j] = s_y + w * (k1[3] + 2.0 * (k2[3] + k3[3]) + k4[3])
-    fl[U * LANES + j] = u + w * (k1[4] + 2.0 * (k2[4] + k3[4]) + k4[4])
-
-
-@njit(**BATCH_JIT)
-def advance(m, n_active, fl, ints, plan, flat, e_flat, width, past, made, win, trace, lyap,
-            rows):
-    """m steps of every active slot, in delay blocks, and their samples."""
-    c = 0
-    while c < m:
-        k = block_length(m - c, n_active, ints, rows)
-        read_block(k, n_active, fl, ints, flat, e_flat, width, past, lyap, rows)
-        for j in range(n_active):
-            fl[STEP_F * LANES + j] = ints[STEP * LANES + j]
-        record = window_due(k, n_active, ints, plan)
-        if rows == 1:
-            euler_block(k, c, n_active, fl, ints, plan, past, made, trace, lyap, record)
-        else:  # RK4 keeps the whole state in made at every step (rk4_lane)
-            rk4_block(k, c, n_active, fl, ints, plan, past, made, trace, lyap)
-        write_block(k, n_active, ints, flat, e_flat, width, made, lyap, rows)
-        if record:
-            sample_block(k, n_active, ints, plan, made, win)
-        for j in range(n_active):
-            ints[STEP * LANES + j] += k
-        c += k
-
-
-@njit(**BATCH_JIT)
-def batch(rows, coef, dt, plan, hist, e_hist, win, trace, lyap, logs, done):
-    """Integrate every lane (row of coef/dt/plan) to its end or blow-up; done[lane] gets
-    its number of steps, as the single kernels return. rows 1: Euler, 2: RK4 (the number
-    of buffered variables, m_x or m_x and m_y).
-
-    LANES slots advance together; a lane that ends frees its slot for the next lane, and
-    when none is left the last slot moves into the gap, so the loops stay dense.
+    sampler: the window's (first step, stride, jump, resume) (core.solve.Grid: sample_start,
+    win_stride, sample_jump, win_start). win, trace: (lanes, columns, 5). logs: (lanes,
+    renormalisations), filled only if lyap.
     """
     n_lanes = coef.shape[0]
-    fl = np.zeros(N_FLOAT * LANES)
-    ints = np.zeros(N_INT * LANES, dtype=np.int64)
-    past = np.zeros(N_PAST * (BLOCK + 1) * LANES)
-    made = np.zeros(N_MADE * (BLOCK + 1) * LANES)
-    flat, e_flat, width = hist.reshape(-1), e_hist.reshape(-1), hist.shape[2]  # C order
-    n_active = min(LANES, n_lanes)
-    for j in range(n_active):
-        ints[ROW * LANES + j] = j
-        start_lane(j, j, fl, ints, coef, dt, plan, hist, e_hist, lyap)
-    waiting = n_active  # the next lane to start
-    while n_active > 0:
-        j = 0
-        while j < n_active:
-            lane, n = ints[LANE * LANES + j], ints[STEP * LANES + j]
-            if fl[BAD * LANES + j] == 0.0:
-                lane_events(j, fl, ints, plan, e_hist, win, trace, lyap, logs, rows)
-                if n < plan[lane, P_N_STEPS]:
-                    j += 1
-                    continue
-                done[lane] = n
-            else:
-                done[lane] = int(fl[BAD * LANES + j])
-            if waiting < n_lanes:
-                start_lane(j, waiting, fl, ints, coef, dt, plan, hist, e_hist, lyap)
-                waiting += 1
-            else:
-                n_active -= 1
-                move_slot(n_active, j, fl, ints)
-        if n_active == 0:
+    st = np.zeros(N_ROWS * LANES)
+    stages = np.zeros(N_STAGE_ROWS * LANES if rk4 and lyap else 0)
+    start_lanes(n_lanes, coef, st)
+    lane_of = np.arange(n_lanes)
+    width = n_lanes
+    if rk4:  # (m_x, m_y) at steps n - N..n, rows 2 pos and 2 pos + 1
+        size = n_delay + 1
+        ring = np.zeros(2 * size * width)
+    else:    # m_x over (t - tau, t]: the history before t = 0 is delta (core.history)
+        size = max(n_delay, 1)
+        ring = np.empty(size * width)
+        for r in range(size):
+            for j in range(n_lanes):
+                ring[r * width + j] = coef[j, 5]
+    e_ring = np.zeros(ring.shape[0] if lyap else 0)
+    # the ring rows in the tangent's norm: RK4's N + 1 slots (two rows each), Euler's N,
+    # none without delay (core.euler's empty history)
+    rows = 2 * size if rk4 else n_delay
+    smp = np.array([sampler[0], 0, sampler[1], sampler[2], sampler[3], win.shape[1],
+                    0, 0, trace_stride, trace.shape[1]], dtype=np.int64)
+    due = next_due(smp)
+    i_r, r_next = 0, renorm
+    n, pos, n_a = 0, 0, n_lanes
+    while n_a > 0:
+        if lyap and n == r_next:
+            if rk4:  # the stale slot (step n - N - 1) must vanish from the norm
+                row = 2 * pos * width
+                for j in range(n_a):
+                    e_ring[row + j] = st[E_X * LANES + j]
+                    e_ring[row + width + j] = 0.0
+            renormalise_lanes(n_a, width, st, e_ring, rows, 2 if rk4 else 1, dt, logs, lane_of,
+                              i_r)
+            i_r += 1
+            r_next += renorm
+        if n == n_steps:
+            if due == n:
+                take_samples(n, n_a, st, smp, win, trace, lane_of)
+            for j in range(n_a):
+                done[lane_of[j]] = n_steps
             break
-        m = steps_to_next_event(n_active, ints, plan, lyap)
-        for j in range(n_active):  # BAD counts steps from the start of this chunk
-            fl[BAD * LANES + j] = 0.0
-        advance(m, n_active, fl, ints, plan, flat, e_flat, width, past, made, win, trace, lyap,
-                rows)
-        for j in range(n_active):
-            if fl[BAD * LANES + j] != 0.0:  # as a step count since the lane's start
-                fl[BAD * LANES + j] += ints[STEP * LANES + j] - m
+        end = min(n_steps, n + MAX_CHUNK)
+        if lyap:
+            end = min(end, r_next)
+        for j in range(n_a):
+            st[BAD * LANES + j] = 0.0
+        if rk4:
+            pos, due = rk4_steps(end - n, n, n_a, width, st, stages, ring, e_ring, pos, size,
+                                 n_delay, dt, lyap, due, smp, win, trace, lane_of)
+        else:
+            pos, due = euler_steps(end - n, n, n_a, width, st, ring, e_ring, pos, size,
+                                   n_delay, dt, lyap, due, smp, win, trace, lane_of)
+            mark_nan_lanes(n_a, st)
+        n_a = drop_blown(n, n_a, width, st, ring, e_ring, lane_of, done)
+        n = end
 
 
 def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) -> list[Trajectory]:
     """Integrate every point with the same settings in batched numba calls.
 
     Returns one Trajectory per point, in order, equal to ``core.solve.simulate(p, s)``.
-    Each one's runtime_s is the batch's wall time shared in proportion to its steps.
+    Points are grouped by grid (their tau), and each group is integrated LANES points at a
+    time (a group of fewer than MIN_LANES by the single kernel); each run's runtime_s is
+    its call's wall time shared in proportion to its steps.
     The lanes start from eq. 19's constant history only (core.history): a run with
     another history is computed alone (the queue batches runs of one history).
     """
@@ -554,32 +562,49 @@ def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) ->
     if s.history != "constant":
         raise ValueError(f"the batched kernels start from the constant history only, not "
                          f"{s.history!r}: compute such runs with core.solve.simulate")
-    if not points:
-        return []
     if s.method == "stiff":  # no batched kernel (core.stiff): one run after another
         return [simulate(p, s) for p in points]
     grids = [make_grid(p, s) for p in points]
+    groups: dict[Grid, list[int]] = {}
+    for i, g in enumerate(grids):
+        groups.setdefault(g, []).append(i)
+    out: list[Trajectory | None] = [None] * len(points)
+    for g, members in groups.items():
+        if len(members) < MIN_LANES:
+            for i in members:
+                out[i] = simulate(points[i], s)
+            continue
+        for first in range(0, len(members), LANES):
+            lanes = members[first:first + LANES]
+            for i, tr in zip(lanes, _integrate(g, [points[i] for i in lanes], s), strict=True):
+                out[i] = tr
+    return [tr for tr in out if tr is not None]
+
+
+def _integrate(g: Grid, points: list[Params], s: SolverSettings) -> list[Trajectory]:
+    """One kernel call: up to LANES points on grid g."""
+    n_real = len(points)
+    # Padded with copies of the last point to whole vectors: LLVM computes the lanes past
+    # the last whole vector one by one (its scalar remainder), at the single kernel's cost,
+    # where a padded vector computes them at once. An adaptive sweep's refined levels have
+    # a few points per tau (the (k, tau) plane at 100 x 100: batches of 2-13).
+    points = points + points[-1:] * (-n_real % VECTOR)
     n_lanes = len(points)
-    plan = np.array([[getattr(g, name) for name in PLAN] for g in grids], dtype=np.int64)
-    rows = 1 if s.method == "euler" else 2  # RK4 keeps (m_x, m_y) at N + 1 steps
-    width = int(plan[:, P_N_DELAY].max()) + 1
-    slots = min(LANES, n_lanes)
-    hist = np.zeros((slots, rows, width))
-    e_hist = np.zeros((slots, rows, width if s.lyap else 0))
-    # A lane's samples are rows of 5 values: one stream of writes per lane, where a (5, n)
-    # array per lane makes 5 (with the window half of the run, 5.4 ns per point-step
-    # against 4.9). Trajectories get (5, n) views. Every sample up to a lane's end or
-    # blow-up is written (trajectory_of keeps no more), so no NaN fill is needed.
-    win = np.empty((n_lanes, int(plan[:, P_N_WIN].max()), 5))
-    trace = np.empty((n_lanes, int(plan[:, P_N_TRACE].max()), 5))  # as win
-    n_logs = plan[:, P_N_STEPS] // plan[:, P_RENORM]
-    logs = np.zeros((n_lanes, int(n_logs.max()) if s.lyap else 0))
+    # A lane's samples are rows of 5 values: one stream of writes per lane; trajectories get
+    # (5, n) views. Every sample up to a lane's end or blow-up is written (trajectory_of
+    # keeps no more), so no NaN fill is needed.
+    win = np.empty((n_lanes, g.n_samples, 5))
+    trace = np.empty((n_lanes, g.n_trace, 5))
+    n_logs = g.n_steps // g.renorm_steps if s.lyap else 0
+    logs = np.zeros((n_lanes, n_logs))
     done = np.zeros(n_lanes, dtype=np.int64)
+    sampler = np.array([g.sample_start, g.win_stride, g.sample_jump, g.win_start], dtype=np.int64)
     t0 = time.perf_counter()
-    batch(rows, np.stack([coefficients(p) for p in points]), np.array([g.dt for g in grids]),
-          plan, hist, e_hist, win, trace, s.lyap, logs, done)
+    batch(s.method == "rk4", np.stack([coefficients(p) for p in points]), g.dt, g.n_delay,
+          g.n_steps, sampler, g.trace_stride, s.lyap, g.renorm_steps, win, trace, logs, done)
     runtime = time.perf_counter() - t0
-    share = done / max(1, int(done.sum()))
-    return [trajectory_of(p, s, g, int(done[j]), win[j, :g.n_samples].T, trace[j, :g.n_trace].T,
-                          logs[j, :n_logs[j] if s.lyap else 0], runtime * share[j])
-            for j, (p, g) in enumerate(zip(points, grids, strict=True))]
+    share = np.maximum(done, 0) / max(1, int(np.maximum(done, 0).sum()))
+    return [simulate(p, s) if done[j] == AGAIN else  # blew up: the exact step (euler_steps)
+            trajectory_of(p, s, g, int(done[j]), win[j].T, trace[j].T, logs[j, :n_logs],
+                          runtime * share[j] * n_lanes / n_real)
+            for j, p in enumerate(points[:n_real])]

@@ -69,11 +69,11 @@ MAX_STEPS = 10**10
 #: MB, mostly its two windows of 100 001 samples, at the middle and at the end; the delay
 #: ring of tau = 10 at dt = 1e-3 is 160 kB). It counts what make_grid lays out
 #: (memory_of): the delay ring, the window and trace samples and the lambda_max logs. It
-#: is per run: a worker's batch (core.batch) holds the window, trace and logs of each of
-#: its runs (up to its --batch, default 32) and the rings of up to 16 of them at once, so
-#: a batch of runs near this limit needs many times it. Such runs are rare (tau over 10^5
-#: time units at dt = 1e-3, or more than 2.7e8 lambda_max renormalisations); a worker
-#: should then compute them with --batch 1.
+#: is per run: a worker's batch (core.batch) holds the window, trace, logs and delay ring
+#: of each of its runs at once (up to its --batch, default 64, cut to its --memory budget:
+#: slopetui.queue.batch_memory), so a batch of runs near this limit needs many times it.
+#: Such runs are rare (tau over 10^5 time units at dt = 1e-3, or more than 2.7e8
+#: lambda_max renormalisations); a worker should then compute them with --batch 1.
 MAX_RUN_BYTES = 2 * 1024**3
 #: Bytes per delay step of the ring buffers: m_x for Euler and stiff, (m_x, m_y) for RK4,
 #: and as much again for the tangent, which the single-run kernels allocate even without

@@ -12,6 +12,7 @@ is not the store (the CLI, the TUI, sweeps, reports).
 from __future__ import annotations
 
 import os
+import sqlite3
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -20,7 +21,14 @@ import pytest
 from slopetui.store import Database, open_store
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
-from tests.support import ADAPTIVE_PLANE, EVIL, QUICK_SOLVER, PgServer, finish_adaptive
+from tests.support import (
+    ADAPTIVE_PLANE,
+    EVIL,
+    QUICK_SOLVER,
+    PgServer,
+    finish_adaptive,
+    new_sqlite_store,
+)
 
 TESTS = Path(__file__).resolve().parent
 #: Real processes (integration/) and Textual Pilot scenarios (tui/) take seconds a test:
@@ -47,6 +55,15 @@ def pytest_configure(config: pytest.Config) -> None:
                             "SQLite only, on purpose")
 
 
+def pytest_ignore_collect(collection_path: Path, config: pytest.Config) -> bool | None:
+    """The fast loop (exactly `-m "not slow"`) does not even import the slow tiers, whose
+    every test it would deselect: ~1 s of imports and assertion rewriting saved."""
+    if (config.getoption("markexpr", "").strip() == "not slow"
+            and collection_path.parent == TESTS and collection_path.name in SLOW_TIERS):
+        return True
+    return None
+
+
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     for item in items:
         path = item.path.resolve()
@@ -54,15 +71,33 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
             item.add_marker(pytest.mark.slow)
 
 
+@pytest.fixture(scope="session")
+def sqlite_template(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A new SQLite store at the current schema, made once a session: ``db`` and ``store``
+    start from a copy of it (~3 ms), as the PostgreSQL case starts from a template database,
+    where migrating each new file took ~0.1 s (200 new stores: 17 s of the fast loop). The
+    copy is what open_store leaves of a new file: the database (mode 600, in WAL mode) and
+    the migration's lock file beside it. The first migration of a new file is still tested
+    (``new_store_url``, and every test that opens a ``db_url`` itself). A test that makes
+    stores of its own takes this fixture and tests.support.new_sqlite_store."""
+    path = tmp_path_factory.mktemp("template") / "store.db"
+    open_store(f"sqlite:///{path}").dispose()
+    with sqlite3.connect(path) as conn:  # everything in the file itself, not in a -wal
+        conn.execute("PRAGMA wal_checkpoint(TRUNCATE)")
+    conn.close()
+    return path
+
+
 @pytest.fixture
 def db_url(tmp_path: Path) -> str:
-    """A new SQLite file (on SQLite only: see the module docstring)."""
+    """A new SQLite file (on SQLite only: see the module docstring): not created yet."""
     return f"sqlite:///{tmp_path / 'store.db'}"
 
 
 @pytest.fixture
-def db(db_url: str) -> Iterator[Database]:
-    """The store at ``db_url``: SQLite only."""
+def db(db_url: str, sqlite_template: Path) -> Iterator[Database]:
+    """The store at ``db_url``, at the current schema: SQLite only."""
+    new_sqlite_store(db_url, sqlite_template)
     database = open_store(db_url)
     yield database
     database.dispose()
@@ -125,15 +160,18 @@ def store(backend: str, request: pytest.FixtureRequest) -> Iterator[Database]:
         url = request.getfixturevalue("pg_server").emptied_shared()
     else:
         url = request.getfixturevalue("store_url")
+    if backend == "sqlite":
+        new_sqlite_store(url, request.getfixturevalue("sqlite_template"))
     database = open_store(url)
     yield database
     database.dispose()
 
 
 @pytest.fixture(scope="module")
-def refined(tmp_path_factory) -> tuple[str, int]:
+def refined(tmp_path_factory, sqlite_template) -> tuple[str, int]:
     """A store holding ADAPTIVE_PLANE refined to the end (one per test module)."""
     url = f"sqlite:///{tmp_path_factory.mktemp('adaptive') / 'store.db'}"
+    new_sqlite_store(url, sqlite_template)
     db = open_store(url)
     out = submit(db, parse_spec(ADAPTIVE_PLANE))
     assert out.n_runs == 12 and out.n_points == 13 * 9  # the coarse lattice: 4 x 3

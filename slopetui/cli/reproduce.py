@@ -6,9 +6,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.cli.options import CONFIRM_ABOVE_RUNS, UsageError, add_db_option, open_db
 from slopetui.sweeps.presets import BY_KEY, PRESETS
-from slopetui.sweeps.spec import CONFIRM_ABOVE_RUNS, parse_spec
 
 #: The report's default: every phase diagram at 20 x 20 at the paper's t_end, about
 #: 5300 runs, ~40 min on 2 cores (see docs/reproduction.md for the measured time).
@@ -46,6 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def preset_specs(keys: list[str], resolution: int | None, t_end: float | None) -> list:
+    from slopetui.sweeps.spec import parse_spec
     return [parse_spec(BY_KEY[k].at_resolution(resolution, t_end)) for k in keys]
 
 
@@ -66,6 +66,7 @@ def _check(args: argparse.Namespace) -> list[str]:
 
 def handle(args: argparse.Namespace) -> int:
     if args.list:
+        from slopetui.sweeps.spec import parse_spec
         for p in PRESETS:
             spec = parse_spec(p.spec)
             print(f"{p.key:7} {p.figure:9} {p.title}  [{spec.n_runs} runs at full resolution]")

@@ -10,14 +10,15 @@ import sys
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from core.lyapunov_bias import bias_note
 from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
 from core.result_fields import JSON_KEYS as RECORD_JSON_KEYS
-from core.solve import METHODS, SolverSettings, validate_run
+from slopetui.cli.options import METHODS
 
-if TYPE_CHECKING:  # core.point loads numba and the kernels: only `run` itself needs them
+if TYPE_CHECKING:  # core.point loads numba and the kernels: only `run` itself needs them;
+    # core.solve and core.lyapunov_bias load numpy (~0.1 s), which no parser needs
     from core.history import CarriedState
     from core.point import PointResult
+    from core.solve import SolverSettings
 
 #: The keys of ``--json``, in order: the documented contract (regime, lambda_max,
 #: lambda_err, amplitude, period, peaks, drift, t_blowup, runtime_s), then the rest of the
@@ -81,6 +82,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def parse_inputs(args: argparse.Namespace) -> tuple[Params, SolverSettings]:
     """Build validated Params and SolverSettings from the flags; raises ParameterError.
     A history run:ID is checked for its form here and resolved by ``carried_of``."""
+    from core.solve import SolverSettings, validate_run
     from slopetui.sweeps.carried import parse_history
     given = {n: getattr(args, n) for n in PARAM_NAMES if getattr(args, n) is not None}
     params = Params(**given)  # strings are checked and coerced
@@ -155,6 +157,7 @@ def lambda_text(r: PointResult) -> str:
         interval = r.trajectory.grid.renorm_interval
         return (f"not estimated (the run is too short: one log-growth every {interval:g} "
                 "time units, and the first half of the run is discarded)")
+    from core.lyapunov_bias import bias_note
     note = bias_note(r.params, r.summary.attractor, r.settings.method, r.trajectory.grid.dt,
                      r.lyap.value)
     if not math.isfinite(r.lyap.error):

@@ -9,16 +9,8 @@ from collections.abc import Mapping
 from typing import Any
 
 from core.params import PARAM_NAMES
-from core.solve import METHODS
-from slopetui.cli.options import add_db_option, open_db
+from slopetui.cli.options import CONFIRM_ABOVE_RUNS, METHODS, add_db_option, open_db
 from slopetui.cli.run import PARAM_HELP, accept_negative_numbers
-from slopetui.sweeps.spec import (
-    CONFIRM_ABOVE_RUNS,
-    SpecError,
-    parse_axis_flag,
-    parse_spec,
-    read_spec,
-)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -81,6 +73,7 @@ def _merge(data: dict[str, Any], key: str, flags: Mapping[str, Any]) -> None:
 
 def _condition(i: int, text: str) -> dict[str, Any]:
     """One --initial: comma-separated key=value pairs (delta, history)."""
+    from slopetui.sweeps.spec import SpecError
     out: dict[str, Any] = {}
     for part in text.split(","):
         key, sep, value = part.partition("=")
@@ -93,6 +86,7 @@ def _condition(i: int, text: str) -> dict[str, Any]:
 
 def spec_data(args: argparse.Namespace) -> dict[str, Any]:
     """The spec as a mapping: the file's tables, then the flags on top."""
+    from slopetui.sweeps.spec import SpecError, parse_axis_flag, read_spec
     data = read_spec(args.spec) if args.spec else {}
     if args.x:
         data["x"] = parse_axis_flag("--x", args.x)
@@ -117,6 +111,7 @@ def spec_data(args: argparse.Namespace) -> dict[str, Any]:
 def handle(args: argparse.Namespace) -> int:
     # every check happens before the database opens, the admission checks of a new sweep
     # (the engine's limits, the name's characters) included
+    from slopetui.sweeps.spec import parse_spec
     spec = parse_spec(spec_data(args), submitting=True)
     if spec.first_runs > CONFIRM_ABOVE_RUNS and not args.yes:
         what = (f"{spec.first_runs} coarse runs (of a {spec.n_runs}-point lattice)"

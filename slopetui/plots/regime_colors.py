@@ -39,6 +39,16 @@ regime colour (failed runs share it: their '!' is not a curve's braille dot or '
 Every marker is a distinct ASCII character (and none is '-', the legend's mark of a note),
 so the plots and their legends still separate the keys with colour off.
 
+Half blocks: where the application draws two lattice rows per character (``▀``, its
+foreground the upper run's colour, its background the lower's: slopetui.plots.lattice_cells)
+a cell has no marker, only colours, so every key needs a colour of its own there:
+``BLOCK_COLORS``, in ANSI's 16 names as Rich spells them. The regimes and depends keep
+their colours; failed takes bright red (an alarm, brighter than unstable's red: the
+foreground's colour cannot be a background), cancelled blue (it recedes, and differs from
+pending's dark grey). The overlays take what no key has: the Hopf curve bright white,
+the fold of cycles bright yellow, the cursor black (a hole in the colours). With colour
+off there are no half blocks: one marker per cell, as above.
+
 Themes: plotext's "default" theme paints a white canvas, a bright box on dark terminals.
 "pro" keeps the terminal's own background and foreground and only colours the data;
 "clear" colours nothing (used with colour off).
@@ -99,6 +109,18 @@ REGIME_STYLES: Mapping[str, RegimeStyle] = MappingProxyType({
     CANCELLED: RegimeStyle("gray", "/"),
     PENDING: RegimeStyle("gray", "?"),
 })
+
+
+#: The colour of each key in a half-block cell (module docstring), Rich's ANSI names.
+BLOCK_COLORS: Mapping[str, str] = MappingProxyType({
+    "sliding": "cyan", "oscillatory": "green", "complex": "magenta", "mixed": "yellow",
+    "unstable": "red", DEPENDS: "bright_blue", FAILED: "bright_red", CANCELLED: "blue",
+    PENDING: "bright_black",
+})
+#: The overlays of a half-block drawing: the Hopf curve, the fold of cycles, the cursor.
+BLOCK_HOPF = "bright_white"
+BLOCK_FOLD = "bright_yellow"
+BLOCK_CURSOR = "black"
 
 
 def regime_key(regime: str | None) -> str:

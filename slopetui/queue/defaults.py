@@ -9,11 +9,23 @@ LEASE_S = 60.0
 HEARTBEAT_S = 10.0
 #: Attempts (runs in the kernel) of a run before it is marked failed.
 MAX_ATTEMPTS = 3
-#: Runs a worker claims at once (runs with the same solver settings; see worker_process).
-DEFAULT_BATCH = 32
+#: Runs a worker claims at once (runs with the same solver settings and tau; see
+#: worker_process): the lanes of one call of the batched kernels, whose lanes share tau
+#: (core.batch: 64 lanes are 8 AVX-512 vectors of doubles). A plane of n x m points has n
+#: runs per tau. Memory bounds it, not this: MEMORY_MIB cuts a batch of long windows.
+DEFAULT_BATCH = 64
 #: A worker's memory for the runs of one batch (MiB): the batch is cut to the runs whose
-#: windows, traces, delay rings and lambda_max logs (core.solve.memory_of) fit in it. The
-#: paper's run needs ~10 MB, so a batch of 32 takes ~0.3 GiB; at window 1e5 a run needs
-#: ~1 GB (issue 17 measured 185 MiB + ~48 MB a run at window 1e4, ~15 GiB for 32 runs at
-#: 1e5), and 1 GiB lets a 2-core machine with 24 GiB run its two workers with room left.
+#: windows, traces, delay rings and lambda_max logs (core.solve.memory_of) fit in it,
+#: counted at batch_memory.OVERHEAD. The paper's run (Euler, dt 1e-3, t_end 1e5, window
+#: 1000, tau 10) needs 9.9 MB, so a batch of 64 counts 788 MiB and is kept whole (83 such
+#: runs fit; at tau 100, 11.4 MB a run, 72); at window 1e4 a run needs 96 MB and a batch
+#: is cut to 8 (issue 17 measured 185 MiB + ~48 MB a run at window 1e4, ~15 GiB for 32
+#: runs at 1e5). 1 GiB and the process's ~0.2 GiB let a 2-core machine with 24 GiB run
+#: its two workers with room left.
 MEMORY_MIB = 1024
+#: The niceness a worker process takes (nice(2), relative to the pool's): workers keep both
+#: cores busy for hours, and the researcher's terminal (the app, `slopetui show`, an
+#: editor) should not wait behind them. At the same priority the app took a median 100
+#: ms and a p95 of 180 ms to switch screens with two workers busy (benchmarks/bench_tui.py),
+#: most of it waiting for a core. A nice worker loses nothing on an otherwise idle machine.
+WORKER_NICE = 10

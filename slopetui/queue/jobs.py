@@ -61,14 +61,15 @@ def _job(m: ClaimedRow, started: bool) -> Job:
 def claim_batch(db: Database, worker_id: str, limit: int,
                 batched: Collection[str] | None = None) -> list[Job]:
     """Claim up to ``limit`` queued runs that share the oldest queued run's solver settings
-    (oldest first), in one transaction; [] if nothing is queued. They are all leased to the
+    and tau (oldest first; the batched kernels' lanes share tau), in one transaction; []
+    if nothing is queued. They are all leased to the
     worker, but no attempt is charged until ``begin``: if the worker dies, requeue_worker /
     requeue_expired hand back the runs it never started as they were.
 
     batched : the methods the worker computes a batch of together; a run of another method
-              is claimed alone. A worker computing 32 RK4 runs one after the other held
-              runs that idle workers could have started (one worker held 30 while the
-              other waited).
+              is claimed alone. A worker computing a batch run by run holds runs that
+              idle workers could have started (one worker held 30 of 32 RK4 runs while
+              the other waited, when RK4 had no batched kernel).
     """
     rows = claims.claim_batch(db, worker_id, limit, batched)
     return sorted((_job(row, started=False) for row in rows), key=lambda job: job.run_id)

@@ -1,16 +1,18 @@
 """One worker process of the pool: claim a batch of runs, compute it, write each result as
 soon as it is known, repeat.
 
-A batch is up to ``batch`` queued runs with the same solver settings. Euler batches go
-through the batched kernel (core.batch: ~2x the single kernel's throughput) in one call,
-which reports nothing until every lane is done (core.run_batch has no per-lane callback),
-so their results are written when it returns, and every run of the batch, being in the
-kernel, is charged an attempt. RK4 (not in BATCHED_METHODS) is claimed one run at a time,
-and a run computed alone is charged its attempt when it starts and written when it ends
-(jobs.begin, jobs.complete): a killed worker loses only the run it was computing. The
-signal plumbing is in slopetui.queue.stop_signals, the warm-up in slopetui.queue.warm_up. The computation runs in a
-thread (the numba kernels release the GIL), so the main thread stays free to notice a
-shutdown and, while it waits, sends the heartbeat that extends the leases of every run
+A batch is up to ``batch`` queued runs with the same solver settings and tau (the batched
+kernels' lanes share tau: store.claims.claim_batch), cut to the worker's memory budget
+(slopetui.queue.batch_memory). Euler and RK4 batches (BATCHED_METHODS) go through the
+batched kernels (core.batch) in one call, which reports nothing until every lane is done
+(core.run_batch has no per-lane callback), so their results are written when it returns,
+and every run of the batch, being in the kernel, is charged an attempt. A run of another
+method (stiff) or history (not the constant one) is claimed alone, charged its attempt
+when it starts and written when it ends (jobs.begin, jobs.complete): a killed worker
+loses only the run it was computing. The signal plumbing is in
+slopetui.queue.stop_signals, the warm-up in slopetui.queue.warm_up. The computation runs
+in a thread (the numba kernels release the GIL), so the main thread stays free to notice
+a shutdown and, while it waits, sends the heartbeat that extends the leases of every run
 the worker holds (Heartbeat).
 
 Connections. The main thread is the only one that uses the store, and it closes its
@@ -56,6 +58,7 @@ from typing import TYPE_CHECKING, Any
 
 from slopetui.queue import branch_jobs, defaults, hysteresis_jobs, jobs
 from slopetui.queue.batch_memory import MIB, fitting
+from slopetui.queue.priority import lower_priority
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
 from slopetui.queue.warm_up import watched_warm_up
 from slopetui.store.claims import queue_drained
@@ -245,10 +248,9 @@ class Heartbeat:
         self.db.idle()
 
 
-#: Methods computed with the batched kernels. RK4's batched kernel is not vectorised by LLVM
-#: yet and runs at ~0.6x the single kernel's speed (benchmarks/bench_kernels.py), so RK4
-#: batches are computed run by run.
-BATCHED_METHODS = frozenset({"euler"})
+#: Methods computed with the batched kernels (core.batch), whose lanes share tau; a run of
+#: another method (stiff) is claimed alone and computed by the single-run kernel.
+BATCHED_METHODS = frozenset({"euler", "rk4"})
 
 Records = list[dict[str, Any]]
 
@@ -285,8 +287,9 @@ def _run(fn: Callable[[], Any], executor: ThreadPoolExecutor, control: Control
 
 def _within_memory(db: Database, wid: str, batch: list[jobs.Job], memory_mib: int) -> list[jobs.Job]:
     """The leading runs of the batch that fit the memory budget; the others go back to the
-    queue unstarted (slopetui.queue.batch_memory). Only a batch for the batched kernel:
-    other batches are computed run by run, each run's buffers freed before the next."""
+    queue unstarted (slopetui.queue.batch_memory). Only a batch for the batched kernels,
+    which hold every lane's buffers at once: a batch computed run by run (_one_by_one)
+    frees each run's buffers before the next."""
     if len(batch) < 2 or batch[0].settings.method not in BATCHED_METHODS:
         return batch
     keep = fitting(batch, memory_mib * MIB)
@@ -406,6 +409,7 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
     die_with_parent()
     if os.getppid() != pool_pid:
         os._exit(0)
+    lower_priority(defaults.WORKER_NICE)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGHUP, signal.SIG_IGN)
     signals = SignalPipe([signal.SIGTERM])

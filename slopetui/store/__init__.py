@@ -2,7 +2,8 @@
 that owns engines, sessions and transactions, the Alembic migrations ``open_store``
 applies, and every SQL statement behind a name: the faces' reads
 (``slopetui.store.queries``), the queue's (``claims``, ``cached_results``,
-``worker_rows``) and the sweeps' (``sweep_rows``, ``sweep_reads``, ``adaptive_rows``).
+``worker_rows``) and the sweeps' (``sweep_rows``, ``sweep_reads``, ``diagram_reads``,
+``adaptive_rows``).
 
 The names below are imported on first use (PEP 562), so that a light submodule
 (``slopetui.store.location``) can be imported without SQLAlchemy.

@@ -10,6 +10,13 @@ others, and fails a run after ``max_attempts``. Every write of a result is guard
 ``status = 'running' AND worker_id = me``, so a worker that lost its lease cannot write a
 second result for a run that another worker has taken over.
 
+A batch (``claim_batch``) is the oldest queued run of an active sweep that no other worker
+is claiming, and the queued runs that share its solver settings, history and tau, oldest
+first: the batched kernels' lanes share tau (one delay ring length, one step grid,
+core.batch), and a plane of n x m points still fills batches, with n runs per tau. Its
+runs are selected and locked first, in a CTE (``FOR UPDATE SKIP LOCKED`` on PostgreSQL),
+and the ``UPDATE`` takes what it picked, in the same transaction.
+
 A batch is claimed with ``started_at`` NULL and attempts unchanged; ``begin`` charges the
 runs that are about to be computed (and stamps started_at), so the runs a dead worker held
 but had not started (``status = 'running' AND started_at IS NULL``) go back to the queue as
@@ -69,17 +76,21 @@ _WORKER_DONE = (update(Worker).where(Worker.id == bindparam("wid"))
                         jobs_done=Worker.jobs_done + bindparam("n_done")))
 
 
-# A batch: the oldest queued run's solver settings, then up to n queued runs with the same
-# settings (they can share one call of the batched kernels, core.batch), oldest first.
-_OLDEST_SETTINGS = (select(Run.method, Run.dt, Run.t_end, Run.window, Run.lyap, Run.history)
+# A batch: the solver settings and tau of the oldest queued run no other worker is
+# claiming, then up to n queued runs with the same settings and tau (they share one call of
+# the batched kernels, core.batch, whose lanes share tau), oldest first. The oldest run is
+# locked as it is read (PostgreSQL; SQLite's BEGIN IMMEDIATE serialises claims): a worker
+# claiming at the same time reads the next one instead of settings whose runs it would
+# then find all taken, and come back with nothing while runs of other tau wait.
+_BATCH_KEY = (Run.method, Run.dt, Run.t_end, Run.window, Run.lyap, Run.history, Run.tau)
+_OLDEST_SETTINGS = (select(*_BATCH_KEY)
                     .join(Sweep, Sweep.id == Run.sweep_id)
                     .where(Run.status == "queued", Sweep.status == "active")
-                    .order_by(Run.id).limit(1))
+                    .order_by(Run.id).limit(1)
+                    .with_for_update(skip_locked=True, of=Run))
 _COMPATIBLE = (select(Run.id).join(Sweep, Sweep.id == Run.sweep_id)
                .where(Run.status == "queued", Sweep.status == "active",
-                      Run.method == bindparam("b_method"), Run.dt == bindparam("b_dt"),
-                      Run.t_end == bindparam("b_t_end"), Run.window == bindparam("b_window"),
-                      Run.lyap == bindparam("b_lyap"), Run.history == bindparam("b_history"))
+                      *(column == bindparam(f"b_{column.key}") for column in _BATCH_KEY))
                .order_by(Run.id).limit(bindparam("n"))
                .with_for_update(skip_locked=True, of=Run))
 # Claimed, not started: no attempt charged, started_at NULL until begin (module docstring).
@@ -102,20 +113,21 @@ _BEGIN = (update(Run).where(Run.id.in_(bindparam("rids", expanding=True)),
 
 def claim_batch(db: Database, worker_id: str, limit: int,
                 batched: Collection[str] | None) -> list[ClaimedRow]:
-    """Lease up to ``limit`` queued runs of active sweeps that share the oldest queued
-    run's solver settings and history to the worker, in one transaction, without charging
-    an attempt; [] if nothing is queued. A run whose method is not in ``batched`` (None:
-    every method), or whose history is not the constant one (the batched kernels know no
-    other, core.batch), is claimed alone. Not in id order: the caller sorts."""
+    """Lease to the worker the oldest ``limit`` queued runs of active sweeps that share
+    the oldest queued run's solver settings, history and tau (the oldest no other worker
+    is claiming), in one transaction, without charging an attempt; [] if nothing is
+    queued. A run whose method is not in ``batched`` (None: every method), or whose
+    history is not the constant one (the batched kernels know no other, core.batch), is
+    claimed alone. Returned not in id order: the caller sorts."""
     with db.connection() as conn:
-        settings = conn.execute(_OLDEST_SETTINGS).first()
-        if settings is None:
+        oldest = conn.execute(_OLDEST_SETTINGS).first()
+        if oldest is None:
             return []
-        if batched is not None and (settings.method not in batched
-                                    or settings.history != "constant"):
+        if batched is not None and (oldest.method not in batched
+                                    or oldest.history != "constant"):
             limit = 1
         rows = conn.execute(_CLAIM_BATCH, {"wid": worker_id, "n": limit, **{
-            f"b_{name}": value for name, value in settings._mapping.items()}}).all()
+            f"b_{name}": value for name, value in oldest._mapping.items()}}).all()
     return [row._mapping for row in rows]
 
 

@@ -169,6 +169,10 @@ class Run(Base):
         CheckConstraint("attempts >= 0", name="attempts"),
         # The claim: the oldest queued run (of an active sweep).
         Index(None, "status", "id"),
+        # A batch's claim: the oldest queued runs of one tau (store.claims.claim_batch). On
+        # (status, id) alone it read the whole queue whenever a tau had fewer queued runs
+        # than the batch (6 ms a claim at 10,000 queued runs; migration 0008).
+        Index(None, "status", "tau", "id"),
         # Progress per sweep, and "the runs of sweep N with regime R".
         Index(None, "sweep_id", "status"),
         Index(None, "sweep_id", "regime"),

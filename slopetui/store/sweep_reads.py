@@ -1,58 +1,18 @@
-"""The reads behind a sweep's diagram and the progress of sweeps, each in one session (one
-snapshot of the store). ``slopetui.sweeps.diagram`` and ``slopetui.sweeps.progress`` turn
-them into what the faces draw.
+"""The reads behind the progress of sweeps, each in one session (one snapshot of the
+store). ``slopetui.sweeps.progress`` turns them into what the faces show; a sweep's
+diagram is read by ``diagram_reads``.
 """
 
 from __future__ import annotations
 
 from collections import defaultdict
-from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import datetime, timedelta
-from typing import Any, Generic, TypeVar
 
 from sqlalchemy import func, select
 
 from slopetui.store.database import Database
 from slopetui.store.models import Run, Sweep
-
-S = TypeVar("S")
-
-
-@dataclass(frozen=True)
-class DiagramRows(Generic[S]):
-    """A sweep and its runs as a diagram reads them.
-
-    rows : per run in grid order (iy, then ix): id, ix, iy, x (its x parameter), y (its y
-           parameter; iy for a 1-D sweep), status, regime, peaks, drift, error, detail,
-           period_count, lambda_max, lambda_err, inferred.
-    """
-
-    sweep_id: int
-    name: str
-    spec: S
-    rows: Sequence[Sequence[Any]]
-
-
-def diagram_rows(db: Database, sweep_id: int,
-                 read_spec: Callable[[dict[str, Any]], tuple[S, str, str | None]]
-                 ) -> DiagramRows[S] | None:
-    """The sweep and its runs in one read; None if there is no such sweep. ``read_spec``
-    turns the stored spec into the caller's spec and the names of its x and y parameters
-    (y None for a 1-D sweep): the columns read depend on them."""
-    with db.sessions() as s:
-        sweep = s.get(Sweep, sweep_id)
-        if sweep is None:
-            return None
-        spec, x_param, y_param = read_spec(sweep.spec)
-        cols = (Run.id, Run.ix, Run.iy, getattr(Run, x_param),
-                getattr(Run, y_param) if y_param else Run.iy, Run.status, Run.regime,
-                Run.peaks, Run.drift, Run.error, Run.detail, Run.period_count, Run.lambda_max,
-                Run.lambda_err, Run.inferred, Run.attractor, Run.flags,
-                Run.maxima_per_period, Run.settled, Run.ic, Run.delta, Run.history)
-        rows = s.execute(select(*cols).where(Run.sweep_id == sweep_id)
-                         .order_by(Run.ic, Run.iy, Run.ix)).all()
-    return DiagramRows(sweep.id, sweep.name, spec, rows)
 
 
 @dataclass(frozen=True)

@@ -7,11 +7,13 @@ listed by ``SweepDiagram.unqueued`` so that drawings show them as pending.
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from slopetui.store.database import Database
-from slopetui.store.sweep_reads import diagram_rows
+from slopetui.store.diagram_reads import DiagramRow, read_diagram
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.hopf_plane import Curve, hopf_boundary
 from slopetui.sweeps.spec import SweepSpec, parse_spec
@@ -90,30 +92,57 @@ def plane_hopf(spec: SweepSpec) -> Curve | None:
                          (min(y.start, y.stop), max(y.start, y.stop)))
 
 
-def _read_spec(stored: dict[str, Any]) -> tuple[SweepSpec, str, str | None]:
+def read_spec(stored: dict[str, Any]) -> tuple[SweepSpec, str, str | None]:
+    """A stored spec as the store's diagram read wants it: the spec, its x and y params."""
     spec = parse_spec(stored)
     return spec, spec.x.param, spec.y.param if spec.y else None
 
 
-def load_diagram(db: Database, sweep_id: int) -> SweepDiagram:
-    """Everything a phase or bifurcation diagram of the sweep needs, in one read."""
-    read = diagram_rows(db, sweep_id, _read_spec)
+#: A run's measurements where a row read ``drawn_only`` has none: RunPoint's defaults.
+UNMEASURED: dict[str, Any] = {"peaks": None, "drift": math.nan, "error": None, "detail": None,
+                              "period_count": None, "lambda_max": math.nan,
+                              "lambda_err": math.nan, "attractor": None, "flags": None,
+                              "maxima_per_period": None, "settled": None}
+
+
+def run_points(rows: Sequence[DiagramRow], has_y: bool) -> list[RunPoint]:
+    """Runs of ``store.diagram_reads`` as a diagram's points (its measurements NaN or None
+    where the read had none)."""
+    if not rows:
+        return []
+    absent = {k: v for k, v in UNMEASURED.items() if k not in rows[0]._fields}
+    return [run_point(row._asdict() | absent, has_y, measured=not absent) for row in rows]
+
+
+def run_point(m: dict[str, Any], has_y: bool, *, measured: bool = True) -> RunPoint:
+    """A run of ``store.diagram_reads`` (its columns by name) as a diagram's point;
+    ``measured`` False for a row read without its measurements (no peaks then)."""
+    done = m["status"] == "done"
+    regime, flags = m["regime"], m["flags"]
+    # A sliding run has no peaks: it rests near the fixed point m_y = 0 (eqs. 14-17;
+    # with noise d > 0 it drifts at a small constant m_y). It is drawn at its window
+    # mean of m_y (the drift), the flat lower branch of Fig. 4A.
+    shown = (([m["drift"]] if regime == "sliding" else list(m["peaks"] or []))
+             if done and measured else [])
+    return RunPoint(m["id"], m["ix"], m["iy"], m["x"], m["y"] if has_y else None, m["status"],
+                    regime if done else None, shown, m["error"],
+                    m["detail"] if done else None, m["period_count"] if done else None,
+                    m["lambda_max"], m["lambda_err"], m["drift"], bool(m["inferred"]),
+                    m["attractor"] if done else None,
+                    tuple(flags.split(",")) if done and flags else (),
+                    m["maxima_per_period"] if done else None,
+                    m["settled"] if done else None, m["ic"], m["delta"], m["history"])
+
+
+def load_diagram(db: Database, sweep_id: int, *, drawn_only: bool = False) -> SweepDiagram:
+    """Everything a phase or bifurcation diagram of the sweep needs, in one read. With
+    ``drawn_only``, a phase diagram's runs come without their measurements (peaks,
+    lambda_max...): what a drawing in the terminal shows, read in about half the time (a
+    1-D sweep is read whole: its drawing shows the peaks)."""
+    read = read_diagram(db, sweep_id, read_spec, drawn_only=drawn_only)
     if read is None:
         raise UnknownSweep(sweep_id)
-    spec = read.spec
-    runs = []
-    for rid, ix, iy, x, y, status, regime, peaks, drift, error, detail, count, lam, lam_err, \
-            inferred, attractor, flags, maxima, settled, ic, delta, history in read.rows:
-        done = status == "done"
-        # A sliding run has no peaks: it rests near the fixed point m_y = 0 (eqs. 14-17;
-        # with noise d > 0 it drifts at a small constant m_y). It is drawn at its window
-        # mean of m_y (the drift), the flat lower branch of Fig. 4A.
-        shown = ([drift] if regime == "sliding" else list(peaks or [])) if done else []
-        runs.append(RunPoint(rid, ix, iy, x, y if spec.y else None, status,
-                             regime if done else None, shown, error, detail if done else None,
-                             count if done else None, lam, lam_err, drift, bool(inferred),
-                             attractor if done else None,
-                             tuple(flags.split(",")) if done and flags else (),
-                             maxima if done else None, settled if done else None, ic, delta,
-                             history))
-    return SweepDiagram(read.sweep_id, read.name, spec, runs)
+    if drawn_only and read.spec.y is None:
+        return load_diagram(db, sweep_id)
+    return SweepDiagram(read.sweep_id, read.name, read.spec,
+                        run_points(read.rows, read.spec.y is not None))

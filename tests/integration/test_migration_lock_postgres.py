@@ -9,10 +9,12 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-import time
+
+from sqlalchemy import text
 
 from slopetui.store.database import Database
 from slopetui.store.migrate import current_revision, head_revision, migration_lock
+from tests.integration.pool_support import wait_until
 
 
 def _upgrade(url: str, cache: str) -> subprocess.Popen[str]:
@@ -38,12 +40,24 @@ def test_four_hosts_upgrading_at_once_all_succeed(tmp_path, pg_server):
             db.dispose()
 
 
+def _waiting_for_a_lock(db: Database) -> bool:
+    """Someone waits for an advisory lock on ``db``'s database (pg_locks: not granted)."""
+    with db.engine.connect() as conn:
+        return bool(conn.execute(text(
+            "SELECT count(*) FROM pg_locks WHERE locktype = 'advisory' AND NOT granted "
+            "AND database = (SELECT oid FROM pg_database WHERE datname = current_database())"
+        )).scalar_one())
+
+
 def test_an_upgrade_waits_for_the_lock_held_elsewhere(tmp_path, pg_server):
     with pg_server.database(migrated=False) as url:
         holder = Database(url)
         with migration_lock(holder):
             proc = _upgrade(url, str(tmp_path / "other"))
-            time.sleep(4.0)  # a start takes ~1 s: long enough to have migrated
+            # seen waiting in the server's lock table, where a fixed sleep of 4 s only
+            # gave it time to migrate (a start takes ~1 s)
+            wait_until("the upgrade to wait for the lock",
+                       lambda: proc.poll() is not None or _waiting_for_a_lock(holder), 60)
             assert proc.poll() is None, proc.communicate()
             assert current_revision(holder) is None  # nothing created while it waits
         _, err = proc.communicate(timeout=60)

@@ -25,8 +25,10 @@ from tests.integration.pool_support import (
     by_status,
     done_lines,
     freeze_mid_batch,
+    live_worker_rows,
     pid_of,
     start_pool,
+    wait_until,
 )
 from tests.support import submit_quick
 
@@ -35,10 +37,11 @@ def test_kill_9_mid_batch_keeps_the_finished_runs_and_charges_only_the_run_in_th
         tmp_path, db, db_url):
     """One worker computes 8 RK4 runs (asked for batches of 8); it is killed after writing
     two of them. Guaranteed: the runs it wrote stay done (written once, by it); the run in
-    its kernel is charged for the lost attempt; it held no other run (RK4 is computed run
-    by run, so it claims one at a time), and the rest were never charged: after the queue
-    drains they have used one attempt each."""
-    sub = submit_quick(db, 8, **MEDIUM)
+    its kernel is charged for the lost attempt; it held no other run (runs of the
+    consistent history are computed run by run, so it claims one at a time: the batched
+    kernels start from the constant history only), and the rest were never charged: after
+    the queue drains they have used one attempt each."""
+    sub = submit_quick(db, 8, history="consistent", **MEDIUM)
     log = tmp_path / "pool.log"
     pool = start_pool(db_url, log, "-j", "1", "--batch", "8", "--exit-when-idle")
     frozen = freeze_mid_batch(db, min_done=2)
@@ -63,10 +66,11 @@ def test_kill_9_mid_batch_keeps_the_finished_runs_and_charges_only_the_run_in_th
 
 
 def test_two_pools_and_a_reader_on_one_store(tmp_path, store, store_url):
-    n = 60
-    # ~0.1 s runs: long enough that both pools are up before the queue drains, short
-    # enough for many claims and writes per second
-    submit_quick(store, n, t_end=3e4)
+    """Two pools (one worker each) claim from one queue at once while a third process
+    reads it: every run done once, by both pools, and no error anywhere. The runs are
+    queued once both pools' workers are up, so that both take part however long their
+    start takes; the pools are then stopped (SIGTERM) once the queue is drained."""
+    n = 30
     logs = [tmp_path / "a.log", tmp_path / "b.log"]
     reads, errors = [0], []
     stop = threading.Event()
@@ -84,11 +88,25 @@ def test_two_pools_and_a_reader_on_one_store(tmp_path, store, store_url):
 
     thread = threading.Thread(target=reader)
     thread.start()
-    pools = [start_pool(store_url, log, "-j", "1", "--exit-when-idle", "--another-pool")
-             for log in logs]
-    outputs = [p.communicate(timeout=300) for p in pools]
-    stop.set()
-    thread.join()
+    pools = [start_pool(store_url, log, "-j", "1", "--another-pool") for log in logs]
+    try:
+        wait_until("both pools' workers", lambda: len(live_worker_rows(store)) == 2, 120)
+        # ~0.15 s runs: many claims and writes per second, from both pools (before, 60
+        # runs of 0.2 s, so that the second pool was up before the first drained the queue)
+        # claimed one at a time (not the batched kernels' constant history), so both pools
+        # take part: a batch of 30 runs of one tau would go to one pool whole
+        submit_quick(store, n, t_end=1e4, history="consistent")
+        wait_until("the queue to drain", lambda: by_status(store) == {"done": n}, 120)
+        for p in pools:
+            p.send_signal(signal.SIGTERM)
+        outputs = [p.communicate(timeout=60) for p in pools]
+    finally:
+        stop.set()
+        thread.join()
+        for p in pools:
+            if p.poll() is None:
+                p.kill()
+                p.communicate()
     assert [p.returncode for p in pools] == [0, 0], outputs
     assert errors == [] and reads[0] > 10
     assert by_status(store) == {"done": n}

@@ -1,9 +1,12 @@
-"""`slopetui --help` and `slopetui status` start without the imports they do not use.
+"""`slopetui --help`, `status`, `runs` and `sql` start without the imports they do not use.
 
 A one-second `slopetui run` took ~5 s of wall time, most of it imports: every subcommand
 module loaded numba, Alembic, SQLAlchemy and the plots at the top. The rule now: a
 subcommand module imports what its parser needs at the top and the rest in its handler
-(slopetui.cli.options); these tests keep it from drifting back.
+(slopetui.cli.options); the commands that compute nothing load neither numba nor numpy
+(issue 17, "Start-up": `--help` ≤ 0.5 s, `status` ≤ 1 s; benchmarks/bench_startup.py times
+them). These tests keep it from drifting back: each command runs in a fresh process, which
+then names the heavy modules it loaded.
 """
 
 from __future__ import annotations
@@ -12,26 +15,62 @@ import json
 import subprocess
 import sys
 
-#: Heavy imports no parser needs: numba and its kernels (~1 s), Alembic (~0.2 s), the
-#: application (Textual, rich) and plotext.
-NEVER_FOR_HELP = ("numba", "llvmlite", "core.batch", "alembic", "textual", "rich",
+import pytest
+
+from tests.support import finish_all, submit_quick
+
+#: Heavy imports no parser needs: numba and its kernels (~1 s), numpy (~0.1 s: the engine's
+#: core.solve and core.stability, the sweeps' specs), Alembic (~0.2 s), the application
+#: (Textual, rich) and plotext.
+NEVER_FOR_HELP = ("numba", "llvmlite", "core.batch", "numpy", "alembic", "textual", "rich",
                   "plotext", "sqlalchemy", "argcomplete", "pandas", "matplotlib")
+#: What the commands that read the store (status, runs, sql) may load of NEVER_FOR_HELP.
+THE_DRIVER = {"sqlalchemy"}
 
 
 def loaded_after(code: str) -> set[str]:
-    probe = (f"import sys, json\n{code}\n"
+    """The modules of NEVER_FOR_HELP loaded after ``code`` ran in a fresh interpreter (a
+    SystemExit, as of `--help`, ends the code, not the probe)."""
+    probe = (f"import sys, json\ntry:\n    {code}\nexcept SystemExit:\n    pass\n"
              f"print(json.dumps([m for m in {list(NEVER_FOR_HELP)!r} if m in sys.modules]))")
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
                          timeout=120, check=True)
     return set(json.loads(out.stdout.strip().splitlines()[-1]))
 
 
+def loaded_by(*argv: str) -> set[str]:
+    """The heavy modules `slopetui ARGV` loads (main() in a fresh process, its output
+    captured)."""
+    return loaded_after(f"from slopetui.cli import main; main({list(argv)!r})")
+
+
 def test_building_every_parser_loads_no_heavy_module():
     assert loaded_after("from slopetui.cli import build_parser; build_parser()") == set()
 
 
-def test_status_loads_the_database_driver_only(db_url):
-    from slopetui.store import open_store
-    open_store(db_url).dispose()  # an up-to-date store: no migration to run
-    loaded = loaded_after(f"from slopetui.cli import main; main(['status', '--db', {db_url!r}])")
-    assert loaded == {"sqlalchemy"}
+def test_help_loads_no_heavy_module():
+    assert loaded_by("--help") == set()
+
+
+@pytest.fixture
+def busy_store(db, db_url):
+    """An up-to-date store (no migration to run) with two sweeps: two runs done, one queued."""
+    submit_quick(db, 2)
+    finish_all(db)
+    submit_quick(db, 1, tau=3.0)
+    return db_url
+
+
+@pytest.mark.parametrize("argv", [
+    ["status"], ["status", "--all", "--json"], ["runs"], ["runs", "--sweep", "1"],
+    ["sql", "select count(*) from runs"]], ids=" ".join)
+def test_reading_commands_load_the_database_driver_only(busy_store, argv):
+    """status, runs and sql: SQLAlchemy (the store), no numpy, no numba."""
+    assert loaded_by(*argv, "--db", busy_store) == THE_DRIVER
+
+
+def test_runs_as_csv_loads_no_numba(busy_store):
+    """`runs --csv` writes through the exporter, which knows numpy's scalars (so numpy may
+    come), never the kernels."""
+    assert not loaded_by("runs", "--csv", "--db", busy_store) & {"numba", "llvmlite",
+                                                                  "core.batch"}

@@ -33,7 +33,7 @@ from tests.integration.pool_support import (
     started_run,
     wait_until,
 )
-from tests.support import submit_quick
+from tests.support import new_sqlite_store, submit_quick
 
 #: A stopped pool must be gone within this many seconds of the signal.
 EXIT_BOUND_S = 30.0
@@ -56,10 +56,11 @@ class Case:
     def name(self) -> str:
         return f"{self.signum.name}-{self.target}-{self.state}"
 
-    def start(self, root: Path) -> None:
+    def start(self, root: Path, template: Path) -> None:
         self.dir = root / self.name
         self.dir.mkdir()
         url = f"sqlite:///{self.dir / 'store.db'}"
+        new_sqlite_store(url, template)  # 14 migrations in a row cost the pools ~2 s
         self.db = open_store(url)
         if self.state == "busy":
             submit_quick(self.db, 3, **MEDIUM)  # one batch of 3, computed one by one
@@ -113,9 +114,9 @@ class Case:
         self.db.dispose()
 
 
-def run_side_by_side(cases: list[Case], root: Path) -> None:
+def run_side_by_side(cases: list[Case], root: Path, template: Path) -> None:
     for case in cases:
-        case.start(root)
+        case.start(root, template)
     try:
         pending = list(cases)
         deadline = time.monotonic() + 120
@@ -151,12 +152,12 @@ def run_side_by_side(cases: list[Case], root: Path) -> None:
 SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
 
-def test_a_signal_to_the_pool_or_its_group_stops_it_idle_or_busy(tmp_path):
+def test_a_signal_to_the_pool_or_its_group_stops_it_idle_or_busy(tmp_path, sqlite_template):
     cases = [Case(sig, target, state) for target in ("pool", "group") for sig in SIGNALS
              for state in ("idle", "busy")]
     # the second signal: Ctrl-C twice at the pool, systemctl's SIGTERM twice at the group
     cases += [Case(signal.SIGINT, "pool", "twice"), Case(signal.SIGTERM, "group", "twice")]
-    run_side_by_side(cases, tmp_path)
+    run_side_by_side(cases, tmp_path, sqlite_template)
 
 
 def test_signals_to_one_worker(tmp_path, store, store_url):

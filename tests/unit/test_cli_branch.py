@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from slopetui.cli import main
 from slopetui.queue import branch_jobs
 from slopetui.store import branch_rows
@@ -38,6 +40,8 @@ def test_submit_queues_and_branch_shows_it_queued_then_done(db, db_url, capsys):
     assert "6 points" in text and "subcritical" in text and "end: 6 points computed" in text
 
 
+# computes the continuation twice (~0.6 s): out of the fast loop, as the CLI's slowest test
+@pytest.mark.slow
 def test_the_foreground_and_the_stored_branch_print_the_same_points(db, db_url, capsys):
     assert main([*SUBMIT[:-1], "--json"]) == 0
     here = json.loads(capsys.readouterr().out)["branch"]

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from slopetui.cli import main
 from slopetui.store import hysteresis_rows
 from tests.unit.test_hysteresis_jobs import _compute
@@ -37,6 +39,8 @@ def test_submit_queues_and_show_prints_it_queued_then_done(db, db_url, capsys):
     assert "m_y amplitude" in text and "up 4" in text and "down 4" in text
 
 
+# computes the sweep twice (~0.6 s): out of the fast loop, as the CLI's slowest test
+@pytest.mark.slow
 def test_the_foreground_and_the_stored_sweep_print_the_same_points(db, db_url, capsys):
     assert main([*SWEEP, "--json"]) == 0
     here = json.loads(capsys.readouterr().out)

@@ -13,7 +13,7 @@ from rich.text import Text
 from textual import events, on, work
 from textual.app import ComposeResult
 from textual.message import Message
-from textual.widgets import DataTable, Footer, Header, Static
+from textual.widgets import DataTable, Header, Static
 
 from slopetui.display_text import terminal_safe
 from slopetui.plots.branch_plot import render_branch
@@ -26,6 +26,7 @@ from slopetui.sweeps.hysteresis_runs import listing as hysteresis_listing
 from slopetui.tui.messages import StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.widgets.plot_view import PlotView, Renderer
+from slopetui.tui.widgets.steady_footer import SteadyFooter
 
 #: The bifurcations column is cut to this many characters, so the table fits 80 columns.
 FOUND_WIDTH = 24
@@ -203,11 +204,10 @@ class BranchesScreen(SlopeScreen[None]):
         yield sweeps
         yield Static("Opening the store…", id="branch-detail")
         yield PlotView(id="branch-plot")
-        yield Footer()
+        yield SteadyFooter()
 
     def on_mount(self) -> None:
-        self.set_interval(self.app.refresh_s, self.refresh_data)
-        self.refresh_data()
+        self.refresh_while_shown()
         self.query_one("#branch-table").focus()
 
     def refresh_data(self) -> None:

@@ -16,7 +16,7 @@ from textual import work
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.message import Message
-from textual.widgets import Footer, Header, Static, TabbedContent, TabPane
+from textual.widgets import Header, Static, TabbedContent, TabPane
 from textual.worker import get_current_worker
 
 from slopetui.plots.compare_plots import Overlay, render_compare_phase, render_compare_time
@@ -25,6 +25,7 @@ from slopetui.sweeps.run_labels import run_labels
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.screens.run_detail import cause_of
 from slopetui.tui.widgets.plot_view import PlotView
+from slopetui.tui.widgets.steady_footer import SteadyFooter
 
 TAB_TIME, TAB_PHASE = "compare-time", "compare-phase"
 
@@ -67,7 +68,7 @@ class CompareScreen(SlopeScreen[None]):
                 yield PlotView(id="compare-plot-time")
             with TabPane("Phase portraits", id=TAB_PHASE):
                 yield PlotView(id="compare-plot-phase")
-        yield Footer()
+        yield SteadyFooter()
 
     def on_mount(self) -> None:
         self.sub_title = "compare runs"

@@ -29,7 +29,6 @@ from textual.message import Message
 from textual.widgets import (
     Button,
     Checkbox,
-    Footer,
     Header,
     Input,
     Label,
@@ -44,6 +43,7 @@ from slopetui.sweeps.presets import BY_KEY, PRESETS
 from slopetui.sweeps.spec import CONFIRM_ABOVE_RUNS, SpecError, SweepSpec, parse_spec
 from slopetui.sweeps.submit import submit
 from slopetui.tui.screens.base import SlopeScreen
+from slopetui.tui.widgets.steady_footer import SteadyFooter
 
 if TYPE_CHECKING:
     from slopetui.store.database import Database
@@ -193,7 +193,7 @@ class NewSweepScreen(SlopeScreen[int | None]):
             with Horizontal(id="form-buttons"):
                 yield Button("Submit (ctrl+s)", variant="primary", id="submit")
                 yield Button("Cancel (esc)", id="cancel")
-        yield Footer()
+        yield SteadyFooter()
 
     def on_mount(self) -> None:
         self.count_workers()

@@ -11,7 +11,7 @@ from textual import work
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.message import Message
-from textual.widgets import DataTable, Footer, Header, Static
+from textual.widgets import DataTable, Header, Static
 
 from slopetui.display_text import terminal_safe
 from slopetui.sweeps.control import EXPLAINED
@@ -24,6 +24,7 @@ from slopetui.sweeps.progress import (
 from slopetui.tui.messages import StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.screens.confirm import ask_then_control
+from slopetui.tui.widgets.steady_footer import SteadyFooter
 
 
 class QueueScreen(SlopeScreen[None]):
@@ -59,11 +60,10 @@ class QueueScreen(SlopeScreen[None]):
         sweeps.add_columns("id", "status", "queued", "running", "done", "failed", "cancelled",
                            "name")
         yield sweeps
-        yield Footer()
+        yield SteadyFooter()
 
     def on_mount(self) -> None:
-        self.set_interval(self.app.refresh_s, self.refresh_data)
-        self.refresh_data()
+        self.refresh_while_shown()
         self.query_one("#queue-table").focus()
 
     def refresh_data(self) -> None:

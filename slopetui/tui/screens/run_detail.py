@@ -38,7 +38,7 @@ from textual import work
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.message import Message
-from textual.widgets import Footer, Header, Static, TabbedContent, TabPane
+from textual.widgets import Header, Static, TabbedContent, TabPane
 from textual.worker import get_current_worker
 
 from core import ParameterError, Params, SolverSettings
@@ -62,6 +62,7 @@ from slopetui.sweeps.recompute import (
 )
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.widgets.plot_view import PlotView, Renderer
+from slopetui.tui.widgets.steady_footer import SteadyFooter
 
 __all__ = ["MATCH_TEXT", "RECOMPUTED_NOTE", "RunDetailScreen", "StoredRun", "compare",
            "compute_traces", "recompute_text", "summary_text"]
@@ -260,7 +261,7 @@ class RunDetailScreen(SlopeScreen[None]):
                 yield PlotView(id="plot-spectrum")
             with TabPane("λmax", id=TAB_LYAP):
                 yield PlotView(id="plot-lyap")
-        yield Footer()
+        yield SteadyFooter()
 
     def on_mount(self) -> None:
         self.sub_title = f"run {self.run_id}"

@@ -30,7 +30,6 @@ from textual.containers import Horizontal, Vertical
 from textual.message import Message
 from textual.widgets import (
     DataTable,
-    Footer,
     Header,
     OptionList,
     Static,
@@ -55,6 +54,7 @@ from slopetui.store.catalog import Column, tables_and_columns
 from slopetui.store.read_query import DEFAULT_TIMEOUT_S, ReadQuery
 from slopetui.tui.messages import StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
+from slopetui.tui.widgets.steady_footer import SteadyFooter
 
 if TYPE_CHECKING:
     from slopetui.store.queries import Engine
@@ -181,7 +181,7 @@ class SqlScreen(SlopeScreen[None]):
                 history = OptionList(id="sql-history")
                 history.border_title = "history"
                 yield history
-        yield Footer()
+        yield SteadyFooter()
 
     def on_mount(self) -> None:
         editor = self.query_one("#sql-editor", TextArea)
