@@ -339,7 +339,7 @@ def main() -> int:
           f"over {args.idle:g} s")
     print(f"{'slopetui show (wall, fresh process)':<38} best {min(shows):.2f} s, "
           f"median {statistics.median(shows):.2f} s of {len(shows)}; CPU median "
-          f"{statistics.median(show_cpu):.2f} s")
+          f"{statistics.median(show_cpu):.2f} s, best {min(show_cpu):.2f} s")
     if args.markdown:
         p95, idle = percentile(every, 95), max(idle_sweeps, idle_queue)
         show = statistics.median(shows)
@@ -350,11 +350,17 @@ def main() -> int:
             f"| screen switch, median / p95 / max ({len(every)} switches) | "
             f"{ms(statistics.median(every))} / **{ms(p95)}** / {ms(max(every))} | p95 ≤ 150 ms: "
             f"{'met' if p95 <= 0.150 else '**not met**'} |",
+            "| switch to sweeps / queue / branches, median; p95 | "
+            + " / ".join(ms(statistics.median(lat[k])) for k in ("1", "2", "4")) + "; "
+            + " / ".join(ms(percentile(lat[k], 95)) for k in ("1", "2", "4"))
+            + f" ({' / '.join(str(len(lat[k])) for k in ('1', '2', '4'))} switches) | |",
             f"| application CPU per switch, median | {ms(statistics.median(during))} | |",
             f"| idle application, sweeps / queue screen in view | {100 * idle_sweeps:.1f}% / "
             f"{100 * idle_queue:.1f}% of a core | ≤ 5%: {'met' if idle <= 0.05 else '**not met**'} |",
             f"| `slopetui show`, median of {len(shows)} (best) | **{show:.2f} s** "
-            f"({min(shows):.2f} s) | ≤ 1 s: {'met' if show <= 1.0 else '**not met**'} |"]) + "\n")
+            f"({min(shows):.2f} s) | ≤ 1 s: {'met' if show <= 1.0 else '**not met**'} |",
+            f"| `slopetui show`, CPU median (best) | {statistics.median(show_cpu):.2f} s "
+            f"({min(show_cpu):.2f} s) | |"]) + "\n")
     return 0
 
 

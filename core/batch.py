@@ -25,19 +25,22 @@ The layout is what lets LLVM vectorise the lane loop with plain vector loads and
   SLP one) takes it;
 * with lambda_max the tangent has its own lane loop (Euler), and RK4 writes the delay rows
   in a small loop of their own before the step reads them: one loop that both writes and
-  reads the ring at rows only known at run time is not vectorised.
+  reads the ring at rows only known at run time is not vectorised;
+* the rings start half a row of lanes (256 bytes) away from st modulo 512 bytes, so that a
+  load never waits on a recent store to another row at the same 12 low address bits
+  (skewed_buffers, SKEW).
 
 **Events** (a tangent renormalisation, the end) are handled between chunks of steps: the
 steps up to the next event of the group run as one tight loop (at most MAX_CHUNK steps),
 then the event is handled for every lane. Samples are taken inside the chunk, at the step
 they are due (one comparison per step).
 
-**Blow-up** is marked without a branch in the vector loop; after the chunk such a lane
-leaves, the last active lane moving into its column so that the loop stays dense. RK4 keeps
-the exact step in a row (BAD); Euler, whose loop that row slowed by 15%, marks the lane with
-m_y = NaN, and simulate_batch computes the lane again with the single kernel, which gives
-its exact step and results (runs that blow up are rare: none in the (k, tau) plane; Fig.
-7's low a).
+**Blow-up** is marked without a branch in the vector loop: a lane whose state leaves the
+bounds gets m_y = NaN, which every later step keeps (a row of first bad steps cost 15% of
+Euler's loop). After the chunk such a lane leaves, the last active lane moving
+into its column so that the loop stays dense, and simulate_batch computes it again with
+the single kernel, which gives its exact step and results (runs that blow up are rare:
+none in the (k, tau) plane; Fig. 7's low a).
 
 Each lane performs the same operations in the same order as the single kernel (core.euler,
 core.rk4) on its run. Euler without lambda_max: its window, trace and blow-up step equal the
@@ -65,7 +68,8 @@ from core.model import JIT, coefficients, rhs, rhs_tangent
 from core.params import Params
 from core.recording import blown_up
 from core.rk4 import hermite_mid
-from core.solve import Grid, SolverSettings, Trajectory, make_grid, simulate, trajectory_of
+from core.solve import Grid, SolverSettings, Trajectory, make_grid, moved_into, simulate, trajectory_of
+from core.spare_buffers import sample_array
 
 #: The engine's numba options, with numpy's error model: Python's would test every
 #: division (RK4's dt / 6) for zero, and a possible exception stops LLVM vectorising.
@@ -85,20 +89,14 @@ VECTOR = 8
 MIN_LANES = 4
 #: A lane that blew up stops costing work after at most this many steps.
 MAX_CHUNK = 1024
-#: done (and BAD) of an Euler lane that blew up: simulate_batch computes it again with
-#: the single kernel, which finds the exact step (euler_steps).
+#: done of a lane that blew up: simulate_batch computes it again with the single kernel,
+#: which finds the exact step (euler_steps).
 AGAIN = -1
 
 # Rows of the flat state ``st`` (row r of lane j is st[r * LANES + j]): the five variables,
-# their tangents, the coefficients, delta, the first step of the chunk after which the
-# lane is out of bounds (0 if none), and RK4's delayed m_x at the step's three stage times
-# (t - tau, the half step, t + dt - tau) and their tangents (rk4_steps).
-(M_X, M_Y, S_X, S_Y, U, E_X, E_Y, E_SX, E_SY, E_U, CA, CQ, CF1, CK, CD, DELTA, BAD,
- X_0, X_H, X_1, EX_0, EX_H, EX_1) = range(23)
-N_ROWS = 23
-#: Rows of RK4's scratch ``stages``: (m_y, s_y, u) at the four stages of the step, which the
-#: tangent's stages need (rk4_steps).
-N_STAGE_ROWS = 12
+# their tangents, the coefficients and delta.
+(M_X, M_Y, S_X, S_Y, U, E_X, E_Y, E_SX, E_SY, E_U, CA, CQ, CF1, CK, CD, DELTA) = range(16)
+N_ROWS = 16
 
 
 @njit(**BATCH_JIT)
@@ -124,13 +122,16 @@ def euler_steps(m, n, n_a, width, st, ring, e_ring, pos, size, n_delay, dt, lyap
 
     Ring row pos holds m_x(t - tau) and gets m_x(t), as in core.euler (one row read and
     written in place: a row read and another written cost 25% more); without delay (tau =
-    0) m_x itself is the delayed value. A lane that leaves the bounds is marked by m_y =
-    NaN, which every later step keeps: the cheapest mark (a select; a row of first bad
-    steps, as RK4 keeps, cost 15% more here). Such a lane is computed again by the single
-    kernel (mark_nan_lanes), which gives its exact blow-up step: keeping the rows a chunk
-    reads, to compute the chunk again, cost more than the mark saved (2.4 ns per
-    point-step against 1.1), and a second row to write (a ring a chunk longer, which a
-    chunk never overwrites as it reads) 25%."""
+    0) m_x itself is the delayed value. A lane out of bounds is marked by m_y = NaN, which
+    every later step keeps: the cheapest mark (a select; a row of first bad steps cost
+    15% more). The test is on the state the step starts from, whose values the step loads
+    anyway: 5-7% faster than testing the state it computes (0.97 against 1.02-1.05 times
+    the yardstick's loop, two runs of 12 interleaved rounds), and a lane is still marked
+    once its state leaves the bounds, a step later, or by drop_blown after the chunk's
+    last step. Such a lane is computed again by the single kernel, which gives its exact
+    blow-up step: keeping the rows a chunk reads, to compute the chunk again, cost more
+    than the mark saved (2.4 ns per point-step against 1.1), and a second row to write (a
+    ring a chunk longer, which a chunk never overwrites as it reads) 25%."""
     delayed = n_delay > 0
     for i in range(m):
         if n + i == due:
@@ -153,17 +154,16 @@ def euler_steps(m, n, n_a, width, st, ring, e_ring, pos, size, n_delay, dt, lyap
                 st[E_U * LANES + j] += dt * f[4]
         for j in range(n_a):  # (6a-6e)
             m_x, ring_x = st[M_X * LANES + j], ring[row + uint64(j)]
+            m_y, s_y = st[M_Y * LANES + j], st[S_Y * LANES + j]
             m_x_tau = ring_x if delayed else m_x
             ring[row + uint64(j)] = m_x
-            f = rhs(m_x, st[M_Y * LANES + j], st[S_X * LANES + j], st[S_Y * LANES + j],
-                    st[U * LANES + j], m_x_tau, st[CA * LANES + j], st[CQ * LANES + j],
-                    st[CF1 * LANES + j], st[CK * LANES + j], st[CD * LANES + j])
+            f = rhs(m_x, m_y, st[S_X * LANES + j], s_y, st[U * LANES + j], m_x_tau,
+                    st[CA * LANES + j], st[CQ * LANES + j], st[CF1 * LANES + j],
+                    st[CK * LANES + j], st[CD * LANES + j])
             st[M_X * LANES + j] = m_x + dt * f[0]
-            m_y = st[M_Y * LANES + j] + dt * f[1]
-            s_y = st[S_Y * LANES + j] + dt * f[3]
-            st[M_Y * LANES + j] = np.nan if blown_up(m_y, s_y) else m_y
+            st[M_Y * LANES + j] = np.nan if blown_up(m_y, s_y) else m_y + dt * f[1]
             st[S_X * LANES + j] += dt * f[2]
-            st[S_Y * LANES + j] = s_y
+            st[S_Y * LANES + j] = s_y + dt * f[3]
             st[U * LANES + j] += dt * f[4]
         pos += 1
         if pos == size:
@@ -172,39 +172,31 @@ def euler_steps(m, n, n_a, width, st, ring, e_ring, pos, size, n_delay, dt, lyap
 
 
 @njit(**BATCH_JIT)
-def mark_nan_lanes(n_a, st):
-    """After an Euler chunk: a lane marked out of bounds (m_y = NaN) leaves, to be computed
-    again by the single kernel (BAD = AGAIN)."""
-    for j in range(n_a):
-        if st[M_Y * LANES + j] != st[M_Y * LANES + j]:
-            st[BAD * LANES + j] = AGAIN
-
-
-@njit(**BATCH_JIT)
-def mark_blow_up(i, j, m_y, s_y, st):
-    """RK4: remember the first step i of the chunk after which lane j is out of bounds,
-    without a branch: BAD stays 0 while the lane is in bounds. (Written as a select: the same
-    as ``BAD += (blown & (BAD == 0)) * (i + 1)`` stopped LLVM vectorising RK4's loop.)"""
-    bad = st[BAD * LANES + j]
-    st[BAD * LANES + j] = bad if bad != 0.0 else blown_up(m_y, s_y) * (i + 1.0)
-
-
-@njit(**BATCH_JIT)
-def rk4_steps(m, n, n_a, width, st, stages, ring, e_ring, pos, size, n_delay, dt, lyap, due,
-              smp, win, trace, lane_of):
+def rk4_steps(m, n, n_a, width, st, ring, e_ring, pos, size, n_delay, dt, lyap, due, smp,
+              win, trace, lane_of):
     """m RK4 steps from step n of the n_a active lanes (core.rk4's loop body), with the
     samples due on the way (as euler_steps); returns the ring position after them and the
     next step a sample is due. Ring rows 2 pos, 2 pos + 1 get (m_x, m_y) at step n; the
-    stages read steps n - N and n - N + 1 (slots old and nxt).
+    stages read steps n - N and n - N + 1 (slots old and nxt), or, while t_n + dt - tau <=
+    0, the history slot ``size`` twice (batch: (delta, 0), the tangent's (0, 0)), from which
+    hermite_mid gives delta (0) exactly: the choice is a row, made once a step, not a select
+    of every delayed value (core.rk4 does not interpolate across t = 0 either, where the
+    history's slope 0 meets m_y(0) = delta). A lane out of bounds is marked by m_y = NaN,
+    tested on the state the step starts from, as euler_steps does. These two replaced the
+    selects and a row of first bad steps: 3.97 against 4.33 ns per point-step on the step
+    loop without lambda_max (64 lanes, tau = 10, 5 interleaved rounds).
 
-    Each step is a few loops, so that LLVM vectorises them all: the ring writes; the
-    delayed values, read from the rings into rows of ``st`` (one loop per ring); then the
-    step, which touches ``st`` alone; with lambda_max, the tangent's step in a loop of its
-    own, with the state's stages kept for it in ``stages``. A loop that reads two rings at
-    four run-time offsets each and writes ``st`` needs more run-time overlap checks than
-    LLVM makes, and it stayed scalar (RK4 + lambda_max: 47 ns per point-step); so did the
-    tangent's loop with the stages in rows of ``st`` (too many accesses to one array for
-    LLVM's dependence analysis: 34 ns).
+    Each step is the ring writes (a small loop per ring: one loop that both writes and reads
+    a ring at rows only known at run time is not vectorised), then one lane loop that reads
+    the delayed values from the rings itself and does the step. With lambda_max that loop
+    does stage i of the state, then stage i of the tangent (K_i = J(X_i) (e + c_i dt
+    K_{i-1}) + J_tau e_tau) from X_i's values in registers: the two dependency chains side
+    by side keep the core busy (RK4 + lambda_max, 64 lanes, tau 5-10, kernel only: 9.5-10.4
+    ns per point-step, against 11.1-12.0 with the delayed values and the state's stages
+    passed through rows of ``st`` and a scratch array to a tangent loop of its own, and
+    12.0 with the tangent's four stages after the state's in the same loop, which spills
+    less but chains them one after the other; two lanes per iteration spilled most: 15.9).
+    LLVM checks the rings against ``st`` at run time, once per loop.
     The step is written out in the loop, with small helpers only: LLVM vectorises a loop
     once everything in it is inlined, and it did not inline a whole RK4 lane step as one
     function (numba's inline="always" neither), which left the loop scalar (33 ns)."""
@@ -220,8 +212,8 @@ def rk4_steps(m, n, n_a, width, st, stages, ring, e_ring, pos, size, n_delay, dt
         old = pos + 1 if pos + 1 < size else 0   # step n - N
         nxt = old + 1 if old + 1 < size else 0   # step n - N + 1
         pos = old
-        # t_n + dt - tau <= 0: the delayed values are the history delta (tangent 0)
-        history = n + i < n_delay
+        if n + i < n_delay:  # t_n + dt - tau <= 0: the history slot
+            old = nxt = size
         b_old, b_nxt = uint64(2 * old) * uint64(width), uint64(2 * nxt) * uint64(width)
         # lyap chooses between two loops, not inside one (LLVM does not unswitch a loop this
         # large). Without it the step reads the ring itself (4.9 ns per point-step, 7.3
@@ -229,7 +221,7 @@ def rk4_steps(m, n, n_a, width, st, stages, ring, e_ring, pos, size, n_delay, dt
         if not lyap:
             for j in range(n_a):
                 y, c = state(st, j, M_X), coefs(st, j)
-                x = delayed_values(ring, b_old, b_nxt, width, j, history, st[DELTA * LANES + j], dt)
+                x = delayed_values(ring, b_old, b_nxt, width, j, dt)
                 k1 = field(y, x[0] if delayed else y[0], c)
                 y2 = stage(y, h, k1)
                 k2 = field(y2, x[1] if delayed else y2[0], c)
@@ -237,35 +229,24 @@ def rk4_steps(m, n, n_a, width, st, stages, ring, e_ring, pos, size, n_delay, dt
                 k3 = field(y3, x[1] if delayed else y3[0], c)
                 y4 = stage(y, dt, k3)
                 k4 = field(y4, x[2] if delayed else y4[0], c)
-                y = combine(y, w, k1, k2, k3, k4)
-                put(st, M_X, j, y)
-                mark_blow_up(i, j, y[1], y[3], st)
+                put(st, M_X, j, marked(y, combine(y, w, k1, k2, k3, k4)))
         else:
-            read_ring(n_a, width, b_old, b_nxt, ring, history, st, DELTA, X_0, dt)
-            read_ring(n_a, width, b_old, b_nxt, e_ring, history, st, -1, EX_0, dt)
-            for j in range(n_a):  # the same steps, keeping the stages for the tangent's
-                y, c, x = state(st, j, M_X), coefs(st, j), delayed_x(st, j, X_0)
+            for j in range(n_a):  # the state's and the tangent's stages side by side
+                y, c, e = state(st, j, M_X), coefs(st, j), state(st, j, E_X)
+                x = delayed_values(ring, b_old, b_nxt, width, j, dt)
+                ex = delayed_values(e_ring, b_old, b_nxt, width, j, dt)
                 k1 = field(y, x[0] if delayed else y[0], c)
-                y2 = stage(y, h, k1)
+                t1 = tangent_field(slopes(y), e, ex[0] if delayed else e[0], c)
+                y2, g = stage(y, h, k1), stage(e, h, t1)
                 k2 = field(y2, x[1] if delayed else y2[0], c)
-                y3 = stage(y, h, k2)
+                t2 = tangent_field(slopes(y2), g, ex[1] if delayed else g[0], c)
+                y3, g = stage(y, h, k2), stage(e, h, t2)
                 k3 = field(y3, x[1] if delayed else y3[0], c)
-                y4 = stage(y, dt, k3)
+                t3 = tangent_field(slopes(y3), g, ex[1] if delayed else g[0], c)
+                y4, g = stage(y, dt, k3), stage(e, dt, t3)
                 k4 = field(y4, x[2] if delayed else y4[0], c)
-                keep_stages(stages, j, y, y2, y3, y4)
-                y = combine(y, w, k1, k2, k3, k4)
-                put(st, M_X, j, y)
-                mark_blow_up(i, j, y[1], y[3], st)
-            for j in range(n_a):  # the same stages, differentiated: K_i = J(X_i) (e + c_i dt
-                # K_{i-1}) + J_tau e_tau, with X_i's (m_y, s_y, u) kept in ``stages``
-                c, e, ex = coefs(st, j), state(st, j, E_X), delayed_x(st, j, EX_0)
-                t1 = tangent_field(delayed_x(stages, j, 0), e, ex[0] if delayed else e[0], c)
-                g = stage(e, h, t1)
-                t2 = tangent_field(delayed_x(stages, j, 3), g, ex[1] if delayed else g[0], c)
-                g = stage(e, h, t2)
-                t3 = tangent_field(delayed_x(stages, j, 6), g, ex[1] if delayed else g[0], c)
-                g = stage(e, dt, t3)
-                t4 = tangent_field(delayed_x(stages, j, 9), g, ex[2] if delayed else g[0], c)
+                t4 = tangent_field(slopes(y4), g, ex[2] if delayed else g[0], c)
+                put(st, M_X, j, marked(y, combine(y, w, k1, k2, k3, k4)))
                 put(st, E_X, j, combine(e, w, t1, t2, t3, t4))
     return pos, due
 
@@ -294,26 +275,13 @@ def write_ring(n_a, width, base, st, first, ring):
 
 
 @njit(**BATCH_JIT)
-def delayed_values(ring, b_old, b_nxt, width, j, history, before, dt):
+def delayed_values(ring, b_old, b_nxt, width, j, dt):
     """The delayed value of lane j at the step's three stage times (t - tau, its half step,
-    t + dt - tau), from the ring slots of steps n - N and n - N + 1 (core.rk4: the half step
-    from the Hermite cubic, m_y being the slope of m_x); while t + dt - tau <= 0, the
-    history ``before``. Loads are unconditional, the choice a select."""
+    t + dt - tau), from the ring slots at rows b_old and b_nxt (core.rk4: the half step
+    from the Hermite cubic, m_y being the slope of m_x)."""
     v0, v1 = ring[b_old + uint64(j)], ring[b_nxt + uint64(j)]
     vh = hermite_mid(v0, v1, ring[b_old + uint64(width + j)], ring[b_nxt + uint64(width + j)], dt)
-    return (before if history else v0), (before if history else vh), (before if history else v1)
-
-
-@njit(**BATCH_JIT)
-def read_ring(n_a, width, b_old, b_nxt, ring, history, st, before, first, dt):
-    """Rows first..first + 2 of st = every lane's delayed_values; the history is row
-    ``before`` of st (delta), or 0 (before = -1: the tangent's)."""
-    for j in range(n_a):
-        old = st[before * LANES + j] if before >= 0 else 0.0
-        x = delayed_values(ring, b_old, b_nxt, width, j, history, old, dt)
-        st[first * LANES + j] = x[0]
-        st[(first + 1) * LANES + j] = x[1]
-        st[(first + 2) * LANES + j] = x[2]
+    return v0, vh, v1
 
 
 @njit(**BATCH_JIT)
@@ -322,30 +290,6 @@ def state(st, j, first):
     tangents from row first = E_X."""
     return (st[first * LANES + j], st[(first + 1) * LANES + j], st[(first + 2) * LANES + j],
             st[(first + 3) * LANES + j], st[(first + 4) * LANES + j])
-
-
-@njit(**BATCH_JIT)
-def delayed_x(st, j, first):
-    """Lane j's delayed values at the three stage times (read_ring)."""
-    return st[first * LANES + j], st[(first + 1) * LANES + j], st[(first + 2) * LANES + j]
-
-
-@njit(**BATCH_JIT)
-def keep_stages(stages, j, y1, y2, y3, y4):
-    """Lane j's (m_y, s_y, u) at the four stages, for the tangent's loop."""
-    keep_stage(stages, j, 0, y1)
-    keep_stage(stages, j, 1, y2)
-    keep_stage(stages, j, 2, y3)
-    keep_stage(stages, j, 3, y4)
-
-
-@njit(**BATCH_JIT)
-def keep_stage(stages, j, s, y):
-    """(m_y, s_y, u) of stage s of lane j (keep_stages). (A loop over the tuple of stages
-    stopped LLVM vectorising the step.)"""
-    stages[3 * s * LANES + j] = y[1]
-    stages[(3 * s + 1) * LANES + j] = y[3]
-    stages[(3 * s + 2) * LANES + j] = y[4]
 
 
 @njit(**BATCH_JIT)
@@ -370,6 +314,19 @@ def put(st, first, j, y):
 def stage(y, c, k):
     """An RK4 stage's state y + c k."""
     return (y[0] + c * k[0], y[1] + c * k[1], y[2] + c * k[2], y[3] + c * k[3], y[4] + c * k[4])
+
+
+@njit(**BATCH_JIT)
+def slopes(y):
+    """(m_y, s_y, u) of a stage's state y: what the tangent-linear map depends on."""
+    return y[1], y[3], y[4]
+
+
+@njit(**BATCH_JIT)
+def marked(y0, y):
+    """The step's new state y, with m_y = NaN if the state y0 it started from is out of
+    bounds (rk4_steps)."""
+    return y[0], np.nan if blown_up(y0[1], y0[3]) else y[1], y[2], y[3], y[4]
 
 
 @njit(**BATCH_JIT)
@@ -459,17 +416,17 @@ def sample_lanes(n_a, st, out, i, lane_of):
 
 
 @njit(**BATCH_JIT)
-def drop_blown(start, n_a, width, st, ring, e_ring, lane_of, done):
-    """Lanes out of bounds after the chunk that began at step ``start`` leave (done gets
-    the step count the single kernel returns, or AGAIN); the last active lane takes each
+def drop_blown(n_a, width, st, ring, e_ring, lane_of, done):
+    """After a chunk, the lanes marked out of bounds (m_y = NaN), or whose state after the
+    chunk's last step is (the kernels test the state a step starts from), leave, to be
+    computed again by the single kernel (done = AGAIN); the last active lane takes each
     one's column, ring column included. Returns the number of active lanes."""
     j = 0
     while j < n_a:
-        bad = st[BAD * LANES + j]
-        if bad == 0.0:
+        if not blown_up(st[M_Y * LANES + j], st[S_Y * LANES + j]):  # NaN counts as out
             j += 1
             continue
-        done[lane_of[j]] = AGAIN if bad == AGAIN else start + int(bad)
+        done[lane_of[j]] = AGAIN
         n_a -= 1
         for r in range(N_ROWS):
             st[r * LANES + j] = st[r * LANES + n_a]
@@ -479,6 +436,32 @@ def drop_blown(start, n_a, width, st, ring, e_ring, lane_of, done):
             e_ring[r * width + j] = e_ring[r * width + n_a]
         lane_of[j] = lane_of[n_a]
     return n_a
+
+
+#: Where skewed_buffers starts the rings: 32 doubles (256 bytes) past a multiple of 512
+#: bytes from the start of st, half a row of 64 lanes. A load whose address equals an
+#: older, uncommitted store's in its 12 low bits waits for it ("4K aliasing"), and the
+#: rows of st and of the rings are all 512 bytes apart (64 lanes): with a
+#: ring at st's offset modulo 512, loading lane j of a state row after storing lane j of
+#: a ring row aliases at every step; half a row away, a load meets a store four vectors
+#: earlier or later, which has committed. Measured on the Euler loop (tau = 10, 64 lanes),
+#: ns per point-step by the ring's offset from st modulo 4096: 0.91-1.04 at 256 modulo
+#: 512, 1.01-1.21 at multiples of 512, 1.08-1.23 at 64 to 192 bytes. Separately allocated
+#: buffers fell at a random offset, so the batched kernels' times varied by 15-25% from
+#: one process to the next.
+SKEW = 32
+
+
+@njit(**BATCH_JIT)
+def skewed_buffers(n_ring, n_e_ring):
+    """The state ``st``, the ring and the tangent's ring, zeros, in one allocation, each ring
+    starting SKEW doubles past a multiple of a row of LANES from the start of st (see
+    SKEW)."""
+    n_st = N_ROWS * LANES
+    a = n_st + (SKEW - n_st) % LANES
+    b = a + n_ring + (SKEW - a - n_ring) % LANES
+    buf = np.zeros(b + n_e_ring)
+    return buf[:n_st], buf[a:a + n_ring], buf[b:b + n_e_ring]
 
 
 @njit(**BATCH_JIT)
@@ -492,21 +475,18 @@ def batch(rk4, coef, dt, n_delay, n_steps, sampler, trace_stride, lyap, renorm, 
     renormalisations), filled only if lyap.
     """
     n_lanes = coef.shape[0]
-    st = np.zeros(N_ROWS * LANES)
-    stages = np.zeros(N_STAGE_ROWS * LANES if rk4 and lyap else 0)
-    start_lanes(n_lanes, coef, st)
     lane_of = np.arange(n_lanes)
     width = n_lanes
-    if rk4:  # (m_x, m_y) at steps n - N..n, rows 2 pos and 2 pos + 1
-        size = n_delay + 1
-        ring = np.zeros(2 * size * width)
-    else:    # m_x over (t - tau, t]: the history before t = 0 is delta (core.history)
-        size = max(n_delay, 1)
-        ring = np.empty(size * width)
-        for r in range(size):
-            for j in range(n_lanes):
-                ring[r * width + j] = coef[j, 5]
-    e_ring = np.zeros(ring.shape[0] if lyap else 0)
+    # rk4: (m_x, m_y) at steps n - N..n, rows 2 pos and 2 pos + 1, and the history slot
+    # ``size`` after them (rk4_steps); Euler: m_x over (t - tau, t], the history before
+    # t = 0 being delta (core.history)
+    size = n_delay + 1 if rk4 else max(n_delay, 1)
+    n_ring = 2 * (size + 1) * width if rk4 else size * width
+    st, ring, e_ring = skewed_buffers(n_ring, n_ring if lyap else 0)
+    start_lanes(n_lanes, coef, st)
+    for r in range(2 * size if rk4 else 0, 2 * size + 1 if rk4 else size, 2 if rk4 else 1):
+        for j in range(n_lanes):  # the history: RK4's slot ``size`` (delta, 0), Euler's ring
+            ring[r * width + j] = coef[j, 5]
     # the ring rows in the tangent's norm: RK4's N + 1 slots (two rows each), Euler's N,
     # none without delay (core.euler's empty history)
     rows = 2 * size if rk4 else n_delay
@@ -535,16 +515,13 @@ def batch(rk4, coef, dt, n_delay, n_steps, sampler, trace_stride, lyap, renorm, 
         end = min(n_steps, n + MAX_CHUNK)
         if lyap:
             end = min(end, r_next)
-        for j in range(n_a):
-            st[BAD * LANES + j] = 0.0
         if rk4:
-            pos, due = rk4_steps(end - n, n, n_a, width, st, stages, ring, e_ring, pos, size,
-                                 n_delay, dt, lyap, due, smp, win, trace, lane_of)
+            pos, due = rk4_steps(end - n, n, n_a, width, st, ring, e_ring, pos, size, n_delay,
+                                 dt, lyap, due, smp, win, trace, lane_of)
         else:
             pos, due = euler_steps(end - n, n, n_a, width, st, ring, e_ring, pos, size,
                                    n_delay, dt, lyap, due, smp, win, trace, lane_of)
-            mark_nan_lanes(n_a, st)
-        n_a = drop_blown(n, n_a, width, st, ring, e_ring, lane_of, done)
+        n_a = drop_blown(n_a, width, st, ring, e_ring, lane_of, done)
         n = end
 
 
@@ -592,9 +569,10 @@ def _integrate(g: Grid, points: list[Params], s: SolverSettings) -> list[Traject
     n_lanes = len(points)
     # A lane's samples are rows of 5 values: one stream of writes per lane; trajectories get
     # (5, n) views. Every sample up to a lane's end or blow-up is written (trajectory_of
-    # keeps no more), so no NaN fill is needed.
-    win = np.empty((n_lanes, g.n_samples, 5))
-    trace = np.empty((n_lanes, g.n_trace, 5))
+    # keeps no more), so no NaN fill is needed, and the arrays of an earlier call that
+    # nothing refers to any more are written again (core.spare_buffers).
+    win = sample_array((n_lanes, g.n_samples, 5))
+    trace = sample_array((n_lanes, g.n_trace, 5))
     n_logs = g.n_steps // g.renorm_steps if s.lyap else 0
     logs = np.zeros((n_lanes, n_logs))
     done = np.zeros(n_lanes, dtype=np.int64)
@@ -604,7 +582,12 @@ def _integrate(g: Grid, points: list[Params], s: SolverSettings) -> list[Traject
           g.n_steps, sampler, g.trace_stride, s.lyap, g.renorm_steps, win, trace, logs, done)
     runtime = time.perf_counter() - t0
     share = np.maximum(done, 0) / max(1, int(np.maximum(done, 0).sum()))
-    return [simulate(p, s) if done[j] == AGAIN else  # blew up: the exact step (euler_steps)
+    # A lane that blew up is computed again by the single kernel for its exact step
+    # (euler_steps), and its run copied into the lane's columns, which no one else holds:
+    # the batch's arrays stay alive as long as any lane's views, so a run kept in arrays of
+    # its own would hold that lane's samples twice (one lane's at a time, here).
+    return [moved_into(simulate(p, s), (win[j].T, trace[j].T, logs[j, :n_logs]))
+            if done[j] == AGAIN else
             trajectory_of(p, s, g, int(done[j]), win[j].T, trace[j].T, logs[j, :n_logs],
                           runtime * share[j] * n_lanes / n_real)
             for j, p in enumerate(points[:n_real])]

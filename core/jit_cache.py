@@ -13,16 +13,25 @@ writing into one numba cache at start corrupts it, numba#4807, #10128), in which
 temporary folder ($TMPDIR, default /tmp), which is each node's own.
 
 A user-set NUMBA_CACHE_DIR is respected as is.
+
+The warm-up's marker (``warmed.json`` in that folder, ``mark_warm`` and ``warmed``) says
+that a warm-up left every kernel it runs compiled there, and what numba decides a load
+on: while it still matches, a pool may skip its own serial warm-up and let its workers
+load the kernels at once (slopetui.queue.warm_up).
 """
 
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import stat
+import sys
 import tempfile
 from functools import lru_cache
+from importlib import metadata
 from pathlib import Path
+from typing import Any
 
 from core.mounts import network_filesystem
 
@@ -30,6 +39,8 @@ CORE_DIR = Path(__file__).resolve().parent
 #: A folder for the kernel cache chosen by the user or a job script (e.g. the Slurm
 #: script of `slopetui cluster slurm` names the node's scratch space).
 KERNEL_CACHE_ENV = "SLOPETUI_KERNEL_CACHE"
+#: The warm-up's marker, in kernel_folder() (see the module docstring).
+WARM_MARKER = "warmed.json"
 
 
 def source_digest() -> str:
@@ -82,8 +93,69 @@ def configure() -> None:
     numba.config.CACHE_DIR = str(cache_dir())
 
 
+def kernel_folder() -> Path:
+    """The folder numba caches the kernels in: NUMBA_CACHE_DIR if the user set it, else
+    cache_dir() (configure())."""
+    return Path(os.environ.get("NUMBA_CACHE_DIR") or cache_dir())
+
+
 def compiled(module: str) -> bool:
     """Whether numba's cache holds a compiled kernel of ``core.<module>`` (an index file
     ``<module>.<function>-<line>.py<version>.nbi``): if not, the next call compiles it."""
-    folder = Path(os.environ.get("NUMBA_CACHE_DIR") or cache_dir())
-    return any(folder.rglob(f"{module}.*.nbi"))
+    return any(kernel_folder().rglob(f"{module}.*.nbi"))
+
+
+def _cache_state(folder: Path) -> dict[str, Any]:
+    """What a load from ``folder`` depends on. numba loads a kernel when the index file of
+    its function holds an entry under the same key, else compiles it and rewrites the
+    index: the index's numba version, the function's source (numba 0.68 hashes the file;
+    older versions used its mtime and size: both are here), its bytecode (the Python
+    version) and the machine (target triple, CPU name and features, which
+    NUMBA_CPU_NAME and NUMBA_CPU_FEATURES override). The folder's every file with its
+    size and mtime: any compilation since (a new signature, another checkout of the
+    engine, whose kernels numba files in a folder named after the checkout's path)
+    changes it."""
+    import llvmlite.binding as llvm  # ~0.1 s; what numba's codegen asks for its key
+
+    files = {}
+    for path in sorted(folder.rglob("*")):
+        if path.is_file() and path.name != WARM_MARKER and not path.name.endswith(".tmp"):
+            info = path.stat()
+            files[str(path.relative_to(folder))] = [info.st_size, info.st_mtime_ns]
+    sources = {}
+    for path in sorted(CORE_DIR.glob("*.py")):
+        info = path.stat()
+        sources[path.name] = [info.st_size, info.st_mtime_ns]
+    return {
+        "core": str(CORE_DIR), "sources": sources,
+        "python": sys.version, "platform": sys.platform,
+        "numba": metadata.version("numba"), "llvmlite": metadata.version("llvmlite"),
+        "triple": llvm.get_process_triple(), "cpu": llvm.get_host_cpu_name(),
+        "features": llvm.get_host_cpu_features().flatten(),
+        "cpu_env": [os.environ.get("NUMBA_CPU_NAME"), os.environ.get("NUMBA_CPU_FEATURES")],
+        "files": files,
+    }
+
+
+def mark_warm() -> None:
+    """Record, after a warm-up that ran every kernel it covers (serially: nobody compiled
+    beside it), that kernel_folder() holds them all and what their loading depends on.
+    Written whole or not at all (a temporary file renamed over the marker)."""
+    folder = kernel_folder()
+    state = _cache_state(folder)
+    if not state["files"]:  # nothing cached (numba caching off?): nothing to vouch for
+        return
+    temporary = folder / f"{WARM_MARKER}.{os.getpid()}.tmp"
+    temporary.write_text(json.dumps(state, sort_keys=True))
+    temporary.replace(folder / WARM_MARKER)
+
+
+def warmed() -> bool:
+    """Whether the marker of a warm-up is there and still describes kernel_folder() and
+    this interpreter, numba and machine (mark_warm): a warm-up would then only load."""
+    folder = kernel_folder()
+    try:
+        recorded = json.loads((folder / WARM_MARKER).read_text())
+    except (OSError, ValueError):
+        return False
+    return bool(recorded == _cache_state(folder))

@@ -30,10 +30,10 @@ import numpy as np
 from core.classify import N_SUBWINDOWS
 from core.history import CarriedState, check_history
 from core.history import start as history_start
+from core.methods import METHODS
 from core.params import ParameterError, Params, check_positive
 
 Method = Literal["euler", "rk4", "stiff"]
-METHODS: tuple[str, ...] = ("euler", "rk4", "stiff")
 
 #: Default step per method. Euler: the paper's dt = 1e-3. RK4: 1e-2, which costs about
 #: as much per time unit as Euler at 1e-3 and is ~1e6 times more accurate. Stiff: 1e-3,
@@ -387,6 +387,13 @@ class Trajectory:
     final: CarriedState | None = field(default=None, repr=False)
     #: The carried state the run started from, if its history is one.
     carried: CarriedState | None = field(default=None, repr=False)
+    #: The arrays the kernel wrote, whole: the window samples (5, Grid.n_samples: the
+    #: middle window's, then the end window's), the trace (5, Grid.n_trace) and the
+    #: lambda_max logs, of which the arrays above are views. A run of the same grid can be
+    #: copied into them (moved_into): core.point.run_batch writes a lane's stiff
+    #: re-integration there, so that a batch holds each lane's samples once.
+    buffers: tuple[np.ndarray, np.ndarray, np.ndarray] | None = field(default=None, repr=False,
+                                                                     compare=False)
 
     @property
     def blew_up(self) -> bool:
@@ -430,12 +437,57 @@ def simulate(p: Params, s: SolverSettings | None = None,
 def trajectory_of(p: Params, s: SolverSettings, g: Grid, done: int, win: np.ndarray,
                   trace: np.ndarray, logs: np.ndarray, runtime: float) -> Trajectory:
     """Wrap a kernel's outputs (done steps, samplers, tangent logs) as a Trajectory."""
-    win_n = g.sample_steps()
     trace_n = g.trace_stride * np.arange(g.n_trace)
     # after a blow-up at step `done`, only the states before it were sampled
     last = g.n_steps if done == g.n_steps else done - 1
-    n_w, n_t = int(np.count_nonzero(win_n <= last)), int(np.count_nonzero(trace_n <= last))
+    n_w = (_sampled(g.mid_start, g.win_stride, g.n_mid, last)
+           + _sampled(g.win_start, g.win_stride, g.n_win, last))
+    n_t = int(np.count_nonzero(trace_n <= last))
     n_r = done // g.renorm_steps if s.lyap else 0
     n_m = min(n_w, g.n_mid)  # the middle window's samples, then the end window's
-    return Trajectory(p, s, g, done, win_n[n_m:n_w] * g.dt, win[:, n_m:n_w], trace_n[:n_t] * g.dt,
-                      trace[:, :n_t], logs[:n_r], runtime, win_n[:n_m] * g.dt, win[:, :n_m])
+    times = _sample_times(g)
+    return Trajectory(p, s, g, done, times[n_m:n_w], win[:, n_m:n_w], trace_n[:n_t] * g.dt,
+                      trace[:, :n_t], logs[:n_r], runtime, times[:n_m], win[:, :n_m],
+                      buffers=(win, trace, logs))
+
+
+def _sampled(start: int, stride: int, n: int, last: int) -> int:
+    """How many of the n steps start, start + stride, ... are at most ``last``."""
+    return 0 if last < start else min(n, (last - start) // stride + 1)
+
+
+def _sample_times(g: Grid) -> np.ndarray:
+    """The times of the window sampler's columns (Grid.sample_steps() * dt, the same
+    floats), built in one array of floats a part at a time: its step indices whole, as
+    integers beside the floats, were 2 more arrays of the window's length at once (16 MiB
+    each at window 1e5, dt 1e-3), in every lane of a batch."""
+    times = np.empty(g.n_samples)
+    for first, start, n in ((0, g.mid_start, g.n_mid), (g.n_mid, g.win_start, g.n_win)):
+        steps = np.arange(n, dtype=np.int64)
+        steps *= g.win_stride
+        steps += start
+        times[first:first + n] = steps  # exact: steps < 2^53 (MAX_STEPS)
+    times *= g.dt
+    return times
+
+
+def moved_into(tr: Trajectory, buffers: tuple[np.ndarray, np.ndarray, np.ndarray]) -> Trajectory:
+    """``tr`` with its samples and logs copied into ``buffers`` (another run's
+    Trajectory.buffers, on the same grid), which it then views instead of its own arrays:
+    the same values (and tr's times), and tr's own sample arrays are freed once tr is
+    dropped. What ``buffers`` held is overwritten, so the run they came from must be held
+    nowhere else. ``tr`` itself when the buffers are its own or of another shape (another
+    grid)."""
+    win, trace, logs = buffers
+    g = tr.grid
+    if np.may_share_memory(win, tr.window) or win.shape != (5, g.n_samples) \
+            or trace.shape != (5, g.n_trace) or len(logs) < len(tr.lyap_logs):
+        return tr
+    n_m, n_w, n_t, n_r = (tr.mid.shape[1], tr.mid.shape[1] + tr.window.shape[1],
+                          tr.trace.shape[1], len(tr.lyap_logs))
+    win[:, :n_m] = tr.mid
+    win[:, n_m:n_w] = tr.window
+    trace[:, :n_t] = tr.trace
+    logs[:n_r] = tr.lyap_logs
+    return replace(tr, window=win[:, n_m:n_w], mid=win[:, :n_m], trace=trace[:, :n_t],
+                   lyap_logs=logs[:n_r], buffers=buffers)

@@ -34,6 +34,8 @@ TESTS = Path(__file__).resolve().parent
 #: Real processes (integration/) and Textual Pilot scenarios (tui/) take seconds a test:
 #: all of them are `slow`, out of the fast loop `pytest -m "not slow"` (pyproject.toml).
 SLOW_TIERS = {"integration", "tui"}
+#: Several processes (`pytest -n 2`): the slow tiers in one group, the unit tier beside it.
+pytest_plugins = ["tests.xdist_plan"]
 
 
 #: The PostgreSQL server the `postgresql` case runs on (a role that may create databases).
@@ -64,11 +66,15 @@ def pytest_ignore_collect(collection_path: Path, config: pytest.Config) -> bool 
     return None
 
 
+@pytest.hookimpl(tryfirst=True)  # before xdist's worker reads the groups into the test ids
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    from tests.xdist_plan import SERIAL_GROUP  # here: pytest imports its plugins itself
+
     for item in items:
         path = item.path.resolve()
         if path.is_relative_to(TESTS) and path.relative_to(TESTS).parts[0] in SLOW_TIERS:
             item.add_marker(pytest.mark.slow)
+            item.add_marker(pytest.mark.xdist_group(SERIAL_GROUP))  # one process, in turn
 
 
 @pytest.fixture(scope="session")

@@ -2,7 +2,8 @@
 
 Light on purpose: every subcommand module imports this one to build the parser, and
 ``slopetui --help`` builds them all. Anything heavy (SQLAlchemy, numba, numpy's engine,
-Textual) is imported inside the handlers that use it.
+Textual) is imported inside the handlers that use it; the names a parser shows come from
+homes without numpy (``core.methods.METHODS``, ``slopetui.sweeps.sizes.CONFIRM_ABOVE_RUNS``).
 """
 
 from __future__ import annotations
@@ -20,12 +21,6 @@ if TYPE_CHECKING:
 #: number cannot match anything, and the drivers refuse it with an OverflowError.
 MAX_SQL_INT = 2**63 - 1
 
-#: Two of the engine's and the sweeps' constants that the parsers show (choices, help),
-#: spelled here because their own modules (core.solve, slopetui.sweeps.spec) load numpy,
-#: ~0.1 s that `slopetui --help`, `status`, `runs` and `sql` would pay for nothing.
-#: tests/unit/test_cli.py checks that they agree with the originals.
-METHODS: tuple[str, ...] = ("euler", "rk4", "stiff")  # core.solve.METHODS
-CONFIRM_ABOVE_RUNS = 2500  # slopetui.sweeps.spec.CONFIRM_ABOVE_RUNS
 
 
 def say_queued(as_json: bool, what: str, job_id: int, show: str) -> int:

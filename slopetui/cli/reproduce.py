@@ -6,8 +6,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from slopetui.cli.options import CONFIRM_ABOVE_RUNS, UsageError, add_db_option, open_db
+from slopetui.cli.options import UsageError, add_db_option, open_db
 from slopetui.sweeps.presets import BY_KEY, PRESETS
+from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
 
 #: The report's default: every phase diagram at 20 x 20 at the paper's t_end, about
 #: 5300 runs, ~40 min on 2 cores (see docs/reproduction.md for the measured time).

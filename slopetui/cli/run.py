@@ -10,9 +10,9 @@ import sys
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
+from core.methods import METHODS
 from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
 from core.result_fields import JSON_KEYS as RECORD_JSON_KEYS
-from slopetui.cli.options import METHODS
 
 if TYPE_CHECKING:  # core.point loads numba and the kernels: only `run` itself needs them;
     # core.solve and core.lyapunov_bias load numpy (~0.1 s), which no parser needs

@@ -8,9 +8,11 @@ import sys
 from collections.abc import Mapping
 from typing import Any
 
+from core.methods import METHODS
 from core.params import PARAM_NAMES
-from slopetui.cli.options import CONFIRM_ABOVE_RUNS, METHODS, add_db_option, open_db
+from slopetui.cli.options import add_db_option, open_db
 from slopetui.cli.run import PARAM_HELP, accept_negative_numbers
+from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -15,13 +15,13 @@ MAX_ATTEMPTS = 3
 #: runs per tau. Memory bounds it, not this: MEMORY_MIB cuts a batch of long windows.
 DEFAULT_BATCH = 64
 #: A worker's memory for the runs of one batch (MiB): the batch is cut to the runs whose
-#: windows, traces, delay rings and lambda_max logs (core.solve.memory_of) fit in it,
-#: counted at batch_memory.OVERHEAD. The paper's run (Euler, dt 1e-3, t_end 1e5, window
-#: 1000, tau 10) needs 9.9 MB, so a batch of 64 counts 788 MiB and is kept whole (83 such
-#: runs fit; at tau 100, 11.4 MB a run, 72); at window 1e4 a run needs 96 MB and a batch
-#: is cut to 8 (issue 17 measured 185 MiB + ~48 MB a run at window 1e4, ~15 GiB for 32
-#: runs at 1e5). 1 GiB and the process's ~0.2 GiB let a 2-core machine with 24 GiB run
-#: its two workers with room left.
+#: windows, traces, delay rings and lambda_max logs (core.solve.memory_of) fit in it, as
+#: batch_memory.charge counts them. The paper's run (Euler, dt 1e-3, t_end 1e5, window
+#: 1000, tau 10) lays out 9.5 MiB, so a batch of 64 is charged 649 MiB and kept whole (96
+#: such runs fit; at tau 100, 10.8 MiB a run, 88); at window 1e4 a run lays out 92 MiB and
+#: a batch is cut to 8 (benchmarks/bench_memory.py: the added RSS stays within 0.96 of the
+#: charge). 1 GiB and the process's ~0.2 GiB let a 2-core machine with 24 GiB run its two
+#: workers with room left.
 MEMORY_MIB = 1024
 #: The niceness a worker process takes (nice(2), relative to the pool's): workers keep both
 #: cores busy for hours, and the researcher's terminal (the app, `slopetui show`, an

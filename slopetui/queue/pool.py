@@ -2,7 +2,8 @@
 
 The pool migrates the database and warms numba's kernel cache once, serially, before it
 spawns anyone (several processes compiling into one cache at once can corrupt it,
-numba#10128). It restarts a worker that dies and hands the dead worker's runs back to the
+numba#10128), unless a previous warm-up's marker says the cache holds every kernel
+(slopetui.queue.warm_up.pool_warm_up). It restarts a worker that dies and hands the dead worker's runs back to the
 queue at once.
 
 Signals. SIGINT, SIGTERM or SIGHUP: the workers finish the runs in their kernels and exit;
@@ -40,7 +41,7 @@ from multiprocessing.process import BaseProcess
 from slopetui.queue import jobs
 from slopetui.queue.local_pool import default_jobs, remove_pool_file, write_pool_file
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, block_stop_signals
-from slopetui.queue.warm_up import watched_warm_up
+from slopetui.queue.warm_up import pool_warm_up
 from slopetui.queue.worker_process import (
     WorkerOptions,
     configure_logging,
@@ -221,7 +222,7 @@ class Pool:
             log.info("pool of %d workers on %s (pid %d)%s", self.n_workers, db.display_url,
                      os.getpid(), f", at most {self.opts.connections} connections at once"
                      if slots is not None else "")
-            if watched_warm_up(lambda: signals.poll() > 0) is None:
+            if pool_warm_up(lambda: signals.poll() > 0) is None:
                 log.info("%s during the warm-up: pool stopped before its workers started",
                          signals.name())
                 return 0

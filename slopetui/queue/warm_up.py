@@ -3,7 +3,12 @@ worker starts, in a thread the caller can abandon on a stop.
 
 The pool warms up once, serially, before it spawns anyone: several processes compiling
 into one cache at once can corrupt it (numba#10128). Each worker warms up again, which
-then only loads what the pool compiled.
+then only loads what the pool compiled. Once its warm-up is done, the pool marks the cache
+complete (core.jit_cache.mark_warm); a later pool that finds the marker still true
+(core.jit_cache.warmed: the same files, interpreter, numba and CPU) skips its own warm-up,
+which would only have loaded, and its workers load the kernels at once. A cache that
+changed since (an engine edit, a kernel compiled for a new signature) or never was
+marked gets the serial warm-up, as before.
 """
 
 from __future__ import annotations
@@ -12,6 +17,8 @@ import logging
 import threading
 import time
 from collections.abc import Callable
+
+from core import jit_cache
 
 log = logging.getLogger("slopetui.worker")
 
@@ -69,3 +76,18 @@ def watched_warm_up(stopped: Callable[[], bool], announce: bool = True) -> float
     return took
 
 
+def pool_warm_up(stopped: Callable[[], bool]) -> float | None:
+    """The pool's warm-up, before it spawns its workers: none if a previous one's marker is
+    still true (core.jit_cache.warmed; the workers' warm-ups then only load), else
+    watched_warm_up(stopped), after which the marker is written. Returns the seconds it
+    took (the check's when skipped), or None if ``stopped()`` came first."""
+    t0 = time.monotonic()
+    if jit_cache.warmed():
+        checked = time.monotonic() - t0
+        log.info("numba's cache holds every kernel (checked in %.2f s): the workers load "
+                 "them", checked)
+        return checked
+    took = watched_warm_up(stopped)
+    if took is not None:
+        jit_cache.mark_warm()
+    return took

@@ -1,6 +1,8 @@
 """The read behind a sweep's diagram: the whole sweep, or only what changed since an
 earlier read (``slopetui.sweeps.live_diagram`` keeps a diagram up to date with the
-latter, ``slopetui.sweeps.diagram`` reads whole ones).
+latter, ``slopetui.sweeps.diagram`` reads whole ones). What it returns, and which columns,
+is ``diagram_rows``'s, shared with ``sqlite_diagram_reads``, the same whole read of a
+SQLite file without SQLAlchemy (``slopetui show``).
 
 *What changed* is found by two keys. New runs: an id above the highest one read before (a
 sweep's runs, an adaptive sweep's next level and its inferred runs, are inserted under the
@@ -21,59 +23,27 @@ takes one per statement, so the session asks for REPEATABLE READ there.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable
 from datetime import datetime
-from typing import Any, Generic, TypeVar
+from typing import Any
 
-from sqlalchemy import Row, func, select
+from sqlalchemy import func, select
 from sqlalchemy.sql.elements import ColumnElement
 
 from slopetui.store.database import Database
+from slopetui.store.diagram_rows import DiagramRead, S, run_columns
 from slopetui.store.models import Run, Sweep
-
-S = TypeVar("S")
-#: A run as the read returns it: its columns by name (``row.x``, ``row._mapping["x"]``).
-DiagramRow = Row[Any]
-
-#: The columns every drawing of a run needs, by the names the rows carry (x and y are the
-#: sweep's parameters; a 1-D sweep's y is its iy), and finished_at, which tells a copy
-#: whether the row changed.
-DRAWN = ("id", "ix", "iy", "status", "regime", "inferred", "ic", "delta", "history",
-         "finished_at")
-#: The rest of a run's diagram fields: the bifurcation diagram's peaks and drift, the
-#: figures' and the report's measurements.
-MEASURED = ("peaks", "drift", "error", "detail", "period_count", "lambda_max", "lambda_err",
-            "attractor", "flags", "maxima_per_period", "settled")
 
 
 def diagram_columns(x_param: str, y_param: str | None,
                     drawn_only: bool = False) -> list[ColumnElement[Any]]:
-    """The run columns of a diagram of the plane (x_param, y_param): every one, or with
-    ``drawn_only`` those a drawing of a phase diagram needs."""
-    names = DRAWN if drawn_only else DRAWN + MEASURED
+    """The run columns of a diagram of the plane (x_param, y_param), named as
+    ``diagram_rows.run_columns`` says (x and y first), and last finished_at: with the
+    status, what tells a copy (``sweeps.live_diagram``) that a run it holds changed."""
     return [getattr(Run, x_param).label("x"),
             (getattr(Run, y_param) if y_param else Run.iy).label("y"),
-            *(getattr(Run, name) for name in names)]
-
-
-@dataclass(frozen=True)
-class DiagramRead(Generic[S]):
-    """A sweep and the runs a read found, as of ``now`` (database time).
-
-    rows     : the runs (all, or those changed: the module docstring), in grid order
-               (ic, iy, ix), with the columns of ``diagram_columns`` by name
-    statuses : the sweep's runs per status (every run, not only ``rows``)
-    max_id   : the sweep's highest run id, 0 if it has none
-    """
-
-    sweep_id: int
-    name: str
-    spec: S
-    now: datetime
-    rows: Sequence[DiagramRow]
-    statuses: dict[str, int]
-    max_id: int
+            *(getattr(Run, name) for name in run_columns(y_param, drawn_only)),
+            Run.finished_at]
 
 
 def read_diagram(db: Database, sweep_id: int,
@@ -83,7 +53,8 @@ def read_diagram(db: Database, sweep_id: int,
     """The sweep and, in one snapshot, its runs with an id above ``after_id`` or finished
     at or after ``finished_since`` (the defaults: every run); None if there is no such
     sweep. ``read_spec`` turns the stored spec into the caller's spec and the names of its
-    x and y parameters (y None for a 1-D sweep): the columns read depend on them."""
+    x and y parameters (y None for a 1-D sweep): the columns read depend on them, and on
+    ``drawn_only`` (``diagram_rows.run_columns``)."""
     with db.sessions() as s:
         if not db.is_sqlite:  # one snapshot for every statement (module docstring)
             s.connection(execution_options={"isolation_level": "REPEATABLE READ"})
@@ -95,12 +66,13 @@ def read_diagram(db: Database, sweep_id: int,
         changed = Run.id > after_id
         if finished_since is not None:
             changed = changed | (Run.finished_at >= finished_since)
-        rows = s.connection().execute(
+        result = s.connection().execute(
             select(*diagram_columns(x_param, y_param, drawn_only))
             .where(Run.sweep_id == sweep_id, changed)
-            .order_by(Run.ic, Run.iy, Run.ix)).all()
+            .order_by(Run.ic, Run.iy, Run.ix))
+        columns, rows = tuple(result.keys()), result.all()
         statuses = {status: n for status, n in s.execute(
             select(Run.status, func.count()).where(Run.sweep_id == sweep_id)
             .group_by(Run.status))}
         max_id = s.scalar(select(func.max(Run.id)).where(Run.sweep_id == sweep_id)) or 0
-    return DiagramRead(sweep.id, sweep.name, spec, now, rows, statuses, max_id)
+    return DiagramRead(sweep.id, sweep.name, spec, now, columns, rows, statuses, max_id)

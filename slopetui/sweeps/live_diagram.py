@@ -22,7 +22,8 @@ from datetime import datetime, timedelta
 from typing import Any
 
 from slopetui.store.database import Database
-from slopetui.store.diagram_reads import DiagramRead, read_diagram
+from slopetui.store.diagram_reads import read_diagram
+from slopetui.store.diagram_rows import DiagramRead
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.diagram import RunPoint, SweepDiagram, read_spec, run_points
 from slopetui.sweeps.spec import SweepSpec
@@ -109,10 +110,12 @@ class LiveDiagram:
         self._max_id = max(self._max_id, read.max_id)
         self._since = read.now - OVERLAP
         has_y = read.spec.y is not None
+        status_at, finished_at = read.columns.index("status"), read.columns.index("finished_at")
         changes: list[RunPoint] = []
         inserted = False
-        for row, point in zip(read.rows, run_points(read.rows, has_y), strict=True):
-            stamp = (row.status, row.finished_at)
+        for row, point in zip(read.rows, run_points(read.columns, read.rows, has_y),
+                              strict=True):
+            stamp = (row[status_at], row[finished_at])
             before = self._stamps.get(point.id)
             if before == stamp:
                 continue  # read again within OVERLAP, unchanged
@@ -120,7 +123,7 @@ class LiveDiagram:
                 inserted = True
             else:
                 self._kinds[kind(before[0])] -= 1
-            self._kinds[kind(row.status)] += 1
+            self._kinds[kind(row[status_at])] += 1
             self._stamps[point.id] = stamp
             self._runs[point.id] = point
             changes.append(point)

@@ -64,9 +64,6 @@ from slopetui import examples
 from slopetui.display_text import unsafe_characters
 
 SPACINGS = ("linear", "log")
-#: A sweep with more runs than this asks for --yes (a 50 x 50 diagram at the paper's
-#: t_end is ~1 h on 2 cores; beyond that a typo in num should not fill the queue).
-CONFIRM_ABOVE_RUNS = 2500
 #: Hard limit: one sweep is one transaction of inserts.
 MAX_RUNS = 1_000_000
 #: Longest sweep name (characters): it is one line of `status` and of the application.

@@ -27,6 +27,7 @@ from textual.app import App, SystemCommand
 from textual.binding import Binding
 from textual.message import Message
 from textual.screen import Screen
+from textual.widget import AwaitMount
 from textual.widgets import Select
 
 from slopetui.store.database import Database
@@ -116,6 +117,37 @@ class SlopeApp(App[None], inherit_bindings=False):
         self.figure_folder = Path.cwd()
         #: Why the store could not be opened (None: it is open, or being opened).
         self.store_error: str | None = None
+        #: The modes whose screen is built (the default one from the start), and whether
+        #: the switch under way goes to one of them (``switch_mode``).
+        self._built_modes = {self.DEFAULT_MODE}
+        self._switching_to_built = False
+
+    # -- switching modes --
+
+    def switch_mode(self, mode: str) -> AwaitMount:
+        """Textual's switch, without its hold on updates (``delay_update``) when the
+        mode's screen is built already.
+
+        Textual holds every update for 50 ms on a switch, to mask the composing of a new
+        screen. A built screen has nothing to mask, and the hold cost twice: the 50 ms
+        themselves, and while updates are held Textual runs the callbacks meant for after
+        the next refresh at once, so the catch-up of the screen switched to (the garbage
+        collection and the reload of its data, ``SlopeScreen._back_in_view``) ran before
+        the screen was drawn: 20-90 ms after the key, the drawing at 100-400 ms (a trace
+        of 60 switches, 100 x 100 sweep, 2 workers busy). Without the hold the screen is
+        drawn first; benchmarks/bench_tui.py, two runs each at load 3-4: every switch's
+        median 109-119 ms before, 57-64 ms after, p95 219-229 ms before, 117-140 after."""
+        self._switching_to_built = mode in self._built_modes
+        try:
+            switched = super().switch_mode(mode)
+        finally:
+            self._switching_to_built = False
+        self._built_modes.add(mode)
+        return switched
+
+    def delay_update(self, delay: float = 0.05) -> None:
+        if not self._switching_to_built:  # switch_mode says why
+            super().delay_update(delay)
 
     # -- messages from the app's workers --
 

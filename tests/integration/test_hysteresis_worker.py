@@ -13,9 +13,10 @@ from slopetui.queue.hysteresis_jobs import HysteresisSpec
 from slopetui.store import hysteresis_rows
 from tests.integration.pool_support import interrupt_twice_then_finish
 
-#: ~0.1 s a point at tau = 2 with t_settle = 3000: 80 points take several seconds, long
-#: enough to be interrupted twice.
-SPEC = HysteresisSpec(Params(tau=2.0), "k", 8.0, 12.0, 40, 0.01, 3000.0, 100.0)
+#: 0.04-0.1 s a point at tau = 2 with t_settle = 3000; the two interruptions take about
+#: ten points (measured: the worker killed after 6 points were saved, the pool stopped
+#: after 10, 80 points then took 4 s more to finish): 30 points leave twenty to spare.
+SPEC = HysteresisSpec(Params(tau=2.0), "k", 8.0, 12.0, 15, 0.01, 3000.0, 100.0)
 TOTAL = 2 * SPEC.n_points
 
 

@@ -1,12 +1,14 @@
-"""`slopetui --help`, `status`, `runs` and `sql` start without the imports they do not use.
+"""`slopetui --help`, `status`, `runs`, `sql` and `show` start without the imports they do
+not use.
 
 A one-second `slopetui run` took ~5 s of wall time, most of it imports: every subcommand
 module loaded numba, Alembic, SQLAlchemy and the plots at the top. The rule now: a
 subcommand module imports what its parser needs at the top and the rest in its handler
 (slopetui.cli.options); the commands that compute nothing load neither numba nor numpy
-(issue 17, "Start-up": `--help` ≤ 0.5 s, `status` ≤ 1 s; benchmarks/bench_startup.py times
-them). These tests keep it from drifting back: each command runs in a fresh process, which
-then names the heavy modules it loaded.
+(issue 17, "Start-up": `--help` ≤ 0.5 s, `status` ≤ 1 s, `show` of a 100 x 100 sweep
+≤ 1 s; benchmarks/bench_startup.py times them), and `show` reads a SQLite store without
+SQLAlchemy. These tests keep it from drifting back: each command runs in a fresh
+process, which then names the heavy modules it loaded.
 """
 
 from __future__ import annotations
@@ -17,7 +19,11 @@ import sys
 
 import pytest
 
-from tests.support import finish_all, submit_quick
+import migrations
+from slopetui.store.database import Database
+from slopetui.sweeps.spec import parse_spec
+from slopetui.sweeps.submit import submit
+from tests.support import QUICK_SOLVER, finish_all, submit_quick
 
 #: Heavy imports no parser needs: numba and its kernels (~1 s), numpy (~0.1 s: the engine's
 #: core.solve and core.stability, the sweeps' specs), Alembic (~0.2 s), the application
@@ -67,6 +73,34 @@ def busy_store(db, db_url):
 def test_reading_commands_load_the_database_driver_only(busy_store, argv):
     """status, runs and sql: SQLAlchemy (the store), no numpy, no numba."""
     assert loaded_by(*argv, "--db", busy_store) == THE_DRIVER
+
+
+#: What `slopetui show` may load of NEVER_FOR_HELP from a SQLite store at the current
+#: schema: numpy and plotext (the drawing, the Hopf curve), not SQLAlchemy
+#: (slopetui.store.sqlite_diagram_reads: 0.35-0.45 s less), nor numba.
+THE_DRAWING = {"numpy", "plotext"}
+
+
+@pytest.mark.parametrize("sweep", [[], ["1"], ["3"]], ids=["newest", "1-D", "2-D"])
+def test_show_loads_the_drawing_only(busy_store, db, sweep):
+    """`show` of a 1-D and of a 2-D sweep, and of the newest sweep."""
+    submit(db, parse_spec({"x": {"param": "k", "start": 4, "stop": 12, "num": 3},
+                           "y": {"param": "tau", "start": 1, "stop": 3, "num": 2},
+                           "solver": QUICK_SOLVER}))
+    assert loaded_by("show", *sweep, "--width", "80", "--height", "24", "--db",
+                     busy_store) == THE_DRAWING
+
+
+def test_show_of_an_old_store_migrates_it(busy_store, db):
+    """A store at an older schema goes through open_store (SQLAlchemy, Alembic), which
+    migrates it before it is read."""
+    from slopetui.store.migrate import downgrade, revisions
+
+    downgrade(db, revisions()[-2])
+    db.dispose()
+    assert {"sqlalchemy", "alembic"} <= loaded_by("show", "1", "--width", "80", "--height",
+                                                  "24", "--db", busy_store)
+    assert Database(busy_store).opened_revision == migrations.HEAD
 
 
 def test_runs_as_csv_loads_no_numba(busy_store):

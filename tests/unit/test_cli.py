@@ -139,14 +139,3 @@ def test_export_json_of_an_empty_store_names_the_sweep(tmp_path, capsys):
     assert main(["export", "1", "--json", "--db", url]) == 2
     captured = capsys.readouterr()
     assert captured.out == "" and captured.err == "slopetui export: error: SWEEP: no sweep with id 1\n"
-
-
-def test_the_parsers_copies_of_the_engines_constants_agree():
-    """slopetui.cli.options spells two constants the parsers show, so that `--help` loads
-    no numpy (tests/integration/test_startup.py): they must stay the originals."""
-    from core.solve import METHODS
-    from slopetui.cli import options
-    from slopetui.sweeps.spec import CONFIRM_ABOVE_RUNS
-
-    assert options.METHODS == METHODS
-    assert options.CONFIRM_ABOVE_RUNS == CONFIRM_ABOVE_RUNS

@@ -76,7 +76,8 @@ class SlopeScreen(Screen[ResultT]):
             return
         self.hidden = False
         # once the screen is drawn: work done meanwhile would delay the drawing (a read in
-        # a thread takes the interpreter from it too)
+        # a thread takes the interpreter from it too). A switch of modes must not hold
+        # updates for this to hold: SlopeApp.switch_mode says why.
         self.call_after_refresh(self._back_in_view)
 
     def _back_in_view(self) -> None:

@@ -40,7 +40,8 @@ from core import METHODS, PARAM_NAMES, Params, friction_warnings
 from core.history import HISTORIES
 from slopetui.sweeps.estimate import describe
 from slopetui.sweeps.presets import BY_KEY, PRESETS
-from slopetui.sweeps.spec import CONFIRM_ABOVE_RUNS, SpecError, SweepSpec, parse_spec
+from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
+from slopetui.sweeps.spec import SpecError, SweepSpec, parse_spec
 from slopetui.sweeps.submit import submit
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.widgets.steady_footer import SteadyFooter

@@ -10,6 +10,7 @@ from rich.text import Text
 from textual import work
 from textual.app import ComposeResult
 from textual.binding import Binding
+from textual.containers import Vertical
 from textual.message import Message
 from textual.widgets import DataTable, Header, Static
 
@@ -59,7 +60,8 @@ class QueueScreen(SlopeScreen[None]):
         sweeps: DataTable[Any] = DataTable(id="queue-table", cursor_type="row", zebra_stripes=True)
         sweeps.add_columns("id", "status", "queued", "running", "done", "failed", "cancelled",
                            "name")
-        yield sweeps
+        with Vertical(id="queue-area"):  # the table as tall as its rows (slopetui.tcss)
+            yield sweeps
         yield SteadyFooter()
 
     def on_mount(self) -> None:
