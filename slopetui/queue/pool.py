@@ -3,8 +3,8 @@
 The pool migrates the database and warms numba's kernel cache once, serially, before it
 spawns anyone (several processes compiling into one cache at once can corrupt it,
 numba#10128), unless a previous warm-up's marker says the cache holds every kernel
-(slopetui.queue.warm_up.pool_warm_up). It restarts a worker that dies and hands the dead worker's runs back to the
-queue at once.
+(slopetui.queue.warm_up.pool_warm_up). It restarts a worker that dies and hands the dead
+worker's runs back to the queue at once.
 
 Signals. SIGINT, SIGTERM or SIGHUP: the workers finish the runs in their kernels and exit;
 a second signal makes them give their runs back to the queue and exit now. The handlers do

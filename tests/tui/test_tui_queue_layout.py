@@ -17,6 +17,16 @@ def table_and_area(app: SlopeApp) -> tuple[DataTable, Vertical]:
             app.screen.query_one("#queue-area", Vertical))
 
 
+async def queue_with_rows(pilot, app: SlopeApp, rows: int) -> tuple[DataTable, Vertical]:
+    """The queue screen once its sweeps table shows ``rows`` sweeps: the table and its area."""
+    await wait_until(pilot, lambda: app.db is not None)
+    await pilot.press("2")
+    await wait_until(pilot, lambda: isinstance(app.screen, QueueScreen)
+                     and table_and_area(app)[0].row_count == rows)
+    await pilot.pause(0.2)
+    return table_and_area(app)
+
+
 def test_few_sweeps_leave_the_area_below_the_table(db):
     submit_quick(db, 2)
     submit_quick(db, 2, tau=3.0)
@@ -24,12 +34,7 @@ def test_few_sweeps_leave_the_area_below_the_table(db):
     async def scenario():
         app = SlopeApp(db.display_url, start_workers=False, refresh_s=60.0)
         async with app.run_test(size=(80, 24)) as pilot:
-            await wait_until(pilot, lambda: app.db is not None)
-            await pilot.press("2")
-            await wait_until(pilot, lambda: isinstance(app.screen, QueueScreen)
-                             and table_and_area(app)[0].row_count == 2)
-            await pilot.pause(0.2)
-            table, area = table_and_area(app)
+            table, area = await queue_with_rows(pilot, app, 2)
             assert table.size.height == 3  # the header and two rows
             assert area.size.height > 10 and area.region.bottom == 23  # down to the footer
 
@@ -43,12 +48,7 @@ def test_many_sweeps_scroll_within_the_area(db):
     async def scenario():
         app = SlopeApp(db.display_url, start_workers=False, refresh_s=60.0)
         async with app.run_test(size=(80, 24)) as pilot:
-            await wait_until(pilot, lambda: app.db is not None)
-            await pilot.press("2")
-            await wait_until(pilot, lambda: isinstance(app.screen, QueueScreen)
-                             and table_and_area(app)[0].row_count == 30)
-            await pilot.pause(0.2)
-            table, area = table_and_area(app)
+            table, area = await queue_with_rows(pilot, app, 30)
             assert table.region.height == area.region.height < 31
             assert app.screen.max_scroll_y == 0  # the screen itself does not scroll
             await pilot.press(*["down"] * 29)  # to the last sweep (the oldest)
