@@ -7,7 +7,10 @@ mark the slow tiers' group.
   start pools, servers, clusters and applications, and some assert how soon something
   happens: two of them at once would each get half the machine they were written for.
 - The unit tier is handed out test by test to both processes; beside the group it runs at
-  the lowest priority (UNIT_NICE), so that it only takes the time the group leaves.
+  the lowest priority (UNIT_NICE), so that it only takes the time the group leaves. A unit
+  test that asserts on wall-clock durations is marked ``wall_clock``: it joins the group,
+  at full priority (tests/unit/test_estimate.py failed at UNIT_NICE in a loaded CI run: a
+  sweep foretold at 1.1 s took 7.5 s).
 - The controller warms the kernels up before any worker starts, as a pool does.
 """
 
@@ -17,12 +20,15 @@ import os
 
 import pytest
 
-#: The group name of the slow tiers (tests/conftest.py puts every test of theirs in it).
+#: The group name of the slow tiers (tests/conftest.py puts every test of theirs in it,
+#: and the unit tests marked WALL_CLOCK).
 SERIAL_GROUP = "slow-tiers"
+WALL_CLOCK = "wall_clock"
 #: A process's niceness while it runs unit tests beside the group. A pool's workers run at
 #: their pytest's niceness + 10 (slopetui.queue.defaults.WORKER_NICE): a unit test at the
-#: group's own niceness took most of a core from them. Measured at load ~4:
-#: test_hysteresis_worker.py took 147 s beside unit tests at nice 0 (14 s alone).
+#: group's own niceness took most of a core from them. test_hysteresis_worker.py took 147 s
+#: in a `-n 2` run with the unit tests at nice 0, 17 s with them at 19 (both at load ~5,
+#: with the machine's other users), 14 s in a plain run (load ~3.5).
 UNIT_NICE = 19
 _GROUP_HERE = pytest.StashKey[bool]()
 
@@ -35,6 +41,9 @@ def xdist_controller(config: pytest.Config) -> bool:
 
 
 def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line("markers", f"{WALL_CLOCK}: asserts on wall-clock durations; "
+                            "under -n 2 it runs in the slow tiers' process, at full priority "
+                            "(tests/xdist_plan.py)")
     if xdist_controller(config):
         # Before the workers start: compile (or load) the kernels every pool and most
         # tests run, here, alone, and mark the cache warm, as a pool does (numba's cache
@@ -47,12 +56,15 @@ def pytest_configure(config: pytest.Config) -> None:
 
 
 def in_group(item: pytest.Item) -> bool:
+    """Whether the test runs in the slow tiers' process (SERIAL_GROUP)."""
     return any(mark.args[:1] == (SERIAL_GROUP,) for mark in item.iter_markers("xdist_group"))
 
 
 @pytest.hookimpl(trylast=True)  # after tests/conftest.py has put the slow tiers in the group
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    config.stash[_GROUP_HERE] = any(in_group(item) for item in items)
+    # the slow tiers are here (a WALL_CLOCK unit test in the group is not slow)
+    config.stash[_GROUP_HERE] = any(in_group(item) and item.get_closest_marker("slow")
+                                    for item in items)
 
 
 def pytest_runtest_setup(item: pytest.Item) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pytest
 from sqlalchemy import func, select
 
 from slopetui.store.models import Run
@@ -22,6 +23,7 @@ def test_without_runs_the_reference_speed_stands_in(db):
     assert "(reference speed)" in describe(spec_of(8), 2, measured_speeds(db))
 
 
+@pytest.mark.wall_clock  # two sweeps' run times compared: both at full priority
 def test_the_estimate_foretells_what_the_next_runs_take(db):
     """Measured on one sweep, the estimate of another (new points, same settings) is
     within a factor of 2 of what its runs then take.

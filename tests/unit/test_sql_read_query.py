@@ -81,6 +81,7 @@ def test_cancel_before_start_and_between_chunks(engine: Engine) -> None:
         rows.fetch(10)
 
 
+@pytest.mark.wall_clock  # a starved process spends the 0.5 s limit inside SQLite early
 def test_the_limit_counts_database_time_only(engine: Engine) -> None:
     """A reader that takes its time (a pager) does not use up the query's limit."""
     query = ReadQuery(ENDLESS, timeout_s=0.5)
