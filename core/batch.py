@@ -94,9 +94,9 @@ MAX_CHUNK = 1024
 AGAIN = -1
 
 # Rows of the flat state ``st`` (row r of lane j is st[r * LANES + j]): the five variables,
-# their tangents, the coefficients and delta.
-(M_X, M_Y, S_X, S_Y, U, E_X, E_Y, E_SX, E_SY, E_U, CA, CQ, CF1, CK, CD, DELTA) = range(16)
-N_ROWS = 16
+# their tangents and the coefficients (a, q, F1, k, d).
+(M_X, M_Y, S_X, S_Y, U, E_X, E_Y, E_SX, E_SY, E_U, CA, CQ, CF1, CK, CD) = range(15)
+N_ROWS = 15
 
 
 @njit(**BATCH_JIT)
@@ -109,7 +109,7 @@ def start_lanes(n_lanes, coef, st):
         st[E_X * LANES + j] = 0.0
         for r in range(E_Y, E_U + 1):
             st[r * LANES + j] = 1.0
-        for r in range(6):
+        for r in range(5):
             st[(CA + r) * LANES + j] = coef[j, r]
 
 
@@ -484,9 +484,10 @@ def batch(rk4, coef, dt, n_delay, n_steps, sampler, trace_stride, lyap, renorm, 
     n_ring = 2 * (size + 1) * width if rk4 else size * width
     st, ring, e_ring = skewed_buffers(n_ring, n_ring if lyap else 0)
     start_lanes(n_lanes, coef, st)
-    for r in range(2 * size if rk4 else 0, 2 * size + 1 if rk4 else size, 2 if rk4 else 1):
-        for j in range(n_lanes):  # the history: RK4's slot ``size`` (delta, 0), Euler's ring
-            ring[r * width + j] = coef[j, 5]
+    # the history before t = 0: RK4's slot ``size`` holds (delta, 0), Euler's whole ring delta
+    first, last = (2 * size, 2 * size + 1) if rk4 else (0, size)
+    for r in range(first, last):
+        ring[r * width:r * width + n_lanes] = coef[:, 5]
     # the ring rows in the tangent's norm: RK4's N + 1 slots (two rows each), Euler's N,
     # none without delay (core.euler's empty history)
     rows = 2 * size if rk4 else n_delay
