@@ -22,7 +22,7 @@ _EXPORTS = {
     "PARAM_NAMES": "core.params", "ParameterError": "core.params", "Params": "core.params",
     "friction_warnings": "core.params",
     "PointResult": "core.point", "run_batch": "core.point", "run_point": "core.point",
-    "METHODS": "core.solve", "SolverSettings": "core.solve", "Trajectory": "core.solve",
+    "METHODS": "core.methods", "SolverSettings": "core.solve", "Trajectory": "core.solve",
     "simulate": "core.solve",
 }
 
@@ -60,7 +60,8 @@ sys.modules[__name__].__class__ = _Engine
 if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
     from core.classify import Summary, classify
     from core.lyapunov import LyapunovEstimate
+    from core.methods import METHODS
     from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
     from core.point import PointResult, run_batch, run_point
     from core.regimes import REGIMES
-    from core.solve import METHODS, SolverSettings, Trajectory, simulate
+    from core.solve import SolverSettings, Trajectory, simulate

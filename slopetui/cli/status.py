@@ -35,7 +35,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     from slopetui.queue.workers_table import live_workers
-    from slopetui.store import branch_rows, hysteresis_rows
+    from slopetui.sweeps import branches as branch_service
+    from slopetui.sweeps import hysteresis_runs
     from slopetui.sweeps.control import UnknownSweep
     from slopetui.sweeps.progress import format_eta, sweep_progress
 
@@ -48,11 +49,8 @@ def handle(args: argparse.Namespace) -> int:
     if not (args.all or ids):
         sweeps = [p for p in sweeps if p.status in ("active", "paused")] or sweeps[:5]
     workers = live_workers(db)
-    # The activity() of slopetui.sweeps.branches and .hysteresis_runs, read from the store
-    # itself: those modules load the jobs (slopetui.queue.branch_jobs, .hysteresis_jobs)
-    # and with them numpy, ~0.1 s for four counts (tests/integration/test_startup.py)
-    branches, computing = branch_rows.status_counts(db), branch_rows.held(db)
-    sweeps_h, computing_h = hysteresis_rows.status_counts(db), hysteresis_rows.held(db)
+    branches, computing = branch_service.activity(db)
+    sweeps_h, computing_h = hysteresis_runs.activity(db)
     if args.json:  # json.dumps escapes control and non-ASCII characters: safe as it is
         print(json.dumps({
             "sweeps": [{"id": p.id, "name": p.name, "axes": p.axes, "status": p.status,

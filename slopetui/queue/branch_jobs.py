@@ -24,15 +24,13 @@ import logging
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from core.jit_cache import source_digest
 from core.params import PARAM_NAMES, Params
 from slopetui.queue.thread_steps import HeldJob, Runner, Stops
 from slopetui.store import branch_rows
 from slopetui.store.database import Database
 
-if TYPE_CHECKING:  # scipy and numba: loaded by the worker that computes a branch
+if TYPE_CHECKING:  # numpy, scipy and numba: loaded by the worker that computes a branch
     from core.branch_start import BranchSpec, SavedPoint
     from core.continuation import Branch
 
@@ -76,6 +74,8 @@ def claim(db: Database, worker_id: str) -> BranchJob | None:
 def point_fields(branch: Branch) -> dict[str, Any]:
     """The branch_points row of the branch's last point: what the faces read and what a
     resumption needs (core.branch_start.SavedPoint)."""
+    import numpy as np
+
     from core.branch_start import SavedPoint
     saved = SavedPoint.of(branch)
     point = branch.points[-1]
@@ -93,6 +93,8 @@ def point_fields(branch: Branch) -> dict[str, Any]:
 
 def saved_of(row: Any) -> SavedPoint:
     """A saved point back from its branch_points row."""
+    import numpy as np
+
     from core.branch_start import SavedPoint
     from core.floquet import Multipliers
     state = np.frombuffer(row["state"], dtype="<f8")

@@ -34,15 +34,15 @@ from dataclasses import dataclass
 from functools import partial
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from core.jit_cache import source_digest
 from core.params import PARAM_NAMES, Params
 from slopetui.queue.thread_steps import HeldJob, Runner, Stops
 from slopetui.store import hysteresis_rows
 from slopetui.store.database import Database
 
-if TYPE_CHECKING:  # numba's kernels: loaded by the worker that computes a sweep
+if TYPE_CHECKING:  # numpy and numba's kernels: loaded by the worker that computes a sweep
+    import numpy as np
+
     from core.hysteresis import WarmPoint
     from core.orbit import Grid
 
@@ -67,6 +67,7 @@ class HysteresisSpec:
 
     def values(self) -> np.ndarray:
         """The up branch's values (the down branch's reversed)."""
+        import numpy as np
         return np.linspace(self.start, self.stop, self.n_points)
 
     def plan(self, idx: int) -> tuple[str, float]:
@@ -114,6 +115,7 @@ def point_fields(idx: int, direction: str, pt: WarmPoint, state: np.ndarray | No
                  ) -> dict[str, Any]:
     """The hysteresis_points row of a point: what the faces read and the state it hands
     over (None: nothing to hand over)."""
+    import numpy as np
     return {"idx": idx, "direction": direction, "value": pt.value, "regime": pt.regime,
             "detail": pt.detail, "amplitude": pt.amplitude, "growth": pt.growth,
             "jumped": pt.jumped,
@@ -122,6 +124,7 @@ def point_fields(idx: int, direction: str, pt: WarmPoint, state: np.ndarray | No
 
 def state_of(row: Any, g: Grid) -> np.ndarray:
     """The state a saved point hands over, 5 x (N + 1), back from its bytes."""
+    import numpy as np
     return np.frombuffer(row["state"], dtype="<f8").reshape(5, g.n_delay + 1).copy()
 
 

@@ -4,7 +4,8 @@ The pool migrates the database and warms numba's kernel cache once, serially, be
 spawns anyone (several processes compiling into one cache at once can corrupt it,
 numba#10128), unless a previous warm-up's marker says the cache holds every kernel
 (slopetui.queue.warm_up.pool_warm_up). It restarts a worker that dies and hands the dead
-worker's runs back to the queue at once.
+worker's runs back to the queue at once. Its workers run one BLAS thread each unless the
+user set a thread count (slopetui.queue.blas_threads).
 
 Signals. SIGINT, SIGTERM or SIGHUP: the workers finish the runs in their kernels and exit;
 a second signal makes them give their runs back to the queue and exit now. The handlers do
@@ -39,6 +40,7 @@ from multiprocessing.connection import wait
 from multiprocessing.process import BaseProcess
 
 from slopetui.queue import jobs
+from slopetui.queue.blas_threads import one_blas_thread
 from slopetui.queue.local_pool import default_jobs, remove_pool_file, write_pool_file
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, block_stop_signals
 from slopetui.queue.warm_up import pool_warm_up
@@ -135,6 +137,9 @@ class Pool:
         # target(opts, stop, abort, pool_pid) runs in each worker process (tests swap it)
         self.opts, self.n_workers = opts, n_workers
         self.target = target or worker_main
+        # Before any worker is spawned: they inherit it, and load numpy's OpenBLAS, which
+        # reads it once, before any code of theirs runs (slopetui.queue.blas_threads).
+        one_blas_thread()
         self.ctx = mp.get_context("spawn")
         _start_resource_tracker()
         self.stop, self.abort = self.ctx.Event(), self.ctx.Event()

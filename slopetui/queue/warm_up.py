@@ -9,6 +9,21 @@ complete (core.jit_cache.mark_warm); a later pool that finds the marker still tr
 which would only have loaded, and its workers load the kernels at once. A cache that
 changed since (an engine edit, a kernel compiled for a new signature) or never was
 marked gets the serial warm-up, as before.
+
+After its warm-up the pool prunes the kernel folders of other engine versions that nobody
+uses (core.jit_cache.prune): its own engine's folder is then complete, and it is the one
+place that runs once per start of a long-lived process, not once per command.
+
+Each worker then loads every kernel at its start, before it registers, though numba would
+load a kernel from the cache at its first call anyway. Measured on the 2-core machine (a
+pool of one worker with --exit-when-idle, the worker's CPU from spawn to exit, from
+RUSAGE_CHILDREN; eager, then lazy): on an empty queue 1.3-1.6 s, 0.4-0.6 s; with two
+Euler runs to compute 1.4 s, 1.1-1.3 s; with eight (one batch) 1.5 s, 1.2-1.3 s. Lazy
+loading saves 0.2-0.3 s a worker that claims anything, but its first claim's load counts
+as computation in the runtime_s the store keeps: the first of two runs read 0.34-0.46 s
+instead of 0.002 s, each run of the batch 0.05-0.08 s instead of 0.001-0.015 s. So the
+load stays eager; with it, a broken installation or cache also kills the worker at its
+start (the pool's crash-loop rule) instead of charging attempts to runs.
 """
 
 from __future__ import annotations
@@ -24,20 +39,29 @@ log = logging.getLogger("slopetui.worker")
 
 #: How often the waiting thread looks at the stop (s).
 TICK_S = 0.2
-#: A warm-up longer than this is a compilation (~30 s), not a load from numba's cache
-#: (~1 s, 2-3 s on a loaded machine) (s).
+#: A warm-up longer than this is a compilation, not a load from numba's cache (~1 s, 2-3 s
+#: on a loaded machine) (s). A cold compilation of every kernel took 19-20 s on the 2-core
+#: development machine (warm_up() into an empty $SLOPETUI_KERNEL_CACHE), more on a busy
+#: one: the message names no figure, and the time it took is logged when it is done.
 COMPILING_AFTER_S = 5.0
+#: What a pool says once its warm-up turns out to be a compilation.
+COMPILING = ("compiling the numba kernels, once (first run after an install or an engine "
+             "change; cached afterwards)")
 
 
 def warm_up() -> None:
     """Compile (or load from numba's cache) every kernel a run can use, with a short run
     of each method, so the first real job does not pay for compilation."""
     from core import Params, SolverSettings, run_batch, run_point
+    from core.batch import MIN_LANES
     # stiff: the fallback of every explicit run that blows up (core.point)
     for method in ("euler", "rk4", "stiff"):
         settings = SolverSettings(method=method, t_end=20.0, window=10.0)
         run_point(Params(tau=1.0), settings)
-        run_batch([Params(tau=1.0), Params(tau=2.0)], settings)
+        # MIN_LANES points of one tau: the batched kernel (core.batch). Fewer, or points of
+        # several taus, go through the single-run kernel one by one, and the batched one
+        # would first be compiled by the workers, all at once, at their first batch.
+        run_batch([Params(tau=1.0, k=4.0 + i) for i in range(MIN_LANES)], settings)
 
 
 def watched_warm_up(stopped: Callable[[], bool], announce: bool = True) -> float | None:
@@ -63,8 +87,7 @@ def watched_warm_up(stopped: Callable[[], bool], announce: bool = True) -> float
         if stopped():
             return None
         if announce and not said and time.monotonic() - t0 > COMPILING_AFTER_S:
-            log.info("compiling the numba kernels (first run after install or an engine "
-                     "change; ~30 s)")
+            log.info("%s", COMPILING)
             said = True
     if errors:
         raise errors[0]
@@ -86,8 +109,24 @@ def pool_warm_up(stopped: Callable[[], bool]) -> float | None:
         checked = time.monotonic() - t0
         log.info("numba's cache holds every kernel (checked in %.2f s): the workers load "
                  "them", checked)
+        prune_old_kernels()
         return checked
     took = watched_warm_up(stopped)
     if took is not None:
         jit_cache.mark_warm()
+        prune_old_kernels()
     return took
+
+
+def prune_old_kernels() -> None:
+    """core.jit_cache.prune, logged; a failure is only logged (a courtesy: it never stops
+    a pool)."""
+    try:
+        removed = jit_cache.prune()
+    except Exception as exc:
+        log.warning("could not prune old kernel folders in %s: %s", jit_cache.cache_base(), exc)
+        return
+    if removed:
+        log.info("removed %d kernel folders of other engine versions that nobody used for "
+                 "%g h, in %s", len(removed), jit_cache.PRUNE_IDLE_S / 3600,
+                 jit_cache.cache_base())

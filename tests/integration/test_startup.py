@@ -58,6 +58,14 @@ def test_help_loads_no_heavy_module():
     assert loaded_by("--help") == set()
 
 
+def test_the_jobs_modules_and_the_method_names_load_no_numpy():
+    """The queue's continuation and hysteresis jobs (which `status` reaches through the
+    sweeps' activity() counts) import numpy only in the functions that compute or decode,
+    and ``from core import METHODS`` (a form's choices) comes from core.methods."""
+    assert loaded_after("import slopetui.sweeps.branches, slopetui.sweeps.hysteresis_runs, "
+                        "slopetui.queue.worker_process; from core import METHODS") == THE_DRIVER
+
+
 @pytest.fixture
 def busy_store(db, db_url):
     """An up-to-date store (no migration to run) with two sweeps: two runs done, one queued."""

@@ -77,8 +77,10 @@ def test_a_slow_warm_up_says_it_compiles_and_how_long_it_took(monkeypatch, caplo
     with caplog.at_level(logging.INFO, logger="slopetui"):
         took = warm_up.watched_warm_up(lambda: False)
     assert took >= 0.5
-    assert "compiling the numba kernels (first run after install or an engine change; ~30 s)" \
-        in caplog.text
+    # no figure that goes stale (it said ~30 s; 19-20 s on two idle cores, more on busy
+    # ones): the time it took comes when it is done
+    assert ("compiling the numba kernels, once (first run after an install or an engine "
+            "change; cached afterwards)") in caplog.text
     assert re.search(r"numba kernels compiled in \d+\.\d s", caplog.text)
 
 

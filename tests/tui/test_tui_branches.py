@@ -15,6 +15,7 @@ from slopetui.sweeps import fold_overlay
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 from slopetui.tui.app import SlopeApp
+from slopetui.tui.screens import branches as branches_screen
 from slopetui.tui.screens.branches import BranchesScreen
 from slopetui.tui.widgets.bifurcation_view import BifurcationView
 from slopetui.tui.widgets.phase_grid import PhaseGrid
@@ -105,6 +106,40 @@ def test_a_running_continuation_grows_as_its_points_are_saved(db):
                              and "6 points so far" in str(detail.render()))
             plot = app.screen.query_one(PlotView)
             await wait_until(pilot, lambda: "stable 4" in str(plot.render()))
+
+    run(scenario)
+
+
+def test_an_idle_branches_screen_reads_nothing_with_a_row_below_the_first_selected(
+        db, monkeypatch):
+    """Each refill of the table announced its first row as highlighted: with any other
+    continuation selected, that one and then the selected one were loaded again, each
+    load refilling the table, a whole core on an idle screen (BranchesScreen._fill_table)."""
+    older, newer = continuation(db), continuation(db)
+    reads: list[int] = []
+    real = branches_screen.listing
+
+    def counted(*args, **kwargs):
+        reads.append(1)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(branches_screen, "listing", counted)
+
+    async def scenario():
+        app = SlopeApp(db.display_url, start_workers=False, refresh_s=60.0)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await wait_until(pilot, lambda: app.db is not None)
+            await pilot.press("4")
+            await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen))
+            table = app.screen.query_one("#branch-table")
+            await wait_until(pilot, lambda: table.row_count == 2)
+            assert app.screen.selected == ("branch", newer)  # the first row
+            await pilot.press("down")
+            await pilot.pause(0.5)  # the second continuation is read and drawn
+            before = len(reads)
+            await pilot.pause(1.0)  # idle: the next refresh is a minute away
+            assert len(reads) - before <= 1, f"{len(reads) - before} reads in an idle second"
+            assert app.screen.selected == ("branch", older) and table.cursor_row == 1
 
     run(scenario)
 

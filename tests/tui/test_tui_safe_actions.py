@@ -310,3 +310,25 @@ def test_the_screens_own_footer_keys_fit_beside_the_apps_at_80_columns(db):
             assert sum(shown.values()) <= OWN_KEYS_WIDTH and footer_end(app) <= 80, shown
 
     run(scenario)
+
+
+def test_the_queue_cursor_stays_on_its_sweep_when_another_is_submitted(db):
+    older = submit_quick(db, 2).sweep_id
+    submit_quick(db, 2, tau=3.0)
+
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await wait_until(pilot, lambda: app.db is not None)
+            await pilot.press("2")
+            await wait_until(pilot, lambda: isinstance(app.screen, QueueScreen)
+                             and app.screen.query_one("#queue-table").row_count == 2)
+            table = app.screen.query_one("#queue-table")
+            await pilot.press("down")  # the older sweep (newest first)
+            await wait_until(pilot, lambda: table.cursor_row == 1)
+            submit_quick(db, 2, tau=4.0)  # listed first: the older one moves to row 2
+            await wait_until(pilot, lambda: table.row_count == 3)
+            key = table.coordinate_to_cell_key(table.cursor_coordinate).row_key.value
+            assert (table.cursor_row, key) == (2, str(older))
+
+    run(scenario)

@@ -4,6 +4,7 @@ is drawn at full resolution in half blocks, in markers without colour."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from datetime import datetime
 
 import numpy as np
@@ -91,6 +92,43 @@ def test_runs_finished_after_the_first_read_show_and_older_ones_are_not_read_aga
             later = set().union(*reads[1:])
             assert later == set(new) and not later & set(old)
             assert app.screen._live[sweep].whole_reads == 1
+
+    run(scenario)
+
+
+def test_an_idle_sweeps_screen_reads_nothing_with_a_sweep_below_the_first_selected(
+        db, monkeypatch):
+    """With any sweep but the table's first selected, each refill of the table selected
+    and loaded the first sweep, then the selected one again: two reads whose sweeps had
+    changed (their rates), another refill, and so on, a whole core on an idle screen
+    (SweepsScreen._fill_table)."""
+    first, second = plane(db, 6, 4), plane(db, 5, 3)
+    finish_all(db)
+    reads: list[int] = []
+    real = sweeps_screen.sweep_progress
+
+    def changing(*args, **kwargs):
+        # each read differs from the last, as while workers compute (the rate moves)
+        reads.append(1)
+        return [replace(p, runs_per_min=p.runs_per_min + len(reads))
+                for p in real(*args, **kwargs)]
+
+    monkeypatch.setattr(sweeps_screen, "sweep_progress", changing)
+
+    async def scenario():
+        app = SlopeApp(db.display_url, start_workers=False, refresh_s=60.0)
+        async with app.run_test(size=(80, 24)) as pilot:
+            grid = app.query_one(PhaseGrid)
+            table = app.screen.query_one("#sweep-table")
+            await wait_until(pilot, lambda: grid.data is not None)
+            assert app.screen.selected == second  # the newest sweep, the first row
+            await pilot.press("down")  # the second row: the first sweep submitted
+            await pilot.pause(0.5)  # its diagram is read and drawn
+            before = len(reads)
+            await pilot.pause(1.0)  # idle: the next refresh is a minute away
+            assert len(reads) - before <= 1, f"{len(reads) - before} reads in an idle second"
+            assert app.screen.selected == first and table.cursor_row == 1
+            assert len(grid.data.xs) == 6  # the first sweep's diagram, still
 
     run(scenario)
 
@@ -213,5 +251,28 @@ def test_the_grid_shows_the_selected_sweep_after_quick_moves_between_sweeps(db):
             await wait_until(pilot, lambda: len(grid.data.xs) == sizes[screen.selected])
             await pilot.pause(0.5)  # and it stays so
             assert len(grid.data.xs) == sizes[screen.selected]
+
+    run(scenario)
+
+
+def test_a_late_load_of_the_sweep_selected_before_does_not_replace_the_diagram(db):
+    """load() is exclusive, but a worker it replaced still posts what it read: after fast
+    cursor moves, the sweep selected before must not be drawn over the selected one."""
+    first, second = plane(db, 6, 4), plane(db, 5, 3)
+    finish_all(db)
+
+    async def scenario():
+        app = SlopeApp(db.display_url, start_workers=False, refresh_s=60.0)
+        async with app.run_test(size=(80, 24)) as pilot:
+            grid = app.query_one(PhaseGrid)
+            screen = app.screen
+            await wait_until(pilot, lambda: grid.data is not None)
+            late = SweepsScreen.Loaded(screen._sweeps, screen._shown, grid.data)  # second's
+            await pilot.press("down")
+            await wait_until(pilot, lambda: grid.data is not None and len(grid.data.xs) == 6)
+            screen.post_message(late)
+            await pilot.pause(0.3)
+            assert screen.selected == first and len(grid.data.xs) == 6
+            assert late.diagram is not None and late.diagram.id == second
 
     run(scenario)

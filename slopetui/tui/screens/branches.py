@@ -273,29 +273,40 @@ class BranchesScreen(SlopeScreen[None]):
                     found: dict[int, list[BifurcationRecord]]) -> None:
         table = self.query_one("#branch-table", DataTable)
         keep = table.cursor_row
-        table.clear()
-        for b in branches:
-            row = b.row
-            # stored text as escaped Text: a str cell would be read as markup
-            table.add_row(str(b.id), Text(axis_label(terminal_safe(b.param))),
-                          Text(start_text(row)), Text(terminal_safe(str(row["status"]))),
-                          str(row["n_points"]),
-                          Text(terminal_safe(str(row["criticality"] or ""))),
-                          Text(cut(found_text(b.param, found.get(b.id, [])), FOUND_WIDTH)),
-                          key=str(b.id))
-        self._place_cursor(table, "branch", [b.id for b in branches], keep)
+        # Refilled without RowHighlighted: putting the cursor back on the selected row is
+        # no choice of the user's. clear() puts the cursor on row 0 and the first row
+        # added is announced as highlighted; _row_highlighted took it for a choice (the
+        # table has the focus) and loaded the first continuation, then the selected one
+        # again (move_cursor): with any row but the first selected, every load refilled
+        # the table and started two more, a whole core on an idle screen (as on the
+        # sweeps screen, SweepsScreen._fill_table).
+        with table.prevent(DataTable.RowHighlighted):
+            table.clear()
+            for b in branches:
+                row = b.row
+                # stored text as escaped Text: a str cell would be read as markup
+                table.add_row(str(b.id), Text(axis_label(terminal_safe(b.param))),
+                              Text(start_text(row)), Text(terminal_safe(str(row["status"]))),
+                              str(row["n_points"]),
+                              Text(terminal_safe(str(row["criticality"] or ""))),
+                              Text(cut(found_text(b.param, found.get(b.id, [])),
+                                       FOUND_WIDTH)),
+                              key=str(b.id))
+            self._place_cursor(table, "branch", [b.id for b in branches], keep)
 
     def _fill_sweeps(self, sweeps: list[StoredHysteresis]) -> None:
         table = self.query_one("#hyst-table", DataTable)
         keep = table.cursor_row
-        table.clear()
-        for h in sweeps:
-            row = h.row
-            table.add_row(str(h.id), Text(axis_label(terminal_safe(h.param))),
-                          Text(range_text(row)), Text(terminal_safe(str(row["status"]))),
-                          f"{row['n_done']}/{2 * row['n_points']}", _value(row["onset_up"]),
-                          _value(row["offset_down"]), key=str(h.id))
-        self._place_cursor(table, "hysteresis", [h.id for h in sweeps], keep)
+        with table.prevent(DataTable.RowHighlighted):  # as in _fill_table: not a choice
+            table.clear()
+            for h in sweeps:
+                row = h.row
+                table.add_row(str(h.id), Text(axis_label(terminal_safe(h.param))),
+                              Text(range_text(row)), Text(terminal_safe(str(row["status"]))),
+                              f"{row['n_done']}/{2 * row['n_points']}",
+                              _value(row["onset_up"]), _value(row["offset_down"]),
+                              key=str(h.id))
+            self._place_cursor(table, "hysteresis", [h.id for h in sweeps], keep)
 
     def _show(self, chosen: StoredBranch | StoredHysteresis | None) -> None:
         if chosen is None:
@@ -321,8 +332,8 @@ class BranchesScreen(SlopeScreen[None]):
 
     @on(DataTable.RowHighlighted)
     def _row_highlighted(self, event: DataTable.RowHighlighted) -> None:
-        # Both tables highlight a row whenever they are filled: only the focused one's
-        # cursor says what the user looks at.
+        # Only the focused table's cursor says what the user looks at (a refill announces
+        # no highlight: _fill_table).
         if event.data_table.has_focus:
             self._select(event.data_table, event.row_key.value)
 

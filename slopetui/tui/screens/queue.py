@@ -94,6 +94,11 @@ class QueueScreen(SlopeScreen[None]):
             workers.add_row("no live workers", "start them: slopetui worker --detach", "", "", "")
         table = self.query_one("#queue-table", DataTable)
         row = table.cursor_row
+        # The cursor stays on its sweep, not its row: p, r and c act on the highlighted
+        # sweep, and a sweep submitted since is listed first (newest first), which would
+        # move every other sweep down a row under a cursor kept by its row number.
+        kept = (table.coordinate_to_cell_key(table.cursor_coordinate).row_key.value
+                if table.row_count else None)
         table.clear()
         self._sweeps = message.sweeps
         for p in message.sweeps:
@@ -103,7 +108,9 @@ class QueueScreen(SlopeScreen[None]):
                           str(c.get("cancelled", 0)), Text(terminal_safe(p.name)),
                           key=str(p.id))
         if message.sweeps:
-            table.move_cursor(row=min(row, len(message.sweeps) - 1), animate=False)
+            ids = [str(p.id) for p in message.sweeps]
+            at = ids.index(kept) if kept in ids else min(row, len(ids) - 1)
+            table.move_cursor(row=at, animate=False)
 
     def action_control(self, action: str) -> None:
         table = self.query_one("#queue-table", DataTable)

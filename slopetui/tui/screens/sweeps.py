@@ -262,6 +262,10 @@ class SweepsScreen(SlopeScreen[None]):
         if message.sweeps != self._listed:  # a table refilled is drawn again
             self._sweeps = self._listed = message.sweeps
             self._fill_table()
+        if message.diagram is not None and message.diagram.id != self.selected:
+            # the load of a sweep selected before: load() is exclusive, but a worker it
+            # replaced still posts what it read; the selected sweep's load follows
+            return
         if message.diagram is self._shown and message.grid is self._shown_grid:
             return  # nothing changed: no redraw
         if self._shown is None and message.diagram is not None:  # the first diagram
@@ -304,18 +308,28 @@ class SweepsScreen(SlopeScreen[None]):
         for column, width in zip(table.columns.values(), widths, strict=True):
             column.auto_width, column.width = False, width
         keep = table.cursor_row
-        table.clear()
-        for p, row in zip(sweeps, rows, strict=True):
-            name = row[NAME_COLUMN]
-            if name.cell_len > name_width:
-                name.truncate(name_width - 1)
-                name.append("…")
-            table.add_row(*row, key=str(p.id))
-        if sweeps:
-            ids = [p.id for p in sweeps]
-            at = ids.index(self.selected) if self.selected in ids else min(keep, len(ids) - 1)
-            table.move_cursor(row=at, animate=False)
-        else:
+        # Refilled without RowHighlighted: putting the cursor back on the selected sweep
+        # is no choice of the user's. clear() puts the cursor on row 0, the first row
+        # added is announced as highlighted, then the selected one by move_cursor;
+        # _row_highlighted took the first for a choice: it selected and loaded the first
+        # sweep (drawing its diagram), then the selected one again. With any sweep but the
+        # first selected, every refill thus started two loads, whose sweeps differ from
+        # the last ones (runs per minute depend on the time): another refill, and so on,
+        # dozens a second, a whole core on an idle screen.
+        with table.prevent(DataTable.RowHighlighted):
+            table.clear()
+            for p, row in zip(sweeps, rows, strict=True):
+                name = row[NAME_COLUMN]
+                if name.cell_len > name_width:
+                    name.truncate(name_width - 1)
+                    name.append("…")
+                table.add_row(*row, key=str(p.id))
+            if sweeps:
+                ids = [p.id for p in sweeps]
+                at = (ids.index(self.selected) if self.selected in ids
+                      else min(keep, len(ids) - 1))
+                table.move_cursor(row=at, animate=False)
+        if not sweeps:
             self.query_one("#diagram-empty", Static).update(
                 "No sweeps yet: press n to design one (or slopetui submit).")
 
