@@ -1,7 +1,7 @@
 """ns per point-step of the batched kernels against the yardstick and the single kernels.
 
-Run:  python benchmarks/bench_kernels.py [--t-end T] [--repeat R] [--markdown FILE]
-          [--small-groups FILE]
+Run:  python benchmarks/bench_kernels.py [--t-end T] [--repeat R] [--processes P]
+          [--markdown FILE] [--small-groups FILE]
 
 A (k, tau) plane of 64 k values (6 to 16) times 3 delays (5, 6.4321 off the dt grid, 10):
 three groups of 64 lanes that share tau, as the workers claim them. Per variant (Euler and
@@ -20,6 +20,15 @@ setting. Issue 17's targets: Euler and Euler + lambda_max batched within 1.25x o
 yardstick; RK4 and RK4 + lambda_max batched >= 4x faster than the single RK4.
 Kernels are compiled (or loaded from numba's cache) before timing.
 
+``--processes P`` measures every variant in P fresh processes, one after another, and
+prints the median of their figures with the range (low-high) of the ratios: the batched
+RK4 + lambda_max kernel's speed is a property of the process as well as of the code. In
+one process its rounds agree within a few per cent, but from one process to the next it
+measured 9.2 to 12.8 ns per point-step (5 interleaved rounds each, the machine otherwise
+idle), while the yardstick's stayed within 9.3-10.4; the cause was not found (not the
+code's alignment, the rings' offsets or their pages: huge pages changed nothing, nor the
+stack's depth).
+
 ``--small-groups FILE`` also times groups of 2 to 5 points of one tau (tau = 10), the
 batches an adaptive sweep's refined levels make, against the single kernel, in ns per
 point-step (best of 3): where core.batch.MIN_LANES comes from.
@@ -28,9 +37,12 @@ point-step (best of 3): where core.batch.MIN_LANES comes from.
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import platform
 import statistics
+import subprocess
+import sys
 import time
 from collections.abc import Callable
 from functools import partial
@@ -140,7 +152,8 @@ def small_groups(t_end: float) -> list[str]:
 
 
 def table(rows: list[tuple[str, dict[str, float]]]) -> list[str]:
-    """The figures as a Markdown table."""
+    """The figures as a Markdown table (with the ratios' ranges over processes, if any:
+    ``ratio_range``, ``speedup_range``)."""
     out = ["| variant | yardstick, ns/point-step | batched | single | batched / yardstick "
            "| batched speed-up over single | target |",
            "|---|---:|---:|---:|---:|---:|---|"]
@@ -150,9 +163,35 @@ def table(rows: list[tuple[str, dict[str, float]]]) -> list[str]:
         else:
             target = f"speed-up ≥ {TARGET_SPEEDUP:g}×: " + (
                 "met" if m["speedup"] >= TARGET_SPEEDUP else "**not met**")
+        ratio, speedup = f"{m['ratio']:.2f}×", f"{m['speedup']:.1f}×"
+        if "ratio_range" in m:
+            ratio += " ({:.2f}–{:.2f})".format(*m["ratio_range"])
+            speedup += " ({:.1f}–{:.1f})".format(*m["speedup_range"])
         out.append(f"| {name} | {m['yardstick']:.2f} | **{m['batched']:.2f}** | {m['single']:.2f} "
-                   f"| {m['ratio']:.2f}× | {m['speedup']:.1f}× | {target} |")
+                   f"| {ratio} | {speedup} | {target} |")
     return out
+
+
+def in_processes(n: int, t_end: float, repeat: int) -> list[tuple[str, dict[str, float]]]:
+    """Every variant measured in n fresh processes (--child), one after another: the median
+    of each figure over them, and the ratios' ranges."""
+    runs = []
+    for i in range(n):
+        out = subprocess.run([sys.executable, __file__, "--child", "--t-end", str(t_end),
+                              "--repeat", str(repeat)], check=True, capture_output=True,
+                             text=True).stdout
+        runs.append(json.loads(out.splitlines()[-1]))
+        print(f"# process {i + 1}: " + ", ".join(
+            f"{name} {m['batched']:.2f} ns ({m['ratio']:.2f}×, {m['speedup']:.1f}×)"
+            for name, m in runs[-1]), flush=True)
+    rows = []
+    for v, (name, _) in enumerate(runs[0]):
+        figures = [run[v][1] for run in runs]
+        m = {key: statistics.median(f[key] for f in figures) for key in figures[0]}
+        for key in ("ratio", "speedup"):
+            m[f"{key}_range"] = (min(f[key] for f in figures), max(f[key] for f in figures))
+        rows.append((name, m))
+    return rows
 
 
 def main() -> None:
@@ -163,15 +202,29 @@ def main() -> None:
     ap.add_argument("--markdown", type=Path, help="also write the table to this file")
     ap.add_argument("--small-groups", type=Path, metavar="FILE",
                     help="also time groups of 2-5 points and write that table to FILE")
+    ap.add_argument("--processes", type=int, default=1,
+                    help="measure in this many fresh processes: the median, and the ratios' "
+                         "ranges (default 1: this process)")
+    ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.child:  # one process of --processes: its figures as JSON on the last line
+        print(json.dumps([(method + (" + λmax" if lyap else ""),
+                           measure(method, lyap, args.t_end, args.repeat))
+                          for method, lyap in VARIANTS]))
+        return
+    where = (f"median over {args.processes} processes (range of the ratios), each the median"
+             if args.processes > 1 else "median")
     print(f"# {platform.processor() or platform.machine()}, {os.cpu_count()} cores, python "
           f"{platform.python_version()}; {len(POINTS)} points in {len(TAUS)} groups sharing "
-          f"tau; median of {args.repeat} interleaved rounds, CPU time")
-    rows = []
-    for method, lyap in VARIANTS:
-        name = method + (" + λmax" if lyap else "")
-        rows.append((name, measure(method, lyap, args.t_end, args.repeat)))
-        print(table(rows)[-1], flush=True)
+          f"tau; {where} of {args.repeat} interleaved rounds, CPU time")
+    if args.processes > 1:
+        rows = in_processes(args.processes, args.t_end, args.repeat)
+    else:
+        rows = []
+        for method, lyap in VARIANTS:
+            name = method + (" + λmax" if lyap else "")
+            rows.append((name, measure(method, lyap, args.t_end, args.repeat)))
+            print(table(rows)[-1], flush=True)
     lines = table(rows)
     print("\n".join(lines))
     if args.markdown:
