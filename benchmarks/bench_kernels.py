@@ -20,14 +20,25 @@ setting. Issue 17's targets: Euler and Euler + lambda_max batched within 1.25x o
 yardstick; RK4 and RK4 + lambda_max batched >= 4x faster than the single RK4.
 Kernels are compiled (or loaded from numba's cache) before timing.
 
+Everything is timed in a thread of its own, as a worker computes its runs (the compute
+thread of slopetui.queue.worker_process). In a process's main thread the batched RK4 +
+lambda_max kernel ran at a speed drawn anew for each process: within one process its
+rounds agree within a few per cent, but from one process to the next it measured 9.2 to
+14.1 ns per point-step (the machine otherwise idle) while the yardstick stayed within
+9.3-10.4. In a thread it measured 8.9-10.3 in the same processes (8 processes, the
+plane's 192 points, best of 2, interleaved: main thread 9.7-12.1). The main thread's
+stack starts at a random offset within its page (address space randomisation), a
+thread's at a page boundary, and the fused loop keeps its stages in registers and
+spills many of them to the stack (1,900 stack accesses in its code). Moving the state
+and the rings within their page moved the time by up to 10% but left the slow processes
+slow, and so did moving the heap; running the same call in a new thread made each fast
+again (11.2-12.9 -> 9.5-10.0 in three slow processes of eight): the stack's offset is
+the cause. Presumably 4K aliasing between the spills and the rows of the state and the
+rings, which cover every offset of a page (core.batch.SKEW); the machine's virtual CPUs
+have no hardware counters to confirm it.
+
 ``--processes P`` measures every variant in P fresh processes, one after another, and
-prints the median of their figures with the range (low-high) of the ratios: the batched
-RK4 + lambda_max kernel's speed is a property of the process as well as of the code. In
-one process its rounds agree within a few per cent, but from one process to the next it
-measured 9.2 to 12.8 ns per point-step (5 interleaved rounds each, the machine otherwise
-idle), while the yardstick's stayed within 9.3-10.4; the cause was not found (not the
-code's alignment, the rings' offsets or their pages: huge pages changed nothing, nor the
-stack's depth).
+prints the median of their figures with the range (low-high) of the ratios over them.
 
 ``--small-groups FILE`` also times groups of 2 to 5 points of one tau (tau = 10), the
 batches an adaptive sweep's refined levels make, against the single kernel, in ns per
@@ -43,10 +54,12 @@ import platform
 import statistics
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Callable
 from functools import partial
 from pathlib import Path
+from typing import Any, TypeVar
 
 import numpy as np
 import yardstick  # beside this script (python puts the script's folder on sys.path)
@@ -62,6 +75,7 @@ SINGLE = [p for i, p in enumerate(POINTS) if i % 8 == 0]  # 8 per tau
 VARIANTS = (("euler", False), ("euler", True), ("rk4", False), ("rk4", True))
 TARGET_RATIO = 1.25
 TARGET_SPEEDUP = 4.0
+T = TypeVar("T")
 
 
 def settings(method: str, lyap: bool, t_end: float) -> SolverSettings:
@@ -91,6 +105,25 @@ def contenders(method: str, lyap: bool, s: SolverSettings) -> dict[str, Callable
         return sum(simulate(p, s).steps_done for p in SINGLE)
 
     return {"yardstick": run_yardstick, "batched": run_batched, "single": run_single}
+
+
+def as_workers_run(fn: Callable[[], T]) -> T:
+    """fn() in a thread of its own, as a worker computes its runs (see the docstring)."""
+    out: list[T] = []
+    errors: list[BaseException] = []
+
+    def target() -> None:
+        try:
+            out.append(fn())
+        except BaseException as exc:  # re-raised in the caller's thread
+            errors.append(exc)
+
+    thread = threading.Thread(target=target, name="compute")
+    thread.start()
+    thread.join()
+    if errors:
+        raise errors[0]
+    return out[0]
 
 
 def warm_up(method: str, lyap: bool) -> None:
@@ -151,7 +184,7 @@ def small_groups(t_end: float) -> list[str]:
     return out
 
 
-def table(rows: list[tuple[str, dict[str, float]]]) -> list[str]:
+def table(rows: list[tuple[str, dict[str, Any]]]) -> list[str]:
     """The figures as a Markdown table (with the ratios' ranges over processes, if any:
     ``ratio_range``, ``speedup_range``)."""
     out = ["| variant | yardstick, ns/point-step | batched | single | batched / yardstick "
@@ -172,7 +205,7 @@ def table(rows: list[tuple[str, dict[str, float]]]) -> list[str]:
     return out
 
 
-def in_processes(n: int, t_end: float, repeat: int) -> list[tuple[str, dict[str, float]]]:
+def in_processes(n: int, t_end: float, repeat: int) -> list[tuple[str, dict[str, Any]]]:
     """Every variant measured in n fresh processes (--child), one after another: the median
     of each figure over them, and the ratios' ranges."""
     runs = []
@@ -187,7 +220,7 @@ def in_processes(n: int, t_end: float, repeat: int) -> list[tuple[str, dict[str,
     rows = []
     for v, (name, _) in enumerate(runs[0]):
         figures = [run[v][1] for run in runs]
-        m = {key: statistics.median(f[key] for f in figures) for key in figures[0]}
+        m: dict[str, Any] = {key: statistics.median(f[key] for f in figures) for key in figures[0]}
         for key in ("ratio", "speedup"):
             m[f"{key}_range"] = (min(f[key] for f in figures), max(f[key] for f in figures))
         rows.append((name, m))
@@ -209,7 +242,8 @@ def main() -> None:
     args = ap.parse_args()
     if args.child:  # one process of --processes: its figures as JSON on the last line
         print(json.dumps([(method + (" + λmax" if lyap else ""),
-                           measure(method, lyap, args.t_end, args.repeat))
+                           as_workers_run(partial(measure, method, lyap, args.t_end,
+                                                  args.repeat)))
                           for method, lyap in VARIANTS]))
         return
     where = (f"median over {args.processes} processes (range of the ratios), each the median"
@@ -223,14 +257,16 @@ def main() -> None:
         rows = []
         for method, lyap in VARIANTS:
             name = method + (" + λmax" if lyap else "")
-            rows.append((name, measure(method, lyap, args.t_end, args.repeat)))
+            rows.append((name, as_workers_run(partial(measure, method, lyap, args.t_end,
+                                                      args.repeat))))
             print(table(rows)[-1], flush=True)
     lines = table(rows)
     print("\n".join(lines))
     if args.markdown:
         args.markdown.write_text("\n".join(lines) + "\n")
     if args.small_groups:
-        args.small_groups.write_text("\n".join(small_groups(args.t_end)) + "\n")
+        small = as_workers_run(partial(small_groups, args.t_end))
+        args.small_groups.write_text("\n".join(small) + "\n")
 
 
 if __name__ == "__main__":

@@ -53,7 +53,13 @@ four partial sums). tests/unit/test_batch.py checks each, and that regimes and l
 agree.
 
 Measured against a minimal kernel of each shape (benchmarks/yardstick.py) by
-benchmarks/bench_kernels.py: see docs/speed.md.
+benchmarks/bench_kernels.py: see docs/speed.md. The RK4 + lambda_max loop spills many of
+its stages to the stack, and its speed depends on where the calling thread's stack lies:
+in a process's main thread, whose stack starts at a random offset within its page, it
+took 9.2-14.1 ns per point-step from one process to the next; in a thread of its own, as
+the workers call it, 8.9-10.3 (the benchmark's docstring). Presumably 4K aliasing between
+the spills and the rows of st and the rings, which cover every offset of a page; this
+machine's virtual CPUs have no counters to confirm it.
 """
 
 from __future__ import annotations
