@@ -151,8 +151,7 @@ def use(folder: Path) -> int | None:
             return None
         try:
             fcntl.flock(fd, fcntl.LOCK_SH)  # waits while a prune holds it (an instant)
-            held, there = os.fstat(fd), os.stat(lock)
-            if (held.st_dev, held.st_ino) == (there.st_dev, there.st_ino):
+            if _still_there(fd, lock):
                 (folder / USED_STAMP).touch()
                 return fd
         except FileNotFoundError:
@@ -162,6 +161,14 @@ def use(folder: Path) -> int | None:
             return None
         os.close(fd)
     return None
+
+
+def _still_there(fd: int, lock: Path) -> bool:
+    """Whether the open lock file ``fd`` is still the one at ``lock``: a prune that renamed
+    its folder away leaves the descriptor on the old file (FileNotFoundError if nothing is
+    at ``lock`` now)."""
+    held, there = os.fstat(fd), os.stat(lock)
+    return (held.st_dev, held.st_ino) == (there.st_dev, there.st_ino)
 
 
 def last_used(folder: Path) -> float:
@@ -225,8 +232,7 @@ def _remove(folder: Path, now: float) -> bool:
         return False
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # BlockingIOError: in use
-        held, there = os.fstat(fd), os.stat(lock)
-        if (held.st_dev, held.st_ino) != (there.st_dev, there.st_ino):
+        if not _still_there(fd, lock):
             return False  # another prune renamed it away, and a process made it again
         if now - last_used(folder) < PRUNE_IDLE_S:
             return False  # used since the caller looked

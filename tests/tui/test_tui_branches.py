@@ -6,6 +6,7 @@ from __future__ import annotations
 import threading
 
 import numpy as np
+from textual.widgets import DataTable
 
 from core.branch_start import BranchSpec
 from core.params import Params
@@ -24,6 +25,14 @@ from tests.support import QUICK_SOLVER, submit_quick
 from tests.tui.support import run, wait_until
 
 FOLD_K = 1.2139
+
+
+async def branch_table(pilot, app: SlopeApp) -> DataTable:
+    """The continuations table of the branches screen, once key 4 has shown it."""
+    await wait_until(pilot, lambda: app.db is not None)
+    await pilot.press("4")
+    await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen))
+    return app.screen.query_one("#branch-table", DataTable)
 
 
 def point(idx: int, value: float, amplitude: float, stable: bool) -> dict:
@@ -65,10 +74,7 @@ def test_the_branches_screen_lists_and_draws_a_finished_continuation(db):
     async def scenario():
         app = app_for(db)
         async with app.run_test(size=(80, 24)) as pilot:
-            await wait_until(pilot, lambda: app.db is not None)
-            await pilot.press("4")
-            await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen))
-            table = app.screen.query_one("#branch-table")
+            table = await branch_table(pilot, app)
             await wait_until(pilot, lambda: table.row_count == 1)
             row = cells(table, 0)
             assert row[0] == str(cid) and row[1] == "k" and row[3] == "done"
@@ -92,10 +98,7 @@ def test_a_running_continuation_grows_as_its_points_are_saved(db):
     async def scenario():
         app = app_for(db)
         async with app.run_test(size=(80, 24)) as pilot:
-            await wait_until(pilot, lambda: app.db is not None)
-            await pilot.press("4")
-            await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen))
-            table = app.screen.query_one("#branch-table")
+            table = await branch_table(pilot, app)
             await wait_until(pilot, lambda: table.row_count == 1
                              and cells(table, 0)[3] == "running")
             detail = app.screen.query_one("#branch-detail")
@@ -128,10 +131,7 @@ def test_an_idle_branches_screen_reads_nothing_with_a_row_below_the_first_select
     async def scenario():
         app = SlopeApp(db.display_url, start_workers=False, refresh_s=60.0)
         async with app.run_test(size=(80, 24)) as pilot:
-            await wait_until(pilot, lambda: app.db is not None)
-            await pilot.press("4")
-            await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen))
-            table = app.screen.query_one("#branch-table")
+            table = await branch_table(pilot, app)
             await wait_until(pilot, lambda: table.row_count == 2)
             assert app.screen.selected == ("branch", newer)  # the first row
             await pilot.press("down")

@@ -29,6 +29,7 @@ from slopetui.tui.screens.sweeps import (
 from tests.support import QUICK_SOLVER, submit_quick
 from tests.tui.support import run, wait_until
 from tests.tui.test_tui_app import app_for
+from tests.tui.test_tui_queue_layout import queue_with_rows
 
 LONG_NAME = "a (k, tau) plane at delta = 0.1, every point computed twice over"
 
@@ -169,10 +170,7 @@ def test_the_queue_screen_asks_before_cancelling(db):
     async def scenario():
         app = app_for(db)
         async with app.run_test(size=(80, 24)) as pilot:
-            await wait_until(pilot, lambda: app.db is not None)
-            await pilot.press("2")
-            await wait_until(pilot, lambda: isinstance(app.screen, QueueScreen)
-                             and app.screen.query_one("#queue-table").row_count == 1)
+            await queue_with_rows(pilot, app, 1)
             queue = app.screen
             await pilot.press("c")
             await wait_until(pilot, lambda: isinstance(app.screen, ConfirmScreen))
@@ -319,11 +317,7 @@ def test_the_queue_cursor_stays_on_its_sweep_when_another_is_submitted(db):
     async def scenario():
         app = app_for(db)
         async with app.run_test(size=(80, 24)) as pilot:
-            await wait_until(pilot, lambda: app.db is not None)
-            await pilot.press("2")
-            await wait_until(pilot, lambda: isinstance(app.screen, QueueScreen)
-                             and app.screen.query_one("#queue-table").row_count == 2)
-            table = app.screen.query_one("#queue-table")
+            table, _ = await queue_with_rows(pilot, app, 2)
             await pilot.press("down")  # the older sweep (newest first)
             await wait_until(pilot, lambda: table.cursor_row == 1)
             submit_quick(db, 2, tau=4.0)  # listed first: the older one moves to row 2
