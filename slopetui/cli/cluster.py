@@ -48,8 +48,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="Slurm partition, or several separated by commas (default: the "
                         "cluster's default partition)")
     s.add_argument("--db", metavar="URL",
-                   help=f"PostgreSQL URL that every node reaches (default: ${DB_ENV}); "
-                        "SQLite is refused: it cannot be shared between nodes")
+                   help=f"PostgreSQL URL that every node reaches (default: ${DB_ENV}, "
+                        "better for a URL with a password: a command line is readable by "
+                        "every user); SQLite is refused: it cannot be shared between nodes")
     s.add_argument("--python", metavar="PATH",
                    help="the Python that runs slopetui on the nodes (default: this one, "
                         f"{sys.executable or '?'}: put its virtual environment on the "
@@ -135,10 +136,12 @@ def _instructions(path: Path, job: slurm.SlurmWorkers, db: slurm.ServerDatabase)
     """What to do with the script: submit, watch, stop (the file's name and the URL made
     safe for the terminal)."""
     script = terminal_safe(shlex.quote(str(path)))
-    if db.has_password:
-        db_arg, note = terminal_safe(shlex.quote(db.display)), "  (password hidden)"
+    if db.has_password:  # not --db URL: every user of the machine reads a command line
+        db_arg = ""
+        note = ("  (with $SLOPETUI_DB set to the script's URL: a password is not given on "
+                "a command line)")
     else:
-        db_arg, note = terminal_safe(shlex.quote(db.url)), ""
+        db_arg, note = f" --db {terminal_safe(shlex.quote(db.url))}", ""
     tasks = f"{job.nodes} pool{'s' if job.nodes > 1 else ''}"
     return "\n".join([
         f"wrote {script}: a job array of {tasks} (one per node) of {job.workers_per_node} "
@@ -147,8 +150,8 @@ def _instructions(path: Path, job: slurm.SlurmWorkers, db: slurm.ServerDatabase)
         "queue the runs first: a pool exits once nothing is queued or running",
         f"submit:  sbatch {script}        (prints JOBID)",
         f"watch:   squeue -u \"$USER\" -n {slurm.JOB_NAME}",
-        f"         slopetui status --db {db_arg}{note}",
-        f"         slopetui workers --db {db_arg}",
+        f"         slopetui status{db_arg}{note}",
+        f"         slopetui workers{db_arg}",
         "logs:    slopetui-worker-JOBID_TASK.log, one per task, in the folder you submit from",
         "stop:    scancel --state=PENDING JOBID; scancel --batch --signal=TERM "
         "--state=RUNNING JOBID",

@@ -13,6 +13,10 @@ finish the runs they are computing, a second one gives those runs back to the qu
 once, their attempt not counted. The script replaces its batch shell with the pool
 (``exec``) and asks Slurm (``--signal=B:TERM@120``) for the first SIGTERM
 SIGNAL_MARGIN_S before the time limit; Slurm's own SIGTERM at the limit is the second.
+
+The database's URL, password included, is in the script (written 0600) and reaches the
+pool in the environment ($SLOPETUI_DB), never on a command line, which every user of a
+node can read (``ps``).
 """
 
 from __future__ import annotations
@@ -254,7 +258,8 @@ def _body(job: SlurmWorkers) -> list[str]:
         "set -euo pipefail",
         ': "${SLURM_ARRAY_JOB_ID:?is not set: submit this script with sbatch}"',
         "",
-        "# The database of every pool: a server that every node reaches.",
+        "# The database of every pool: a server that every node reaches (in the environment,",
+        "# where slopetui reads it: never on a command line, see exec below).",
         f"export SLOPETUI_DB={shlex.quote(job.db_url)}",
         "# The Python that wrote this script: with its virtual environment on the shared",
         "# file system, every node runs the same slopetui (the interpreter the environment",
@@ -283,10 +288,11 @@ def _body(job: SlurmWorkers) -> list[str]:
         "",
         "# exec: the pool replaces this shell, so it is the process --signal=B:TERM reaches.",
         "# --another-pool: two array tasks on one node each have CPUs of their own.",
+        "# No --db: the pool reads the database from $SLOPETUI_DB, exported above. A command",
+        "# line is readable by every user of the node (ps), an environment by its owner only.",
         f'exec "$PYTHON" -P -m slopetui worker -j {job.workers_per_node} --exit-when-idle '
         "--another-pool \\",
-        '    --log "slopetui-worker-${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}.log" \\',
-        '    --db "$SLOPETUI_DB"',
+        '    --log "slopetui-worker-${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}.log"',
     ]
 
 

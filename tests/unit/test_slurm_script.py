@@ -72,8 +72,10 @@ def test_the_pool_replaces_the_batch_shell_and_logs_where_slurm_writes():
     exec_at = text.index('exec "$PYTHON" -P -m slopetui worker -j 8 --exit-when-idle '
                          "--another-pool")
     command = text[exec_at:].replace("\\\n", " ")
-    assert '--log "slopetui-worker-${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}.log"' in command
-    assert '--db "$SLOPETUI_DB"' in command and command.rstrip().endswith('"$SLOPETUI_DB"')
+    assert command.rstrip().endswith(
+        '--log "slopetui-worker-${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}.log"')
+    # the database comes from the environment: a command line is readable by every user
+    assert "--db" not in command and "SLOPETUI_DB" not in command
     # the comment says why B: (no srun step), next to the directive
     assert "B:" in text and "srun" in text and "exec" in text.split("#SBATCH --signal")[0]
     assert "set -euo pipefail" in text
@@ -93,6 +95,33 @@ def test_the_kernel_cache_is_node_local_private_and_warmed_once_a_node():
 @pytest.mark.parametrize("url", [PG, NASTY, "postgresql://u:$(reboot)@h/d", "postgresql://h/'"])
 def test_the_url_reaches_the_shell_unchanged(url):
     assert shell_value(slurm.sbatch_script(job(db_url=url)), "SLOPETUI_DB") == url
+
+
+#: A stand-in for the nodes' Python: records each call's arguments (NUL-separated) and the
+#: $SLOPETUI_DB it was given, one pair of files per call, in $CALLS.
+FAKE_PYTHON = """#!/bin/sh
+n=$(ls "$CALLS" | grep -c "args$")
+printf '%s\\0' "$@" > "$CALLS/$n.args"
+printf '%s' "${SLOPETUI_DB-unset}" > "$CALLS/$n.db"
+"""
+
+
+@pytest.mark.parametrize("url", ["postgresql+psycopg://alice:s3cret-pw@db.example/slopes", NASTY])
+def test_the_url_reaches_the_pool_in_its_environment_never_on_its_command_line(tmp_path, url):
+    python, calls = tmp_path / "python", tmp_path / "calls"
+    python.write_text(FAKE_PYTHON)
+    python.chmod(0o700)
+    calls.mkdir()
+    script = slurm.sbatch_script(job(db_url=url, python=str(python)))
+    subprocess.run(["bash", "-c", script], check=True, timeout=30, cwd=tmp_path,
+                   env={"PATH": os.environ["PATH"], "SLURM_ARRAY_JOB_ID": "7",
+                        "SLURM_ARRAY_TASK_ID": "1", "TMPDIR": str(tmp_path), "CALLS": str(calls)})
+    warm_up, pool = (((calls / f"{n}.args").read_bytes().split(b"\0")[:-1],
+                      (calls / f"{n}.db").read_text()) for n in (0, 1))
+    assert pool[0][:5] == [b"-P", b"-m", b"slopetui", b"worker", b"-j"]
+    assert pool[1] == url  # the pool opens the store of the script
+    for args, _ in (warm_up, pool):
+        assert not any(url.encode() in a or b"s3cret" in a or b"--db" == a for a in args)
 
 
 def test_a_python_path_with_spaces_and_quotes_reaches_the_shell_unchanged():
@@ -223,7 +252,10 @@ def test_the_password_is_in_the_script_not_on_the_screen(in_tmp, capsys):
     assert cluster(*GOOD, "--db", "postgresql://alice:s3cret@db.example/slopes") == 0
     assert "s3cret" in (in_tmp / "slopetui-workers.sbatch").read_text()
     out = capsys.readouterr().out
-    assert "s3cret" not in out and "password hidden" in out
+    assert "s3cret" not in out and "alice:***@db.example" in out
+    # the commands it suggests take the URL from $SLOPETUI_DB, not a --db with the password
+    assert "slopetui status  (with $SLOPETUI_DB set to the script's URL" in out
+    assert "--db" not in out
 
 
 def test_a_server_on_this_machine_gets_a_warning(in_tmp, capsys):
