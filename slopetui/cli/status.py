@@ -8,6 +8,12 @@ An adaptive sweep says where its refinement is before its name: ``[level 2/3]`` 
 its levels run (done/total counts the runs of the levels queued so far against the
 final lattice), ``[612 computed, 3484 inferred]`` once refined. ``--json`` adds the
 keys ``adaptive_levels``, ``level``, ``refined``, ``computed`` and ``inferred``.
+
+A pool of this host that has no live worker yet is shown as starting: it warms up (loads
+numba's kernels, or compiles them after an install, ~20-45 s) before its workers register,
+and ``worker --detach`` returns at once, so "no live workers" would be wrong right after
+it. It is known from its pool file (slopetui.queue.local_pool); ``--json``:
+``starting_pools``.
 """
 
 from __future__ import annotations
@@ -34,6 +40,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def handle(args: argparse.Namespace) -> int:
+    from slopetui.queue.local_pool import local_pools
     from slopetui.queue.workers_table import live_workers
     from slopetui.sweeps import branches as branch_service
     from slopetui.sweeps import hysteresis_runs
@@ -49,6 +56,7 @@ def handle(args: argparse.Namespace) -> int:
     if not (args.all or ids):
         sweeps = [p for p in sweeps if p.status in ("active", "paused")] or sweeps[:5]
     workers = live_workers(db)
+    starting = [p for p in local_pools(db)[0] if not p.workers]  # warming up (docstring)
     branches, computing = branch_service.activity(db)
     sweeps_h, computing_h = hysteresis_runs.activity(db)
     if args.json:  # json.dumps escapes control and non-ASCII characters: safe as it is
@@ -64,7 +72,9 @@ def handle(args: argparse.Namespace) -> int:
             "workers": [{"id": w.id, "run_id": w.run_id, "continuation_id": computing.get(w.id),
                          "hysteresis_id": computing_h.get(w.id),
                          "jobs_done": w.jobs_done, "heartbeat_age_s": w.heartbeat_age_s}
-                        for w in workers]}))
+                        for w in workers],
+            "starting_pools": [{"pid": p.pid, "uptime_s": p.uptime_s, "log": p.log}
+                               for p in starting]}))
         return 0
     if not sweeps:
         print("no sweeps yet: slopetui submit --help")
@@ -87,7 +97,11 @@ def handle(args: argparse.Namespace) -> int:
             print(f"{what}: " + ", ".join(f"{n} {k}" for k, n in sorted(waiting.items()))
                   + f" ({where})")
     print()
-    if not workers:
+    for pool in starting:
+        up = "" if pool.uptime_s is None else f", up {format_eta(max(pool.uptime_s, 0.0))}"
+        print(f"pool {pool.pid} on this host: starting{up} (it loads the numba kernels, or "
+              "compiles them after an install, ~20-45 s; then its workers register)")
+    if not workers and not starting:
         print("no live workers: start a pool with `slopetui worker --detach`")
     for w in workers:
         doing = (f"run {w.run_id}" if w.run_id else

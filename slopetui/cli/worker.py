@@ -156,6 +156,9 @@ def _detach(args: argparse.Namespace, db: Database, log: Path) -> int:
     except PoolRunning as exc:
         raise _already_running(exc.pools) from None
     print(f"worker pool started in the background: pid {pid}, {args.jobs} workers")
+    # not waited for: a first start compiles the kernels for half a minute (slopetui status)
+    print("starting: its workers register once it has loaded the numba kernels (compiled "
+          "once after an install, ~20-45 s); `slopetui status` shows it as starting until then")
     print(f"log: {log}")
     print("see it: slopetui workers    stop it: slopetui worker --stop   (running jobs "
           "finish; --stop --now gives them back to the queue)")
