@@ -14,6 +14,13 @@ from any login (SSH included) without hunting pids in a log:
 
 Pools on other hosts are known only through their workers' rows (host, pids): a pool's
 pid is not in the database, and a process of another host cannot be signalled from here.
+
+The store's URL reaches a detached pool in its environment ($SLOPETUI_DB, which every
+command reads when no ``--db`` is given), never in its arguments: a process's command line
+(/proc/PID/cmdline, ``ps -eo args``) is readable by every user of the machine, its
+environment (/proc/PID/environ) only by the same user and root, and the URL may hold the
+database's password. The pool hands it on to its spawned workers inside WorkerOptions,
+over multiprocessing's pipe, not on their command lines either.
 """
 
 from __future__ import annotations
@@ -34,6 +41,8 @@ from typing import TYPE_CHECKING
 
 from platformdirs import user_log_path, user_state_path
 
+from slopetui.store.location import DB_ENV
+
 if TYPE_CHECKING:  # the modules below import sqlalchemy; callers of default_jobs need not
     from slopetui.queue.workers_table import WorkerInfo
     from slopetui.store.database import Database
@@ -53,7 +62,8 @@ def default_log() -> Path:
 
 def open_private_log(path: Path) -> int:
     """Open the log for appending, creating it readable by its owner only (runs' errors and
-    the store's URL end up in it); an existing log keeps its permissions. Returns an fd."""
+    the store's URL, its password hidden, end up in it); an existing log keeps its
+    permissions. Returns an fd."""
     path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
     return os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o600)
 
@@ -251,15 +261,24 @@ def _store_lock(url: str) -> Iterator[None]:
         os.close(fd)
 
 
+def pool_environment(url: str) -> dict[str, str]:
+    """The environment of a pool started from here: this process's, with the store's URL
+    (password included) in $SLOPETUI_DB, where ``slopetui worker`` without ``--db`` reads
+    it. Readable by this user and root only, unlike a command line (module docstring)."""
+    return {**os.environ, DB_ENV: url}
+
+
 def start_detached_pool(db: Database, *, jobs: int | None = None, log: Path | None = None,
                         extra: tuple[str, ...] = (), another_pool: bool = False
                         ) -> tuple[int, Path]:
     """``slopetui worker`` in a new session (it survives the terminal and the SSH
-    session); returns its pid and log file. Raises PoolRunning if a pool of the store runs
-    on this host already, unless ``another_pool``."""
+    session), the store's URL in its environment, not its arguments (pool_environment);
+    ``extra``: more of its options. Returns its pid and log file. Raises PoolRunning if a
+    pool of the store runs on this host already, unless ``another_pool``."""
     log = log or default_log()
     url = db.url.render_as_string(hide_password=False)
-    cmd = [sys.executable, "-m", "slopetui", "worker", "--db", url, "--log", str(log),
+    # no --db: the URL goes in the environment (see the module docstring)
+    cmd = [sys.executable, "-m", "slopetui", "worker", "--log", str(log),
            "--another-pool", *extra]  # checked here, under the lock
     if jobs is not None:
         cmd += ["-j", str(jobs)]
@@ -271,7 +290,8 @@ def start_detached_pool(db: Database, *, jobs: int | None = None, log: Path | No
         fd = open_private_log(log)
         try:
             proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=fd, stderr=fd,
-                                    start_new_session=True, close_fds=True)
+                                    start_new_session=True, close_fds=True,
+                                    env=pool_environment(url))
         finally:
             os.close(fd)
         # Recorded before the lock is released, so a second --detach sees this pool even
