@@ -28,6 +28,7 @@ from slopetui.store.connection_slots import ConnectionSlots
 from slopetui.store.db_time import db_now
 from slopetui.store.failures import StoreError, describe, os_failure
 from slopetui.store.location import DB_ENV, default_url
+from slopetui.store.url_text import password_hidden
 
 #: How long a SQLite connection waits for another writer before "database is locked" (ms).
 #: A write transaction here lasts well under 10 ms; a minute covers a checkpoint on a
@@ -54,8 +55,8 @@ def is_refusal(message: str) -> bool:
 def parse_url(url: str) -> URL:
     try:
         return make_url(url)
-    except ArgumentError as exc:
-        raise StoreError(f"--db: {url!r} is not a SQLAlchemy database URL "
+    except ArgumentError as exc:  # the message quotes the URL: its password hidden
+        raise StoreError(f"--db: {password_hidden(url)!r} is not a SQLAlchemy database URL "
                          "(e.g. sqlite:///runs.db or postgresql+psycopg://host/db)") from exc
 
 

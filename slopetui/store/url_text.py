@@ -1,0 +1,27 @@
+"""A database URL as a message shows it: its password hidden.
+
+``Database.display_url`` hides the password of a URL that SQLAlchemy parsed. A URL it
+cannot parse (a typo) is quoted by the message that refuses it, so that the user sees
+what is wrong, and the password in it must not reach the terminal, a log or a screen
+shared with others either. Light on purpose (no SQLAlchemy), like
+slopetui.store.location.
+"""
+
+from __future__ import annotations
+
+#: What stands for a password in messages (SQLAlchemy's render_as_string does the same).
+HIDDEN = "***"
+
+
+def password_hidden(text: str) -> str:
+    """``text``, a URL or a typo of one, with everything between the user name's ``:`` and
+    the last ``@`` of its authority replaced by ``***``: ``postgresql://u:***@host/db``.
+    A password may hold ``@``, ``:`` or ``/`` unescaped in a typo, so this hides too much
+    rather than too little; a text without ``user:...@`` is returned as it is."""
+    scheme_end = text.find("://")
+    start = 0 if scheme_end < 0 else scheme_end + 3
+    at = text.rfind("@", start)
+    colon = text.find(":", start, at)
+    if at < 0 or colon < 0:
+        return text
+    return f"{text[:colon + 1]}{HIDDEN}{text[at:]}"

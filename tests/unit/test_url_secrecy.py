@@ -1,0 +1,36 @@
+"""A URL's password is hidden wherever slopetui shows the URL (issue 31, item 2): here the
+message that refuses a URL SQLAlchemy cannot parse, which quotes it. The detached pool's
+command line and log are tests/integration/test_pool_secrets.py's; the Slurm script's exec
+line tests/unit/test_slurm_script.py's."""
+
+from __future__ import annotations
+
+import pytest
+
+from slopetui.cli import main
+from slopetui.store.url_text import password_hidden
+
+
+@pytest.mark.parametrize("text, shown", [
+    ("postgresql+psycopg://alice:s3cret@db.example/slopes",
+     "postgresql+psycopg://alice:***@db.example/slopes"),
+    ("postgresql//alice:s3cret@db.example/x", "postgresql//alice:***@db.example/x"),  # no ':'
+    ("alice:s3cret@db.example/x", "alice:***@db.example/x"),                          # no scheme
+    ("postgresql://alice:s3c@r:e/t@db.example:5432/x", "postgresql://alice:***@db.example:5432/x"),
+    ("postgresql://alice:@db.example/x", "postgresql://alice:***@db.example/x"),
+    ("postgresql://alice@db.example:5432/x", "postgresql://alice@db.example:5432/x"),
+    ("postgresql://db.example:5432/x", "postgresql://db.example:5432/x"),
+    ("sqlite:////tmp/runs.db", "sqlite:////tmp/runs.db"),
+    ("", ""),
+])
+def test_the_password_is_hidden_even_in_a_typo(text, shown):
+    assert password_hidden(text) == shown
+
+
+@pytest.mark.parametrize("url", ["postgresql//alice:s3cret@db.example/slopes",
+                                 "alice:s3cret@db.example/slopes"])
+def test_a_url_that_does_not_parse_is_refused_without_its_password(url, capsys):
+    assert main(["status", "--db", url]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "is not a SQLAlchemy database URL" in err
+    assert "s3cret" not in err and "alice:***@db.example/slopes" in err
