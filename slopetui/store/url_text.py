@@ -14,10 +14,11 @@ HIDDEN = "***"
 
 
 def password_hidden(text: str) -> str:
-    """``text``, a URL or a typo of one, with everything between the user name's ``:`` and
-    the last ``@`` of its authority replaced by ``***``: ``postgresql://u:***@host/db``.
-    A password may hold ``@``, ``:`` or ``/`` unescaped in a typo, so this hides too much
-    rather than too little; a text without ``user:...@`` is returned as it is."""
+    """``text``, a URL or a typo of one, with everything from the first ``:`` after the
+    scheme's ``://`` (or the start) to the last ``@`` replaced by ``***``:
+    ``postgresql://u:***@host/db``. A password may hold ``@``, ``:`` or ``/`` unescaped in
+    a typo, so this hides too much rather than too little (an ``@`` in a query hides the
+    host too); a text without ``...:...@`` is returned as it is."""
     scheme_end = text.find("://")
     start = 0 if scheme_end < 0 else scheme_end + 3
     at = text.rfind("@", start)
