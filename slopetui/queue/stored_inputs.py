@@ -34,7 +34,7 @@ INPUT_ERRORS: tuple[type[Exception], ...] = (ValueError, TypeError, ArithmeticEr
 MAX_ORBIT_STEPS = 1e5
 
 
-def present(row: Mapping[str, Any], names: Iterable[str]) -> None:
+def present(row: Mapping[Any, Any], names: Iterable[str]) -> None:
     """ParameterError naming the first of the columns ``names`` that holds NULL: a NULL
     must not fall back to a default (a NULL dt would take the method's default step)."""
     for name in names:
