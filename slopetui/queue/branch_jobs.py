@@ -87,9 +87,7 @@ def claim(db: Database, worker_id: str) -> BranchJob | None:
         try:
             return BranchJob(row["id"], row["attempts"], spec_of(row))
         except stored_inputs.INPUT_ERRORS as exc:
-            text = stored_inputs.reason(exc)
-            branch_rows.fail(db, row["id"], worker_id, text, give_up=True)
-            stored_inputs.log_refused("continuation", row["id"], text)
+            stored_inputs.refuse(branch_rows, "continuation", db, worker_id, row["id"], exc)
     return None
 
 
@@ -144,7 +142,13 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
     from core.branch_start import MIN_STEP, past_end, resume, start
     from core.continuation import bifurcations, check_end, criticality, step
     spec = job.spec
-    saved = [saved_of(r) for r in branch_rows.saved_points(db, job.id)]
+    rows = branch_rows.saved_points(db, job.id)
+    try:  # in this thread: a point that cannot be read back would kill the worker
+        saved = [saved_of(r) for r in rows]
+    except stored_inputs.INPUT_ERRORS as exc:
+        stored_inputs.refuse(branch_rows, "continuation", db, wid, job.id, ValueError(
+            f"a saved point (branch_points) cannot be read back: {exc}"))
+        return
 
     def begin() -> tuple[Branch, tuple[float, float] | None]:
         if saved:

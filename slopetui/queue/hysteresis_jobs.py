@@ -132,9 +132,8 @@ def claim(db: Database, worker_id: str) -> HysteresisJob | None:
         try:
             return HysteresisJob(row["id"], row["attempts"], spec_of(row))
         except stored_inputs.INPUT_ERRORS as exc:
-            text = stored_inputs.reason(exc)
-            hysteresis_rows.fail(db, row["id"], worker_id, text, give_up=True)
-            stored_inputs.log_refused("hysteresis sweep", row["id"], text)
+            stored_inputs.refuse(hysteresis_rows, "hysteresis sweep", db, worker_id,
+                                 row["id"], exc)
     return None
 
 
@@ -210,7 +209,13 @@ def compute(db: Database, wid: str, job: HysteresisJob, run: Runner, control: St
     total = 2 * spec.n_points
     ended = any(r["state"] is None for r in saved)  # a run left the finite range: the end
     if saved:
-        state = None if ended else state_of(saved[-1], g)
+        try:  # in this thread: a state that cannot be read back would kill the worker
+            state = None if ended else state_of(saved[-1], g)
+        except stored_inputs.INPUT_ERRORS as exc:
+            stored_inputs.refuse(hysteresis_rows, "hysteresis sweep", db, wid, job.id,
+                                 ValueError("the state of a saved point (hysteresis_points) "
+                                            f"cannot be read back: {exc}"))
+            return None
     else:
         _, first = spec.plan(0)
         state = initial_state(spec.params.with_(**{spec.name: first}), g)

@@ -19,6 +19,8 @@ from collections.abc import Iterable, Mapping
 from typing import Any
 
 from core.params import ParameterError, Params
+from slopetui.queue.thread_steps import LeaseRows
+from slopetui.store.database import Database
 
 log = logging.getLogger("slopetui.worker")
 
@@ -72,3 +74,13 @@ def reason(error: BaseException) -> str:
 def log_refused(what: str, job_id: int, text: str) -> None:
     """The worker's one line for a refused row (no traceback: the reason says it all)."""
     log.error("%s %d failed at its claim: %s", what, job_id, text)
+
+
+def refuse(rows: LeaseRows, what: str, db: Database, worker_id: str, job_id: int,
+           error: BaseException) -> None:
+    """Fail a held job computed point by point (``rows``: slopetui.store.branch_rows,
+    hysteresis_rows) whose stored inputs cannot be computed, at once with the reason, and
+    log its one line; ``what`` names its kind ("continuation")."""
+    text = reason(error)
+    rows.fail(db, job_id, worker_id, text, give_up=True)
+    log_refused(what, job_id, text)

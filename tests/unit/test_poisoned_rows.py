@@ -216,3 +216,44 @@ def test_a_poisoned_hysteresis_sweep_fails_at_its_claim_and_the_next_is_claimed(
     assert line.getMessage().startswith(f"hysteresis sweep {bad} failed at its claim: ")
     assert line.exc_info is None
     assert hysteresis_jobs.claim(store, "w") is None
+
+
+def test_a_continuation_whose_saved_point_cannot_be_read_back_fails_with_the_reason(store,
+                                                                                   caplog):
+    from tests.unit.test_branch_jobs import SPEC, Never, inline
+    from tests.unit.test_branch_jobs import _point as branch_point
+    cid = branch_jobs.submit(store, SPEC)
+    branch_rows.claim(store, "w1")
+    assert branch_rows.save_point(store, cid, "w1", {**branch_point(0), "state": b"abc"}, 0.1)
+    assert branch_rows.release(store, cid, "w1")  # then resumed by another worker
+    job = branch_jobs.claim(store, "w2")
+    assert job is not None
+    with caplog.at_level(logging.INFO, logger="slopetui"):
+        branch_jobs.compute(store, "w2", job, inline, Never(), max_attempts=3)
+    row = branch_rows.continuation(store, cid)
+    assert row is not None and row["status"] == "failed"
+    assert row["error"].startswith("not computed: invalid input in the store: a saved point "
+                                   "(branch_points) cannot be read back: ")
+    [line] = refusals(caplog)
+    assert line.exc_info is None
+
+
+def test_a_hysteresis_sweep_whose_saved_state_cannot_be_read_back_fails_with_the_reason(
+        store, caplog):
+    from tests.unit.test_branch_jobs import Never, inline
+    from tests.unit.test_hysteresis_jobs import SPEC
+    from tests.unit.test_hysteresis_jobs import _point as warm_point
+    sid = hysteresis_jobs.submit(store, SPEC)
+    hysteresis_rows.claim(store, "w1")
+    assert hysteresis_rows.save_point(store, sid, "w1", warm_point(0), 0.1)  # 4 numbers
+    assert hysteresis_rows.release(store, sid, "w1")
+    job = hysteresis_jobs.claim(store, "w2")
+    assert job is not None
+    with caplog.at_level(logging.INFO, logger="slopetui"):
+        hysteresis_jobs.compute(store, "w2", job, inline, Never(), max_attempts=3)
+    row = hysteresis_rows.hysteresis_sweep(store, sid)
+    assert row is not None and row["status"] == "failed"
+    assert row["error"].startswith("not computed: invalid input in the store: the state of a "
+                                   "saved point (hysteresis_points) cannot be read back: ")
+    [line] = refusals(caplog)
+    assert line.exc_info is None
