@@ -16,6 +16,8 @@ comes to, shared with hysteresis sweeps, is slopetui.queue.thread_steps):
 * No orbit to start from (OrbitError at the start) is an answer, not a crash: the job
   fails at once with the reason, no retry. Any other error is retried up to
   max_attempts, as for runs.
+* A row whose stored inputs cannot be computed (a hand-edited store) fails at its claim
+  with the reason, and the next one is claimed (slopetui.queue.stored_inputs).
 """
 
 from __future__ import annotations
@@ -25,7 +27,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from core.jit_cache import source_digest
-from core.params import PARAM_NAMES, Params
+from core.params import PARAM_NAMES, ParameterError, Params, check_finite, check_positive
+from slopetui.queue import stored_inputs
 from slopetui.queue.thread_steps import HeldJob, Runner, Stops
 from slopetui.store import branch_rows
 from slopetui.store.database import Database
@@ -59,16 +62,33 @@ def submit(db: Database, spec: BranchSpec, from_run: int | None = None) -> int:
 
 
 def spec_of(row: Any) -> BranchSpec:
-    """The spec a continuations row asks for."""
+    """The spec a continuations row asks for, checked: one of stored_inputs.INPUT_ERRORS
+    (ParameterError naming the column) for values it cannot be computed from."""
     from core.branch_start import BranchSpec
-    return BranchSpec(Params(**{n: row[n] for n in PARAM_NAMES}), row["param"], row["dt"],
-                      row["start"] == "hopf", row["end_value"], row["max_points"],
-                      row["max_step"])
+    stored_inputs.present(row, (*PARAM_NAMES, "param", "start", "dt", "max_points",
+                                "max_step"))
+    params = Params(**{n: row[n] for n in PARAM_NAMES})
+    if row["param"] not in PARAM_NAMES:
+        raise ParameterError("param", row["param"], f"one of {', '.join(PARAM_NAMES)}")
+    if row["start"] not in ("hopf", "orbit"):
+        raise ParameterError("start", row["start"], "hopf or orbit")
+    end = None if row["end_value"] is None else check_finite("end_value", row["end_value"])
+    return BranchSpec(params, row["param"], stored_inputs.orbit_step(params, row["dt"]),
+                      row["start"] == "hopf", end,
+                      stored_inputs.whole("max_points", row["max_points"], 1),
+                      check_positive("max_step", row["max_step"]))
 
 
 def claim(db: Database, worker_id: str) -> BranchJob | None:
-    row = branch_rows.claim(db, worker_id)
-    return None if row is None else BranchJob(row["id"], row["attempts"], spec_of(row))
+    """Claim the oldest queued continuation (one attempt charged), or None; one whose
+    stored inputs cannot be computed fails at once with the reason, and the next one is
+    claimed."""
+    while (row := branch_rows.claim(db, worker_id)) is not None:
+        try:
+            return BranchJob(row["id"], row["attempts"], spec_of(row))
+        except stored_inputs.INPUT_ERRORS as exc:
+            stored_inputs.refuse(branch_rows, "continuation", db, worker_id, row["id"], exc)
+    return None
 
 
 def point_fields(branch: Branch) -> dict[str, Any]:
@@ -122,7 +142,13 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
     from core.branch_start import MIN_STEP, past_end, resume, start
     from core.continuation import bifurcations, check_end, criticality, step
     spec = job.spec
-    saved = [saved_of(r) for r in branch_rows.saved_points(db, job.id)]
+    rows = branch_rows.saved_points(db, job.id)
+    try:  # in this thread: a point that cannot be read back would kill the worker
+        saved = [saved_of(r) for r in rows]
+    except stored_inputs.INPUT_ERRORS as exc:
+        stored_inputs.refuse(branch_rows, "continuation", db, wid, job.id, ValueError(
+            f"a saved point (branch_points) cannot be read back: {exc}"))
+        return
 
     def begin() -> tuple[Branch, tuple[float, float] | None]:
         if saved:

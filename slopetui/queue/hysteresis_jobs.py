@@ -23,6 +23,8 @@ slopetui.queue.thread_steps):
   given back; an abort gives it back at once and leaves the point in progress unsaved.
   A sweep that cannot be followed (tau) fails at once with the reason; any other error is
   retried up to max_attempts.
+* A row whose stored inputs cannot be computed (a hand-edited store) fails at its claim
+  with the reason, and the next one is claimed (slopetui.queue.stored_inputs).
 """
 
 from __future__ import annotations
@@ -35,7 +37,8 @@ from functools import partial
 from typing import TYPE_CHECKING, Any
 
 from core.jit_cache import source_digest
-from core.params import PARAM_NAMES, Params
+from core.params import PARAM_NAMES, ParameterError, Params, check_finite, check_positive
+from slopetui.queue import stored_inputs
 from slopetui.queue.thread_steps import HeldJob, Runner, Stops
 from slopetui.store import hysteresis_rows
 from slopetui.store.database import Database
@@ -100,15 +103,38 @@ def submit(db: Database, spec: HysteresisSpec) -> int:
 
 
 def spec_of(row: Any) -> HysteresisSpec:
-    """The spec a hysteresis_sweeps row asks for."""
-    return HysteresisSpec(Params(**{n: row[n] for n in PARAM_NAMES}), row["param"],
-                          row["start"], row["stop"], row["n_points"], row["dt"],
-                          row["t_settle"], row["window"])
+    """The spec a hysteresis_sweeps row asks for, checked: one of
+    stored_inputs.INPUT_ERRORS (ParameterError naming the column) for values it cannot be
+    computed from (a sweep along tau is refused later, as an answer: compute)."""
+    stored_inputs.present(row, (*PARAM_NAMES, "param", "start", "stop", "n_points", "dt",
+                                "t_settle", "window"))
+    params = Params(**{n: row[n] for n in PARAM_NAMES})
+    name = row["param"]
+    if name not in PARAM_NAMES:
+        raise ParameterError("param", name, f"one of {', '.join(PARAM_NAMES)}")
+    ends = [check_finite(field, row[field]) for field in ("start", "stop")]
+    for value in ends:  # the parameter's own range, as the points will ask it
+        params.with_(**{name: value})
+    t_settle = check_positive("t_settle", row["t_settle"])
+    window = check_positive("window", row["window"])
+    if window > t_settle:
+        raise ParameterError("window", window, f"0 < window <= t_settle = {t_settle:g}")
+    return HysteresisSpec(params, name, ends[0], ends[1],
+                          stored_inputs.whole("n_points", row["n_points"], 2),
+                          stored_inputs.orbit_step(params, row["dt"]), t_settle, window)
 
 
 def claim(db: Database, worker_id: str) -> HysteresisJob | None:
-    row = hysteresis_rows.claim(db, worker_id)
-    return None if row is None else HysteresisJob(row["id"], row["attempts"], spec_of(row))
+    """Claim the oldest queued hysteresis sweep (one attempt charged), or None; one whose
+    stored inputs cannot be computed fails at once with the reason, and the next one is
+    claimed."""
+    while (row := hysteresis_rows.claim(db, worker_id)) is not None:
+        try:
+            return HysteresisJob(row["id"], row["attempts"], spec_of(row))
+        except stored_inputs.INPUT_ERRORS as exc:
+            stored_inputs.refuse(hysteresis_rows, "hysteresis sweep", db, worker_id,
+                                 row["id"], exc)
+    return None
 
 
 def point_fields(idx: int, direction: str, pt: WarmPoint, state: np.ndarray | None
@@ -183,7 +209,13 @@ def compute(db: Database, wid: str, job: HysteresisJob, run: Runner, control: St
     total = 2 * spec.n_points
     ended = any(r["state"] is None for r in saved)  # a run left the finite range: the end
     if saved:
-        state = None if ended else state_of(saved[-1], g)
+        try:  # in this thread: a state that cannot be read back would kill the worker
+            state = None if ended else state_of(saved[-1], g)
+        except stored_inputs.INPUT_ERRORS as exc:
+            stored_inputs.refuse(hysteresis_rows, "hysteresis sweep", db, wid, job.id,
+                                 ValueError("the state of a saved point (hysteresis_points) "
+                                            f"cannot be read back: {exc}"))
+            return None
     else:
         _, first = spec.plan(0)
         state = initial_state(spec.params.with_(**{spec.name: first}), g)

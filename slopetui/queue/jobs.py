@@ -16,15 +16,21 @@ that are about to be computed (and stamps started_at). So when a worker dies mid
 only the runs that were being computed have used an attempt; the runs it held but had not
 started (``status = 'running' AND started_at IS NULL``) go back to the queue as they came.
 ``claim`` (one run, computed at once) claims and begins in one statement.
+
+Each claimed run is built and checked at the claim (its parameters, its solver settings,
+their grid, the state its history names): a run whose stored inputs cannot be computed
+(a hand-edited store) fails at once with the reason and is dropped from the batch, which
+goes on (slopetui.queue.stored_inputs).
 """
 
 from __future__ import annotations
 
-from collections.abc import Collection
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 from core.params import PARAM_NAMES, Params
+from slopetui.queue import stored_inputs
 from slopetui.queue.defaults import LEASE_S, MAX_ATTEMPTS
 from slopetui.store import branch_rows, cached_results, claims, hysteresis_rows, initial_states
 from slopetui.store.claims import ClaimedRow
@@ -47,15 +53,65 @@ class Job:
     settings: SolverSettings
     #: Charged an attempt (``begin``): a release gives that attempt back.
     started: bool = False
+    #: The final state its history names, read at the claim (None: a named history).
+    carried: CarriedState | None = None
 
 
-def _job(m: ClaimedRow, started: bool) -> Job:
+#: The claimed columns a run's inputs are built from (NULL in none of them).
+_INPUTS = (*PARAM_NAMES, "method", "dt", "t_end", "window", "lyap", "history")
+
+
+def _job(m: ClaimedRow, started: bool, states: Mapping[str, bytes]) -> Job:
+    """The job of a claimed row, its inputs checked as the engine will check them (the
+    grid included) and the state its history names taken from ``states`` (by name).
+    Raises one of stored_inputs.INPUT_ERRORS (ParameterError naming the field) for inputs
+    that cannot be computed."""
     from core import SolverSettings
+    from core.history import STATE_PREFIX, CarriedState
+    from core.history import start as history_start
+    from core.params import ParameterError
+    from core.solve import make_grid
+    stored_inputs.present(m, _INPUTS)
     params = Params(**{n: m[n] for n in PARAM_NAMES})
+    if not isinstance(m["lyap"], bool):
+        raise ParameterError("lyap", m["lyap"], "true or false")
     settings = SolverSettings(method=m["method"], dt=m["dt"], t_end=m["t_end"],
                               window=m["window"], lyap=m["lyap"], history=m["history"])
+    grid = make_grid(params, settings)  # dt <= tau, the steps' and the memory's limits
+    carried = None
+    if settings.history.startswith(STATE_PREFIX):
+        blob = states.get(settings.history)
+        if blob is None:
+            raise ParameterError("history", settings.history, "a final state kept in this "
+                                 "store (initial_states holds none of that name)")
+        carried = CarriedState.from_bytes(blob)
+        # the state's name, tau, step and length against the run's, as the kernel will
+        history_start(params, grid.dt, grid.n_delay, settings.history, carried)
     return Job(m["id"], m["sweep_id"], m["attempts"], m["cache_key"], params, settings,
-               started)
+               started, carried)
+
+
+def _built(db: Database, worker_id: str, rows: Sequence[ClaimedRow], started: bool
+           ) -> list[Job]:
+    """The jobs of the claimed rows, by id; a row whose inputs cannot be computed is
+    failed at once with the reason (claims.refuse), logged in one line, and left out."""
+    from core.history import STATE_PREFIX
+    names = {m["history"] for m in rows
+             if isinstance(m["history"], str) and m["history"].startswith(STATE_PREFIX)}
+    states = {name: blob for name in names
+              if (blob := initial_states.load_state(db, name)) is not None}
+    built: list[Job] = []
+    refused: dict[int, str] = {}
+    for m in rows:
+        try:
+            built.append(_job(m, started, states))
+        except stored_inputs.INPUT_ERRORS as exc:
+            refused[m["id"]] = stored_inputs.reason(exc)
+    if refused:
+        claims.refuse(db, worker_id, refused)
+        for run_id, text in sorted(refused.items()):
+            stored_inputs.log_refused("run", run_id, text)
+    return sorted(built, key=lambda job: job.run_id)
 
 
 def claim_batch(db: Database, worker_id: str, limit: int,
@@ -70,9 +126,15 @@ def claim_batch(db: Database, worker_id: str, limit: int,
               is claimed alone. A worker computing a batch run by run holds runs that
               idle workers could have started (one worker held 30 of 32 RK4 runs while
               the other waited, when RK4 had no batched kernel).
+
+    A claimed run whose inputs cannot be computed fails at once (``_built``); if that
+    leaves nothing, the next batch is claimed: each round fails at least one run for good,
+    so this ends.
     """
-    rows = claims.claim_batch(db, worker_id, limit, batched)
-    return sorted((_job(row, started=False) for row in rows), key=lambda job: job.run_id)
+    while rows := claims.claim_batch(db, worker_id, limit, batched):
+        if batch := _built(db, worker_id, rows, started=False):
+            return batch
+    return []
 
 
 def begin(db: Database, batch: list[Job], worker_id: str) -> list[Job]:
@@ -87,13 +149,13 @@ def begin(db: Database, batch: list[Job], worker_id: str) -> list[Job]:
 
 
 def carried_state(db: Database, job: Job) -> CarriedState | None:
-    """The final state the job's history names (kept by submission in the store), or
-    None for a named history. A state missing from the store is a ValueError, which the
-    worker records as the run's error."""
+    """The final state the job's history names (kept by submission in the store, read at
+    the claim), or None for a named history. A state missing from the store is a
+    ValueError."""
     from core.history import STATE_PREFIX, CarriedState
     history = job.settings.history
-    if not history.startswith(STATE_PREFIX):
-        return None
+    if job.carried is not None or not history.startswith(STATE_PREFIX):
+        return job.carried
     blob = initial_states.load_state(db, history)
     if blob is None:
         raise ValueError(f"run {job.run_id}: its history {history} is not in the store")
@@ -101,9 +163,12 @@ def carried_state(db: Database, job: Job) -> CarriedState | None:
 
 
 def claim(db: Database, worker_id: str) -> Job | None:
-    """Claim the oldest queued run of an active sweep, or None if there is none."""
-    row = claims.claim(db, worker_id)
-    return None if row is None else _job(row, started=True)
+    """Claim the oldest queued run of an active sweep, or None if there is none; a run
+    whose inputs cannot be computed fails at once, and the next one is claimed."""
+    while (row := claims.claim(db, worker_id)) is not None:
+        if built := _built(db, worker_id, [row], started=True):
+            return built[0]
+    return None
 
 
 def complete(db: Database, job: Job, worker_id: str, record: dict[str, Any],

@@ -359,14 +359,8 @@ def _one_by_one(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadP
         if not started:
             log.warning("run %d: lease lost before it started; skipped", job.run_id)
             continue
-        try:  # the final state its history names, read here: the store is this thread's
-            carried = jobs.carried_state(db, started[0])
-        except ValueError as exc:
-            failed: Future[Records] = Future()
-            failed.set_exception(exc)
-            _write(db, wid, started, failed, opts, len(batch))
-            continue
-        future = executor.submit(_compute_one, started[0], carried)
+        # the final state its history names was read and checked at the claim (jobs)
+        future = executor.submit(_compute_one, started[0], started[0].carried)
         if not _wait(future, control):
             _give_back(db, wid, started + batch[i + 1:])
             return

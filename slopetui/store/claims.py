@@ -1,5 +1,5 @@
-"""The statements of a claimed run's life: claim, begin, heartbeat, complete, fail, release,
-requeue. ``slopetui.queue.jobs`` holds the policy (what a job is, when a run has used up
+"""The statements of a claimed run's life: claim, begin, heartbeat, complete, fail, refuse,
+release, requeue. ``slopetui.queue.jobs`` holds the policy (what a job is, when a run has used up
 its attempts) and calls these; each one here is one transaction.
 
 A worker claims a run with one ``UPDATE ... WHERE id = (SELECT ... LIMIT 1) RETURNING``:
@@ -83,7 +83,7 @@ _WORKER_DONE = (update(Worker).where(Worker.id == bindparam("wid"))
 # claiming at the same time reads the next one instead of settings whose runs it would
 # then find all taken, and come back with nothing while runs of other tau wait.
 _BATCH_KEY = (Run.method, Run.dt, Run.t_end, Run.window, Run.lyap, Run.history, Run.tau)
-_OLDEST_SETTINGS = (select(*_BATCH_KEY)
+_OLDEST_SETTINGS = (select(*_BATCH_KEY, Run.id)
                     .join(Sweep, Sweep.id == Run.sweep_id)
                     .where(Run.status == "queued", Sweep.status == "active")
                     .order_by(Run.id).limit(1)
@@ -103,6 +103,16 @@ _CLAIM_BATCH = (update(Run).where(Run.id == _PICKED.c.id, Run.status == "queued"
                 .values(status="running", worker_id=bindparam("wid"), started_at=None,
                         heartbeat_at=db_now())
                 .returning(*_CLAIM_COLUMNS))
+# The oldest run alone, by id: one whose settings hold a NULL (a hand-edited store), which
+# equals nothing in SQL, so that _COMPATIBLE would never take it (claim_batch).
+_CLAIM_ALONE = (update(Run).where(Run.id == bindparam("rid"), Run.status == "queued")
+                .values(status="running", worker_id=bindparam("wid"), started_at=None,
+                        heartbeat_at=db_now())
+                .returning(*_CLAIM_COLUMNS))
+#: A held run whose stored inputs cannot be computed fails at once, without an attempt.
+_REFUSE = (update(Run).where(_HOLDING)
+           .values(status="failed", error=bindparam("reason"), finished_at=db_now(),
+                   started_at=func.coalesce(Run.started_at, db_now())))
 _BEGIN = (update(Run).where(Run.id.in_(bindparam("rids", expanding=True)),
                             Run.status == "running", Run.worker_id == bindparam("wid"),
                             Run.started_at.is_(None))
@@ -118,17 +128,35 @@ def claim_batch(db: Database, worker_id: str, limit: int,
     is claiming), in one transaction, without charging an attempt; [] if nothing is
     queued. A run whose method is not in ``batched`` (None: every method), or whose
     history is not the constant one (the batched kernels know no other, core.batch), is
-    claimed alone. Returned not in id order: the caller sorts."""
+    claimed alone, and so is a run whose settings hold a NULL (a hand-edited store: NULL
+    equals nothing, so no batch would ever take it, and every later claim would stop at
+    it; the worker fails it, slopetui.queue.jobs). Returned not in id order: the caller
+    sorts."""
     with db.connection() as conn:
         oldest = conn.execute(_OLDEST_SETTINGS).first()
         if oldest is None:
             return []
+        key = {name: value for name, value in oldest._mapping.items() if name != "id"}
+        if any(value is None for value in key.values()):
+            rows = conn.execute(_CLAIM_ALONE, {"wid": worker_id, "rid": oldest.id}).all()
+            return [row._mapping for row in rows]
         if batched is not None and (oldest.method not in batched
                                     or oldest.history != "constant"):
             limit = 1
         rows = conn.execute(_CLAIM_BATCH, {"wid": worker_id, "n": limit, **{
-            f"b_{name}": value for name, value in oldest._mapping.items()}}).all()
+            f"b_{name}": value for name, value in key.items()}}).all()
     return [row._mapping for row in rows]
+
+
+def refuse(db: Database, worker_id: str, reasons: Mapping[int, str]) -> int:
+    """Fail at once, with its reason, each held run of ``reasons`` (by id) whose stored
+    inputs cannot be computed: the same values would fail in every worker, so no attempt
+    is charged and none retried. Returns how many it failed (a run whose lease was lost
+    meanwhile is left to its new holder)."""
+    with db.connection() as conn:
+        return sum(conn.execute(_REFUSE, {"rid": rid, "wid": worker_id,
+                                          "reason": reason[-4000:]}).rowcount
+                   for rid, reason in reasons.items())
 
 
 def begin(db: Database, worker_id: str, run_ids: list[int], current: int | None) -> dict[int, int]:
