@@ -55,7 +55,7 @@ DROPS: dict[str, tuple[Dropped, ...]] = {
                               "SELECT count(*) FROM branch_points"),
                       Dropped("bifurcation", "bifurcations",
                               "SELECT count(*) FROM bifurcations"))),),
-    "0003": (_values("attractor, flags and maxima per period", "runs",
+    "0003": (_values("attractor, settled, flags and maxima per period", "runs",
                      "attractor IS NOT NULL OR flags IS NOT NULL OR settled IS NOT NULL "
                      "OR maxima_per_period IS NOT NULL"),),
     # an inferred run left without its mark reads as a computed run with no measurement

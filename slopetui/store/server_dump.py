@@ -91,6 +91,10 @@ def dump(db: Database, revision: str, folder: Path | None = None) -> Path:
     """pg_dump ``db`` (at schema ``revision``) into a new file of mode 600 in ``folder``
     (default ``backup_folder()``, made with mode 700); its path. StoreError, and no file
     left, if pg_dump is missing or fails."""
+    if db.url.get_backend_name() != "postgresql":
+        raise StoreError(f"the schema was not changed: slopetui backs up SQLite and "
+                         f"PostgreSQL stores, not {db.url.get_backend_name()}: back it up "
+                         "yourself, then pass --no-backup")
     program = find_pg_dump()
     folder = backup_folder() if folder is None else folder
     target = _target(folder, db, revision)

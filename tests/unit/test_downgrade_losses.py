@@ -59,8 +59,8 @@ def test_the_line_after_a_downgrade_says_what_went(db, db_url, capsys):
     out = capsys.readouterr().out
     assert f"0009 -> 0003; dropped {JOBS}; backup copy " in out
     assert main(["db", "downgrade", "0002", "--yes", "--db", db_url]) == 0
-    assert ("0003 -> 0002; dropped the attractor, flags and maxima per period of 14 runs"
-            in capsys.readouterr().out)
+    assert ("0003 -> 0002; dropped the attractor, settled, flags and maxima per period of "
+            "14 runs" in capsys.readouterr().out)
 
 
 def test_a_downgrade_that_drops_nothing_says_so(store):
