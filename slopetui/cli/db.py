@@ -16,6 +16,7 @@ from slopetui.store.failures import StoreError
 
 if TYPE_CHECKING:
     from slopetui.store.database import Database
+    from slopetui.store.migrate import DowngradePlan
 
 #: PostgreSQL needs a few connections for itself (superuser_reserved_connections = 3);
 #: beyond 10 000 each connection's memory adds up to more than a node has.
@@ -37,12 +38,19 @@ def register(sub: argparse._SubParsersAction) -> None:
         a.set_defaults(handler=handle)
     down = actions.add_parser(
         "downgrade", help="migrate the database back to an older schema revision",
-        description="Migrate back to REV (for an older slopetui), after a backup copy of a "
-                    "SQLite file. Any command of this slopetui upgrades it again.")
+        description="Migrate back to REV (for an older slopetui), after a backup: a SQLite "
+                    "file is copied aside (FILE.bak-REV), a PostgreSQL database is dumped "
+                    "with pg_dump into a file of mode 600 (refused without pg_dump unless "
+                    "--no-backup). Asks first, naming what the downgrade drops (the "
+                    "continuations, hysteresis sweeps... an older schema has no place for). "
+                    "Any command of this slopetui upgrades it again.")
     down.add_argument("revision", metavar="REV",
                       help="an older revision (`slopetui db current` shows the database's), "
                            "or base (no tables)")
     down.add_argument("--yes", action="store_true", help="do not ask for confirmation")
+    down.add_argument("--no-backup", action="store_true",
+                      help="PostgreSQL: downgrade without the pg_dump backup (a SQLite file "
+                           "is always copied)")
     add_db_option(down)
     down.set_defaults(handler=handle)
     _register_serve(actions)
@@ -219,15 +227,23 @@ def _serve(args: argparse.Namespace) -> int:
     return _serve_foreground(folder, settings, pg_bin, default_dir=args.dir is None)
 
 
-def _confirm(db: Database, revision: str, assume_yes: bool) -> None:
+def _backup_note(db: Database, no_backup: bool) -> str:
+    if db.path is not None:
+        return "A backup copy is made first."
+    if no_backup:
+        return "No backup is made (--no-backup)."
+    return "pg_dump writes a backup first."
+
+
+def _confirm(db: Database, plan: DowngradePlan, no_backup: bool, assume_yes: bool) -> None:
     if assume_yes:
         return
-    question = (f"migrate {db.display_url} back to revision {revision}? "
-                f"{'Every table is dropped. ' if revision == 'base' else ''}"
-                f"{'A backup copy is made first. ' if db.path else 'No backup copy is made (use pg_dump). '}"
-                "[y/N] ")
+    drops = ("Every table is dropped, with " if plan.after == "base" else "It drops ")
+    question = (f"migrate {db.display_url} back to revision {plan.after}? {drops}"
+                f"{plan.dropped}. {_backup_note(db, no_backup)} [y/N] ")
     if not sys.stdin.isatty():
-        raise UsageError("a downgrade needs confirmation: add --yes")
+        raise UsageError(f"a downgrade needs confirmation: add --yes (it drops "
+                         f"{plan.dropped})")
     if input(question).strip().lower() not in ("y", "yes"):
         raise UsageError("not confirmed; nothing was changed")
 
@@ -260,6 +276,7 @@ def handle(args: argparse.Namespace) -> int:
         current_revision,
         downgrade,
         head_revision,
+        plan_downgrade,
         upgrade,
     )
 
@@ -269,11 +286,17 @@ def handle(args: argparse.Namespace) -> int:
         print(f"{db.display_url}: {before or 'empty'} -> {after}"
               if before != after else f"{db.display_url}: already at {after}")
     elif args.db_action == "downgrade":
+        from slopetui.store.server_dump import find_pg_dump
+
         db = Database(args.db)
-        _confirm(db, args.revision, args.yes)
-        before, after, copy = downgrade(db, args.revision)
-        print(f"{db.display_url}: {before} -> {after}"
-              + (f"; backup copy {copy}" if copy else ""))
+        plan = plan_downgrade(db, args.revision)
+        if not db.is_sqlite and not args.no_backup:
+            find_pg_dump()  # refused before asking, not after the answer
+        _confirm(db, plan, args.no_backup, args.yes)
+        before, after, copy = downgrade(db, args.revision, backup=not args.no_backup)
+        kept = (f"backup copy {copy}" if db.is_sqlite else f"backup {copy} (pg_dump)"
+                if copy else "no backup (--no-backup)")
+        print(f"{db.display_url}: {before} -> {after}; dropped {plan.dropped}; {kept}")
         print("note: any command of this slopetui upgrades it again")
     elif args.db_action == "current":
         db = Database(args.db)

@@ -3,9 +3,12 @@ non-editable install carries them), applied when a database is opened
 (``slopetui.store.open.open_store``).
 
 Every change of schema, up or down, first copies a SQLite store aside
-(``slopetui.db.bak-<revision before>``), and runs with SQLite's foreign keys off: Alembic's
-batch mode rebuilds a table by copy, DROP and rename, and with foreign keys on, the DROP of
-``sweeps`` cascades to ``runs`` (a downgrade of 0002 deleted every run that way).
+(``slopetui.db.bak-<revision before>``); a downgrade of a PostgreSQL store first dumps it
+(pg_dump, ``slopetui.store.server_dump``), or is refused unless told to go without. A
+downgrade's prompt names what it drops (``plan_downgrade``). Every change runs with
+SQLite's foreign keys off: Alembic's batch mode rebuilds a table by copy, DROP and
+rename, and with foreign keys on, the DROP of ``sweeps`` cascades to ``runs`` (a
+downgrade of 0002 deleted every run that way).
 ``PRAGMA foreign_key_check`` then runs inside the migration's transaction, and a
 violation rolls the whole migration back.
 
@@ -24,6 +27,7 @@ import os
 import sqlite3
 from collections.abc import Iterator
 from contextlib import AbstractContextManager, closing, contextmanager
+from dataclasses import dataclass
 from datetime import datetime
 from functools import lru_cache
 from pathlib import Path
@@ -40,7 +44,9 @@ from sqlalchemy.exc import OperationalError
 
 import migrations
 from slopetui.store.database import Database
+from slopetui.store.downgrade_losses import losses, sentence
 from slopetui.store.failures import StoreError, describe
+from slopetui.store.server_dump import dump
 
 #: How long a process waits for another one that is migrating the same database (s).
 LOCK_TIMEOUT_S = 300
@@ -119,21 +125,62 @@ def upgrade(db: Database) -> tuple[str | None, str]:
         return before, head_revision()
 
 
-def downgrade(db: Database, revision: str) -> tuple[str | None, str, Path | None]:
-    """Downgrade to ``revision`` (an older one, or "base": no tables at all) under the
-    lock, after a backup copy; returns (revision before, revision after, the copy)."""
+@dataclass(frozen=True)
+class DowngradePlan:
+    """A downgrade before it runs: the revisions it goes between, and what it drops (see
+    slopetui.store.downgrade_losses), counted when planned."""
+
+    before: str
+    after: str
+    drops: list[str]
+
+    @property
+    def dropped(self) -> str:
+        """"3 continuations (412 branch points) and 2 hysteresis sweeps"."""
+        return sentence(self.drops)
+
+
+def _older(db: Database, revision: str) -> str:
+    """The database's revision, if ``revision`` is older (or "base"); else StoreError."""
     known = revisions()
     if revision != "base" and revision not in known:
         raise StoreError(f"REV: unknown revision {revision!r}; one of "
                          f"{', '.join(known)} or base")
+    before = current_revision(db)
+    _check_known(before)
+    if before is None or (revision != "base"
+                          and known.index(revision) >= known.index(before)):
+        raise StoreError(f"REV: {revision} is not older than the database's revision "
+                         f"{before or 'none (empty)'}")
+    return before
+
+
+def plan_downgrade(db: Database, revision: str) -> DowngradePlan:
+    """What a downgrade of ``db`` to ``revision`` would drop, counted now; StoreError for a
+    revision that is not older than the database's."""
+    before = _older(db, revision)
+    known = revisions()
+    first = 0 if revision == "base" else known.index(revision) + 1
+    undone = list(reversed(known[first:known.index(before) + 1]))
+    return DowngradePlan(before, revision, losses(db, undone, to_base=revision == "base"))
+
+
+def downgrade(db: Database, revision: str, *, backup: bool = True,
+              backup_folder: Path | None = None) -> tuple[str | None, str, Path | None]:
+    """Downgrade to ``revision`` (an older one, or "base": no tables at all) under the
+    lock, after a backup: a SQLite file is always copied aside (backup_copy); a
+    PostgreSQL database is dumped with pg_dump into ``backup_folder`` (default
+    slopetui.store.server_dump.backup_folder()) unless ``backup`` is false, and without
+    pg_dump the downgrade is refused. Returns (revision before, revision after, the
+    backup)."""
     with migration_lock(db):
-        before = current_revision(db)
-        _check_known(before)
-        if before is None or (revision != "base"
-                              and known.index(revision) >= known.index(before)):
-            raise StoreError(f"REV: {revision} is not older than the database's revision "
-                             f"{before or 'none (empty)'}")
-        copy = backup_copy(db, before)
+        before = _older(db, revision)
+        if db.is_sqlite:
+            copy = backup_copy(db, before)
+        elif backup:
+            copy = dump(db, before, backup_folder)
+        else:
+            copy = None
         command.downgrade(alembic_config(db), revision)
         return before, revision, copy
 
@@ -154,8 +201,8 @@ def _check_known(revision: str | None) -> None:
 def backup_copy(db: Database, revision: str | None) -> Path | None:
     """Copy a SQLite store aside before its schema changes, as ``<file>.bak-<revision>``
     (never over an older copy: then ``.bak-<revision>-<time>``), readable by its owner
-    only. None for a new (empty) store or a server database, which has its own backups
-    (pg_dump). SQLite's backup API copies a consistent state, the WAL included."""
+    only. None for a new (empty) store or a server database (a downgrade dumps that
+    with pg_dump: slopetui.store.server_dump). SQLite's backup API copies a consistent state, the WAL included."""
     if db.path is None or revision is None:
         return None
     target = db.path.with_name(f"{db.path.name}.bak-{revision}")

@@ -39,6 +39,10 @@ NAMING_CONVENTION = {
     "pk": "pk_%(table_name)s",
 }
 
+#: The table option of the tables whose ids the commands take and print: on SQLite, an id
+#: is never handed out twice, even after the row holding the largest was deleted (without
+#: it SQLite takes max(id) + 1; migration 0009). PostgreSQL's sequences never go back.
+IDS_NEVER_REUSED = {"sqlite_autoincrement": True}
 
 
 def _one_of(column: str, values: tuple[str, ...]) -> str:
@@ -76,7 +80,8 @@ class Sweep(Base):
 
     runs: Mapped[list[Run]] = relationship(back_populates="sweep", passive_deletes=True)
 
-    __table_args__ = (CheckConstraint(_one_of("status", SWEEP_STATUSES), name="status"),)
+    __table_args__ = (CheckConstraint(_one_of("status", SWEEP_STATUSES), name="status"),
+                      IDS_NEVER_REUSED)
 
 
 class Run(Base):
@@ -179,6 +184,7 @@ class Run(Base):
         Index(None, "cache_key", "status"),
         # "The sliding/oscillatory boundary per tau" across sweeps.
         Index(None, "regime", "tau"),
+        IDS_NEVER_REUSED,
     )
 
 
@@ -225,10 +231,11 @@ class LeasedJob:
     @staticmethod
     def queue_args(*more: Any) -> tuple[Any, ...]:
         """A job table's ``__table_args__``: the status check and the claim's index
-        ("the oldest queued"), then ``more``. New objects each call: a constraint belongs
-        to one table, and the naming convention names it after that table."""
+        ("the oldest queued"), then ``more``, and ids never reused (a job's id is what the
+        commands take). New objects each call: a constraint belongs to one table, and the
+        naming convention names it after that table."""
         return (CheckConstraint(_one_of("status", RUN_STATUSES), name="status"),
-                Index(None, "status", "id"), *more)
+                Index(None, "status", "id"), *more, dict(IDS_NEVER_REUSED))
 
 
 class Continuation(LeasedJob, Base):
