@@ -18,6 +18,7 @@ escape, ``\\x1b`` or ``\\u202e``, so that the reader sees it is there.
 from __future__ import annotations
 
 import unicodedata
+from typing import Protocol, TextIO
 
 #: Bidi controls that reorder the text after them (embeddings, overrides, isolates, marks).
 BIDI_CONTROLS = frozenset(
@@ -62,3 +63,31 @@ def unsafe_characters(text: str) -> list[str]:
 def terminal_safe_lines(text: str) -> str:
     """``text`` of several lines (a CSV for a terminal) made safe, its newlines kept."""
     return "\n".join(terminal_safe(line) for line in text.split("\n"))
+
+
+class TextOut(Protocol):
+    """What a writer of rows needs of its output: a text stream, or TerminalSafeWriter."""
+
+    def write(self, text: str, /) -> int: ...
+
+    def flush(self) -> None: ...
+
+
+class TerminalSafeWriter:
+    """A text stream that escapes what is written to it (``terminal_safe_lines``): for
+    data written on the fly (``csv.writer``) to a terminal. Into a file or a pipe, data
+    goes raw instead: a reader there must get what the store holds (``for_terminal``)."""
+
+    def __init__(self, out: TextIO) -> None:
+        self.out = out
+
+    def write(self, text: str) -> int:
+        return self.out.write(terminal_safe_lines(text))
+
+    def flush(self) -> None:
+        self.out.flush()
+
+
+def for_terminal(out: TextIO) -> TextOut:
+    """``out`` itself into a file or a pipe; escaped (TerminalSafeWriter) on a terminal."""
+    return TerminalSafeWriter(out) if out.isatty() else out
