@@ -41,7 +41,7 @@ from core.mounts import network_filesystem
 from slopetui.store.connection_slots import ConnectionSlots
 from slopetui.store.db_time import db_now
 from slopetui.store.failures import StoreError, describe, os_failure
-from slopetui.store.location import DB_ENV, default_url
+from slopetui.store.location import DB_ENV, READ_DB_ENV, default_url
 
 #: How long a SQLite connection waits for another writer before "database is locked" (ms).
 #: A write transaction here lasts well under 10 ms; a minute covers a checkpoint on a
@@ -378,9 +378,27 @@ class Database:
         assert now is not None  # a SELECT of a function always returns its row
         return now
 
+    def reader_url(self) -> URL:
+        """The URL the read-only queries of a PostgreSQL store connect with: that of
+        ``$SLOPETUI_READ_DB`` (a role that only reads, slopetui.store.local_server) when it
+        names this store's database (same host, port and database), else the store's own.
+        Another database's reader is not used: its rows would be shown as this store's."""
+        named = os.environ.get(READ_DB_ENV)
+        if not named:
+            return self.url
+        reader = parse_url(named)
+
+        def where(url: URL) -> tuple[object, ...]:
+            return (url.get_backend_name(), url.host, url.port or 5432, url.database,
+                    url.query.get("host"), url.query.get("port"))
+
+        return reader if where(reader) == where(self.url) else self.url
+
     def read_only_engine(self) -> Engine:
         """An engine on which the database itself refuses writes: SQLite opened with
-        mode=ro (plus query_only), PostgreSQL in READ ONLY transactions."""
+        mode=ro (plus query_only), PostgreSQL in READ ONLY transactions under the reading
+        role when there is one (``reader_url``), its statements checked first
+        (``slopetui.store.pg_read_guard``, in ``read_query``)."""
         backend = self.url.get_backend_name()
         if backend == "sqlite":
             if self.path is None:
@@ -391,7 +409,7 @@ class Database:
             event.listen(engine, "connect", _sqlite_read_only_connect)
             return engine
         if backend == "postgresql":
-            engine = create_engine(self.url)
+            engine = create_engine(self.reader_url())
             event.listen(engine, "begin", _postgres_read_only_begin)
             return engine
         raise StoreError(f"read-only queries are supported on SQLite and PostgreSQL, "
