@@ -10,6 +10,7 @@ starts one; it trusts local connections, so the test's roles need no password).
 from __future__ import annotations
 
 import os
+import stat
 import subprocess
 import sys
 from collections.abc import Iterator
@@ -22,6 +23,7 @@ from slopetui.store import Database, open_store
 from slopetui.store.local_server import reader_grants
 from slopetui.store.location import READ_DB_ENV
 from slopetui.store.read_query import QueryError, ReadQuery
+from tests.integration.test_db_serve import free_port, runner  # noqa: F401  (a fixture)
 from tests.support import pg_database, submit_quick
 
 PG_URL = os.environ.get("SLOPETUI_TEST_PG")
@@ -202,3 +204,49 @@ def test_slopetui_reads_under_the_reading_role_when_named(roles, monkeypatch) ->
     finally:
         engine.dispose()
         db.dispose()
+
+
+def test_db_serve_makes_the_reading_role(runner) -> None:  # noqa: F811  (the fixture)
+    """`slopetui db serve` makes slopetui_read with its own password and URL (DIR/read-url,
+    mode 600); over TCP it reads, and is refused the workers' locks and backends; the
+    commands that read run under it when SLOPETUI_READ_DB names it."""
+    folder, port = runner.home / "pg", free_port()
+    serve = runner.serve("--dir", str(folder), "--port", str(port))
+    try:
+        serve.ready()
+        read_url = (folder / "read-url").read_text().strip()
+        worker_url = (folder / "url").read_text().strip()
+        assert stat.S_IMODE((folder / "read-url").stat().st_mode) == 0o600
+        assert stat.S_IMODE((folder / "read-password").stat().st_mode) == 0o600
+        reader_pw = (folder / "read-password").read_text().strip()
+        assert read_url.startswith(f"postgresql+psycopg://slopetui_read:{reader_pw}@")
+        assert reader_pw != (folder / "password").read_text().strip()
+        here = make_url(worker_url).set(host="127.0.0.1")
+        db = Database(here.render_as_string(hide_password=False))
+        submit_quick(db, 3)
+        db.dispose()
+        worker = psycopg.connect(**libpq(here.render_as_string(hide_password=False)))
+        reader = psycopg.connect(**libpq(make_url(read_url).set(host="127.0.0.1")
+                                         .render_as_string(hide_password=False)))
+        try:
+            assert reader.execute("SELECT count(*) FROM runs").fetchone() == (3,)
+            assert worker.execute("SELECT pg_try_advisory_lock(5)").fetchone() == (True,)
+            for sql in ("DELETE FROM runs", "SELECT pg_advisory_lock(6)",
+                        f"SELECT pg_terminate_backend({worker.info.backend_pid})"):
+                with pytest.raises(psycopg.Error, match=r"must be a member|permission denied"):
+                    reader.execute(sql)
+        finally:
+            reader.close()
+            worker.close()
+        env = {**runner.env, "SLOPETUI_DB": here.render_as_string(hide_password=False),
+               READ_DB_ENV: make_url(read_url).set(host="127.0.0.1")
+               .render_as_string(hide_password=False)}
+        runner.env, before = env, runner.env
+        try:
+            done = runner.run("sql", "SELECT current_user", "--csv")
+        finally:
+            runner.env = before
+        assert done.returncode == 0 and done.stdout == "current_user\nslopetui_read\n", done
+    finally:
+        runner.run("db", "serve", "--dir", str(folder), "--stop")
+        serve.rest()
