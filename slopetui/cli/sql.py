@@ -57,9 +57,13 @@ EXIT_INTERRUPTED = 130
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("sql", help="run a read-only SQL query over the store",
                        description="Run one read-only SQL statement. The schema is in the "
-                                   "README (tables sweeps, runs, workers). Exit status: 0 "
-                                   "done, 1 stopped by --timeout, 2 refused or invalid, "
-                                   "130 interrupted.",
+                                   "README (tables sweeps, runs, workers). Control "
+                                   "characters in the data are shown escaped (\\x1b) in "
+                                   "the table and on a terminal; --csv and --json into a "
+                                   "file or a pipe are exact. On PostgreSQL, $SLOPETUI_READ_DB "
+                                   "names a role that only reads (docs/store.md). Exit "
+                                   "status: 0 done, 1 stopped by --timeout, 2 refused or "
+                                   "invalid, 130 interrupted.",
                        epilog="example: slopetui sql \"SELECT regime, count(*) FROM runs "
                               "WHERE sweep_id = 3 GROUP BY regime\"")
     p.add_argument("query", metavar="SQL", help="one SQL statement")
