@@ -12,10 +12,11 @@ read-only file system) is opened read-only where the caller only reads
 ``export``, the notebook API), and ``Database.read_only`` says so in one line; every
 write then fails with SQLite's "attempt to write a readonly database". A WAL database
 needs its -shm file to be read: with ``mode=ro`` SQLite uses an existing one (a writer
-has the store open), and cannot create one. When there is none, no connection has the
-store open (the last one to close removes the -wal and -shm files, its transactions
-checkpointed into the file), so the file holds every committed transaction and is read
-with ``immutable=1`` (no locks, no -shm). That read is a snapshot: a writer that opens
+has the store open) or makes one where it may (a file it cannot write, in a folder it
+can). When neither works there is no -shm, so no connection has the store open (the last
+one to close removes the -wal and -shm files, its transactions checkpointed into the
+file): the file holds every committed transaction and is read with ``immutable=1`` (no
+locks, no -shm). That read is a snapshot: a writer that opens
 the store afterwards (someone who may write its folder) is not seen, and its writes may
 even meet a read in progress; the note says "a snapshot". A -wal file with transactions
 but no -shm (a writer that crashed) needs a writer's recovery: refused, saying so.
@@ -26,7 +27,7 @@ from __future__ import annotations
 import os
 import sqlite3
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import closing, contextmanager
 from datetime import datetime
 from pathlib import Path
 from typing import Any, cast
@@ -107,12 +108,18 @@ def unwritable(path: Path) -> str | None:
     return None
 
 
-def _read_only_uri(path: Path) -> tuple[str, bool]:
+def read_only_uri(path: Path) -> tuple[str, bool]:
     """The URI a reader opens the unwritable store at ``path`` with, and whether it is
-    immutable (the module docstring says when). Raises StoreError for a log to recover."""
+    immutable (the module docstring says when): ``mode=ro`` if a connection opens and
+    reads with it (a -shm file exists, or can be made), else ``immutable=1`` unless a
+    -wal holds transactions (StoreError: only a writer can recover them)."""
     uri = f"file:{quote(str(path))}?mode=ro"
-    if Path(f"{path}-shm").exists():
-        return uri, False  # a writer has it open: read beside it, through its -shm
+    try:
+        with closing(sqlite3.connect(uri, uri=True)) as probe:
+            probe.execute("SELECT count(*) FROM sqlite_master").fetchone()
+        return uri, False
+    except sqlite3.Error:
+        pass  # no -shm, and none can be made: SQLite cannot read the log
     wal = Path(f"{path}-wal")
     if wal.exists() and wal.stat().st_size > 0:
         raise StoreError(f"cannot read {path}: its write-ahead log {wal.name} holds "
@@ -279,7 +286,7 @@ class Database:
             if why is None:
                 _create_private_file(self.path, make_folder=not explicit)
             else:
-                self._read_only_uri, snapshot = _read_only_uri(self.path)
+                self._read_only_uri, snapshot = read_only_uri(self.path)
                 self.unwritable = why
                 self.read_only = (f"store is read-only ({why}): opened for reading"
                                   + (", as a snapshot (no writer has it open)" if snapshot

@@ -23,8 +23,6 @@ import pytest
 
 import migrations
 from slopetui.store import open_store
-from slopetui.store.database import _read_only_uri
-from slopetui.store.failures import StoreError
 from tests.support import submit_quick
 
 #: What makes root obey the files' modes: no capability to override them.
@@ -149,15 +147,28 @@ def test_an_old_schema_it_cannot_migrate_is_refused_saying_why(tmp_path):
     folder.chmod(0o755)
 
 
-def test_a_log_left_by_a_crashed_writer_is_not_ignored(tmp_path):
+def test_a_log_left_by_a_crashed_writer_is_not_ignored(locked):
     """Without its -shm, a -wal with transactions can only be recovered by a writer: an
-    immutable read would silently miss them."""
-    path = tmp_path / "store.db"
-    path.write_bytes(b"")
-    Path(f"{path}-wal").write_bytes(b"\0" * 32)
-    with pytest.raises(StoreError, match="only a writer can recover"):
-        _read_only_uri(path)
-    Path(f"{path}-wal").write_bytes(b"")
-    assert _read_only_uri(path)[1]  # an empty log: the file holds everything
-    Path(f"{path}-shm").write_bytes(b"")
-    assert not _read_only_uri(path)[1]
+    immutable read would silently miss them. An empty one is nothing to miss."""
+    folder, url = locked
+    folder.chmod(0o755)
+    (folder / "store.db-wal").write_bytes(b"\0" * 32)
+    lock(folder)
+    done = slopetui("status", "--db", url)
+    assert done.returncode == 2 and done.stdout == ""
+    assert done.stderr.count("\n") == 1 and "only a writer can recover" in done.stderr
+    folder.chmod(0o755)
+    (folder / "store.db-wal").write_bytes(b"")
+    lock(folder)
+    done = slopetui("status", "--db", url)
+    assert done.returncode == 0 and "as a snapshot" in done.stderr, done.stderr
+
+
+def test_a_file_it_cannot_write_in_a_folder_it_can_is_read_beside_writers(locked):
+    """The reader can make the -shm itself: mode=ro, not a snapshot."""
+    folder, url = locked
+    folder.chmod(0o777)  # anyone may write the folder; the file stays read-only (444)
+    done = slopetui("sql", "SELECT count(*) AS n FROM runs", "--csv", "--db", url)
+    assert done.returncode == 0 and done.stdout == "n\n5\n", done.stderr
+    assert done.stderr == (f"slopetui sql: store is read-only (no permission to write "
+                           f"{folder / 'store.db'}): opened for reading\n")
