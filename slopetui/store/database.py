@@ -8,18 +8,18 @@ busy_timeout and fails at once with "database is locked").
 
 A SQLite store that this process cannot write (a folder or file of another user, a
 read-only file system) is opened read-only where the caller only reads
-(``Database(url, read_only_ok=True)``: ``status``, ``show``, ``sql``, ``runs``,
-``export``, the notebook API), and ``Database.read_only`` says so in one line; every
-write then fails with SQLite's "attempt to write a readonly database". A WAL database
-needs its -shm file to be read: with ``mode=ro`` SQLite uses an existing one (a writer
-has the store open) or makes one where it may (a file it cannot write, in a folder it
-can). When neither works there is no -shm, so no connection has the store open (the last
-one to close removes the -wal and -shm files, its transactions checkpointed into the
+(``Database(url, read_only_ok=True)``: the commands of ``cli.options.READ_COMMANDS``,
+``slopetui show``'s drawing, the notebook API), and ``Database.read_only`` says so in one
+line; every write then fails with SQLite's "attempt to write a readonly database". A WAL
+database needs its -shm file to be read: with ``mode=ro`` SQLite uses an existing one (a
+writer has the store open) or makes one where it may (a file it cannot write, in a folder
+it can). When neither works there is no -shm, so no connection has the store open (the
+last one to close removes the -wal and -shm files, its transactions checkpointed into the
 file): the file holds every committed transaction and is read with ``immutable=1`` (no
-locks, no -shm). That read is a snapshot: a writer that opens
-the store afterwards (someone who may write its folder) is not seen, and its writes may
-even meet a read in progress; the note says "a snapshot". A -wal file with transactions
-but no -shm (a writer that crashed) needs a writer's recovery: refused, saying so.
+locks, no -shm). That read is a snapshot: a writer that opens the store afterwards
+(someone who may write its folder) is not seen, and its writes may even meet a read in
+progress; the note says "a snapshot". A -wal with transactions but no -shm (a writer
+that crashed) needs a writer's recovery: refused, saying so.
 """
 
 from __future__ import annotations
