@@ -17,6 +17,7 @@ escape, ``\\x1b`` or ``\\u202e``, so that the reader sees it is there.
 
 from __future__ import annotations
 
+import re
 import unicodedata
 from typing import Protocol, TextIO
 
@@ -33,6 +34,14 @@ def is_unsafe(ch: str) -> bool:
     return unicodedata.category(ch) == "Cc" or ch in BIDI_CONTROLS or ch in LINE_SEPARATORS
 
 
+#: ``is_unsafe`` as one character class (category Cc is exactly U+0000-U+001F and
+#: U+007F-U+009F; tests/unit/test_input_names.py holds the two equal). ``slopetui sql``
+#: and the console escape every cell: text for 1000 rows of 10 columns took 1.3 ms
+#: unescaped, 12.7 ms escaped by a loop over the characters, 1.9 ms by this regex.
+UNSAFE = re.compile("[\x00-\x1f\x7f-\x9f" + "".join(sorted(BIDI_CONTROLS | LINE_SEPARATORS))
+                    + "]")
+
+
 def escape_char(ch: str) -> str:
     """The visible escape of one character: ``\\x1b``, ``\\u202e``."""
     code = ord(ch)
@@ -46,9 +55,9 @@ def terminal_safe(text: object) -> str:
     the string (names are at most a few hundred characters).
     """
     s = "" if text is None else str(text)
-    if not any(is_unsafe(ch) for ch in s):
+    if UNSAFE.search(s) is None:
         return s
-    return "".join(escape_char(ch) if is_unsafe(ch) else ch for ch in s)
+    return UNSAFE.sub(lambda m: escape_char(m.group(0)), s)
 
 
 def unsafe_characters(text: str) -> list[str]:
