@@ -17,7 +17,9 @@ escape, ``\\x1b`` or ``\\u202e``, so that the reader sees it is there.
 
 from __future__ import annotations
 
+import re
 import unicodedata
+from typing import Protocol, TextIO
 
 #: Bidi controls that reorder the text after them (embeddings, overrides, isolates, marks).
 BIDI_CONTROLS = frozenset(
@@ -30,6 +32,14 @@ LINE_SEPARATORS = frozenset("\u2028\u2029")
 def is_unsafe(ch: str) -> bool:
     """True for a character that must not reach a terminal raw (see the module doc)."""
     return unicodedata.category(ch) == "Cc" or ch in BIDI_CONTROLS or ch in LINE_SEPARATORS
+
+
+#: ``is_unsafe`` as one character class (category Cc is exactly U+0000-U+001F and
+#: U+007F-U+009F; tests/unit/test_input_names.py holds the two equal). ``slopetui sql``
+#: and the console escape every cell: text for 1000 rows of 10 columns took 1.3 ms
+#: unescaped, 12.7 ms escaped by a loop over the characters, 1.9 ms by this regex.
+UNSAFE = re.compile("[\x00-\x1f\x7f-\x9f" + "".join(sorted(BIDI_CONTROLS | LINE_SEPARATORS))
+                    + "]")
 
 
 def escape_char(ch: str) -> str:
@@ -45,9 +55,9 @@ def terminal_safe(text: object) -> str:
     the string (names are at most a few hundred characters).
     """
     s = "" if text is None else str(text)
-    if not any(is_unsafe(ch) for ch in s):
+    if UNSAFE.search(s) is None:
         return s
-    return "".join(escape_char(ch) if is_unsafe(ch) else ch for ch in s)
+    return UNSAFE.sub(lambda m: escape_char(m.group(0)), s)
 
 
 def unsafe_characters(text: str) -> list[str]:
@@ -62,3 +72,31 @@ def unsafe_characters(text: str) -> list[str]:
 def terminal_safe_lines(text: str) -> str:
     """``text`` of several lines (a CSV for a terminal) made safe, its newlines kept."""
     return "\n".join(terminal_safe(line) for line in text.split("\n"))
+
+
+class TextOut(Protocol):
+    """What a writer of rows needs of its output: a text stream, or TerminalSafeWriter."""
+
+    def write(self, text: str, /) -> int: ...
+
+    def flush(self) -> None: ...
+
+
+class TerminalSafeWriter:
+    """A text stream that escapes what is written to it (``terminal_safe_lines``): for
+    data written on the fly (``csv.writer``) to a terminal. Into a file or a pipe, data
+    goes raw instead: a reader there must get what the store holds (``for_terminal``)."""
+
+    def __init__(self, out: TextIO) -> None:
+        self.out = out
+
+    def write(self, text: str) -> int:
+        return self.out.write(terminal_safe_lines(text))
+
+    def flush(self) -> None:
+        self.out.flush()
+
+
+def for_terminal(out: TextIO) -> TextOut:
+    """``out`` itself into a file or a pipe; escaped (TerminalSafeWriter) on a terminal."""
+    return TerminalSafeWriter(out) if out.isatty() else out

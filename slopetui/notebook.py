@@ -120,5 +120,10 @@ def open_store(url: str | None = None) -> Store:
         >>> store.runs(sweep=3).plot.scatter("k", "tau", c="lambda_max")
         >>> store.close()
     """
+    import sys
+
     from slopetui.store.open import open_store as open_database
-    return Store(open_database(url))
+    db = open_database(url, read_only_ok=True)  # a Store only reads
+    if db.read_only is not None:
+        print(f"slopetui.open_store: {db.read_only}", file=sys.stderr)
+    return Store(db)

@@ -25,6 +25,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from slopetui.display_text import terminal_safe, terminal_safe_lines
 from slopetui.store.read_query import (
     DEFAULT_TIMEOUT_S,
     FETCH_CHUNK,
@@ -109,19 +110,23 @@ def _count_rest(rows: Rows) -> tuple[int, str | None]:
 
 
 def error_text(exc: QueryError) -> str:
-    """Why the database rejected a statement, on one line: a refused write, or its error."""
+    """Why the database rejected a statement, on one line: a refused write, or its error.
+    Escaped (terminal_safe_lines: PostgreSQL's LINE 1 context keeps its lines): the
+    database's message may quote stored text."""
     if exc.refused:
-        return f"refused: the store is opened read-only ({exc.message})"
-    return f"error: {exc.message}"
+        return f"refused: the store is opened read-only ({terminal_safe_lines(exc.message)})"
+    return f"error: {terminal_safe_lines(exc.message)}"
 
 
 def cell_text(value: object) -> str:
-    """A value as text: NULL for none, floats to 6 significant digits, the rest as str."""
+    """A value as text for a screen: NULL for none, floats to 6 significant digits, the
+    rest as str, escaped (terminal_safe: a stored name or error may hold an escape
+    sequence, which would drive the terminal that shows it)."""
     if value is None:
         return "NULL"
     if isinstance(value, float):
         return f"{value:.6g}"
-    return str(value)
+    return terminal_safe(value)
 
 
 # -- one statement's outcome, for a console ------------------------------------------------
@@ -151,7 +156,7 @@ class QueryFailed:
     @classmethod
     def unexpected(cls, exc: Exception) -> QueryFailed:
         """Any other error, shown with its cause rather than a traceback."""
-        return cls(f"error: {type(exc).__name__}: {exc}")
+        return cls(f"error: {type(exc).__name__}: {terminal_safe_lines(str(exc))}")
 
 
 @dataclass

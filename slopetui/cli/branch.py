@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 from slopetui.cli.continuation import print_bifurcations, print_point
 from slopetui.cli.options import UsageError, add_db_option, open_db
 from slopetui.cli.run import json_safe
+from slopetui.display_text import terminal_safe
 
 if TYPE_CHECKING:
     from slopetui.sweeps.branches import StoredBranch
@@ -34,7 +35,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _found(branch: StoredBranch) -> str:
     if branch.bifurcations:
-        return ", ".join(f"{b['type']} {branch.param}={b['value']:.6g}"
+        return ", ".join(f"{terminal_safe(b['type'])} {terminal_safe(branch.param)}={b['value']:.6g}"
                          for b in branch.bifurcations)
     return "none" if branch.row["status"] == "done" else ""
 
@@ -54,8 +55,8 @@ def _listing(args: argparse.Namespace) -> int:
         row = b.row
         start = f"{row['start']} tau={row['tau']:g}" if b.param != "tau" else \
             f"{row['start']} k={row['k']:g}"
-        print(f"{b.id:>4}  {b.param:5} {start:14} {row['status']:9} {row['n_points']:>6}  "
-              f"{_found(b)}")
+        print(f"{b.id:>4}  {terminal_safe(b.param):5} {start:14} {terminal_safe(row['status']):9} "
+              f"{row['n_points']:>6}  {_found(b)}")  # stored text, escaped
     return 0
 
 
@@ -65,6 +66,7 @@ def _one(args: argparse.Namespace) -> int:
     if branch is None:
         raise UsageError(f"no continuation {args.id} in this store (slopetui branch lists them)")
     row = branch.row
+    param = terminal_safe(branch.param)  # stored text, as every other text printed below
     if args.json:
         print(json.dumps({**{k: json_safe(v) for k, v in branch.summary().items()},
                           "branch": branch.points, "bifurcations": branch.bifurcations}))
@@ -76,20 +78,20 @@ def _one(args: argparse.Namespace) -> int:
                             title=f"continuation {branch.id} in {branch.param}",
                             width=size.columns, height=max(size.lines - 2, 12)))
         return 0
-    print(f"continuation {branch.id} in {branch.param} from "
+    print(f"continuation {branch.id} in {param} from "
           f"{'the Hopf point' if row['start'] == 'hopf' else 'a simulated orbit'}: "
-          f"{row['status']}, {row['n_points']} points, {row['runtime_s']:.1f} s")
+          f"{terminal_safe(row['status'])}, {row['n_points']} points, {row['runtime_s']:.1f} s")
     for point in branch.points:
-        print_point(branch.param, point)
+        print_point(param, point)
     if row["hopf_value"] is not None:
-        print(f"Hopf point: {branch.param} = {row['hopf_value']:.10g}, period "
-              f"{row['hopf_period']:.10g}" + (f"; {row['criticality']}"
+        print(f"Hopf point: {param} = {row['hopf_value']:.10g}, period "
+              f"{row['hopf_period']:.10g}" + (f"; {terminal_safe(row['criticality'])}"
                                               if row["criticality"] else ""))
     if row["status"] == "done":
-        print(f"end: {row['end_reason']}")
-        print_bifurcations(branch.param, branch.bifurcations)
+        print(f"end: {terminal_safe(row['end_reason'])}")
+        print_bifurcations(param, branch.bifurcations)
     elif row["error"]:
-        print(f"{row['status']}: {row['error'].splitlines()[-1]}")
+        print(f"{terminal_safe(row['status'])}: {terminal_safe(row['error'].splitlines()[-1])}")
     return 0
 
 

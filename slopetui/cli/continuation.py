@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.cli.orbit import add_point_options, point_of
+from slopetui.display_text import terminal_safe
 from slopetui.sweeps.branch_records import bifurcation_record, point_record
 
 if TYPE_CHECKING:
@@ -105,7 +106,7 @@ def print_point(param: str, point: Mapping[str, Any]) -> None:
 def print_bifurcations(param: str, found: Sequence[Mapping[str, Any]]) -> None:
     for b in found:
         mu = b["multiplier"]
-        print(f"{b['type']:<16} {param} = {b['value']:.8g}, period {b['period']:.8g}"
+        print(f"{terminal_safe(b['type']):<16} {param} = {b['value']:.8g}, period {b['period']:.8g}"
               + (f", multiplier {mu[0]:+.6f}{mu[1]:+.6f}i"
                  if b["type"] not in ("fold", "hopf") else ""))
     if not found:

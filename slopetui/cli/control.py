@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 
 from slopetui.cli.options import add_db_option, open_db, sweep_arg
+from slopetui.display_text import terminal_safe
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -23,5 +24,5 @@ def handle(args: argparse.Namespace) -> int:
     from slopetui.sweeps import control
 
     sweep = sweep_arg(args.sweep)  # before the database opens
-    print(control.apply(open_db(args), args.action, sweep))
+    print(terminal_safe(control.apply(open_db(args), args.action, sweep)))  # a stored status
     return 0

@@ -73,6 +73,10 @@ def _register_serve(actions: argparse._SubParsersAction) -> None:
                     "options. Later starts reuse DIR: same data, password and (unless "
                     "changed) port. Over the network only the role slopetui is let in, with "
                     "its random password (DIR/password, mode 600), by scram-sha-256. "
+                    "A second role, slopetui_read, only reads (SELECT; it cannot signal the "
+                    "workers' connections nor take their locks): its URL is in DIR/read-url, "
+                    "for colleagues and for $SLOPETUI_READ_DB, under which `slopetui sql` "
+                    "and the console run (docs/store.md: the same role on another server). "
                     "SIGHUP is left ignored under nohup. Needs PostgreSQL's server programs "
                     "(apt install postgresql, or conda install -c conda-forge postgresql).")
     p.add_argument("--dir", metavar="DIR",

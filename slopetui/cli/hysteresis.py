@@ -17,6 +17,7 @@ from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.cli.options import UsageError, add_db_option, open_db, say_queued
 from slopetui.cli.orbit import add_point_options, point_of
 from slopetui.cli.run import json_safe
+from slopetui.display_text import terminal_safe
 
 if TYPE_CHECKING:
     from core.hysteresis import WarmPoint
@@ -115,8 +116,8 @@ def _line(direction: str, param: str, pt: Mapping[str, Any]) -> str:
             else "  rest unstable: kicked"
     elif math.isfinite(growth):
         note = f"  growth {growth:+.2e}/t"
-    return (f"{direction:<4} {param} = {pt['value']:<10.6g} {pt['regime']:<12} amplitude "
-            f"{pt['amplitude']:<10.4g} {pt['detail']}{note}")
+    return (f"{direction:<4} {param} = {pt['value']:<10.6g} {terminal_safe(pt['regime']):<12} "
+            f"amplitude {pt['amplitude']:<10.4g} {terminal_safe(pt['detail'])}{note}")
 
 
 def _changes(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping[str, Any]],
@@ -128,9 +129,9 @@ def _changes(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping
         print(f"{name} {param} = {value:.6g} (grid step {step:.3g})" if value is not None
               else f"{name.split(' changes')[0]} keeps its regime throughout")
     if up and not down:
-        print("the up branch ended early: " + up[-1]["detail"])
+        print("the up branch ended early: " + terminal_safe(up[-1]["detail"]))
     elif len(down) < len(up):
-        print("the down branch ended early: " + down[-1]["detail"])
+        print("the down branch ended early: " + terminal_safe(down[-1]["detail"]))
 
 
 def _plot(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping[str, Any]],
@@ -154,14 +155,14 @@ def _show(args: argparse.Namespace) -> int:
     sweep = hysteresis_of(open_db(args), args.show)
     if sweep is None:
         raise UsageError(f"no hysteresis sweep {args.show} in this store")
-    row, param = sweep.row, sweep.param
+    row, param = sweep.row, terminal_safe(sweep.param)  # stored text, escaped as the rest
     if args.json:
         print(json.dumps({**{k: json_safe(v) for k, v in sweep.summary().items()},
                           "up": [record(p) for p in sweep.up],
                           "down": [record(p) for p in sweep.down]}))
         return 0
     print(f"hysteresis sweep {sweep.id} in {param} from {row['start']:g} to {row['stop']:g}, "
-          f"{row['n_points']} points each way: {row['status']}, {row['n_done']} points, "
+          f"{row['n_points']} points each way: {terminal_safe(row['status'])}, {row['n_done']} points, "
           f"{row['runtime_s']:.1f} s")
     for pt in sweep.points:
         print(_line(pt["direction"], param, pt))
@@ -177,11 +178,12 @@ def _status(sweep: StoredHysteresis) -> None:
     row = sweep.row
     if row["status"] == "done":
         step = abs(row["stop"] - row["start"]) / (row["n_points"] - 1)
-        _changes(sweep.param, sweep.up, sweep.down, row["onset_up"], row["offset_down"], step)
+        _changes(terminal_safe(sweep.param), sweep.up, sweep.down, row["onset_up"], row["offset_down"], step)
     elif row["error"]:
-        print(f"{row['status']}: {str(row['error']).strip().splitlines()[-1]}")
+        print(f"{terminal_safe(row['status'])}: "
+              f"{terminal_safe(str(row['error']).strip().splitlines()[-1])}")
     else:
-        print(f"{row['status']}: {row['n_done']} of {2 * row['n_points']} points so far")
+        print(f"{terminal_safe(row['status'])}: {row['n_done']} of {2 * row['n_points']} points so far")
 
 
 def handle(args: argparse.Namespace) -> int:

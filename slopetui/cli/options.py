@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from typing import TYPE_CHECKING
 
 from slopetui.store.location import DB_ENV
@@ -44,9 +45,18 @@ def add_db_option(parser: argparse.ArgumentParser) -> None:
                              "the user data folder, ~/.local/share/slopetui/slopetui.db)")
 
 
+#: The commands that only read the store: they open a SQLite store this user cannot
+#: write read-only (slopetui.store.database), saying so on stderr, rather than refuse it.
+READ_COMMANDS = frozenset({"status", "show", "sql", "runs", "export", "workers", "branch"})
+
+
 def open_db(args: argparse.Namespace) -> Database:
     from slopetui.store.open import open_store
-    return open_store(args.db)
+    command = getattr(args, "command", None)
+    db = open_store(args.db, read_only_ok=command in READ_COMMANDS)
+    if db.read_only is not None:
+        print(f"slopetui {command}: {db.read_only}", file=sys.stderr)
+    return db
 
 
 def int_arg(flag: str, text: str, low: int, high: int = MAX_SQL_INT, note: str = "") -> int:

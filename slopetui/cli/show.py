@@ -72,7 +72,8 @@ def handle(args: argparse.Namespace) -> int:
     sweep = sweep_arg(args.sweep) if args.sweep is not None else None
     # without the measurements a drawing does not show (half the read of a 10,000-run
     # sweep), and from a SQLite file without SQLAlchemy (0.35-0.45 s of start-up)
-    diagram = load_drawing(args.db, sweep)
+    diagram = load_drawing(args.db, sweep,
+                           say=lambda note: print(f"slopetui show: {note}", file=sys.stderr))
     if diagram is None:
         raise UsageError("there are no sweeps yet: slopetui submit --help")
     fold = fold_curve_of(diagram.spec) if args.fold else None

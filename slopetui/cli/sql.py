@@ -8,6 +8,11 @@ Ctrl-C cancels it; ``slopetui.sql_results`` reads its rows, as in the TUI's cons
 are written as they are fetched, a chunk at a time, so that ``--limit 0`` over a huge
 result holds one chunk in memory, not the result.
 
+Stored text is data, so into a file or a pipe ``--csv`` and ``--json`` write it exactly as
+stored (JSON escapes control characters itself); on a terminal, where an escape sequence
+in a name or an error would drive the terminal, the CSV goes through
+``slopetui.display_text``'s sanitiser, and the table (text for reading) always does.
+
 Exit status: 0 done; 1 the time limit stopped the query (the statement may be fine: give
 it more time); 2 bad options, or the database rejected or refused the statement (change
 the statement); 130 interrupted (Ctrl-C).
@@ -25,9 +30,9 @@ import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from types import FrameType
-from typing import TextIO
 
 from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.display_text import TextOut, for_terminal, terminal_safe
 from slopetui.sql_results import cell_text, error_text, fetch
 from slopetui.store.read_query import (
     DEFAULT_TIMEOUT_S,
@@ -52,9 +57,13 @@ EXIT_INTERRUPTED = 130
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("sql", help="run a read-only SQL query over the store",
                        description="Run one read-only SQL statement. The schema is in the "
-                                   "README (tables sweeps, runs, workers). Exit status: 0 "
-                                   "done, 1 stopped by --timeout, 2 refused or invalid, "
-                                   "130 interrupted.",
+                                   "README (tables sweeps, runs, workers). Control "
+                                   "characters in the data are shown escaped (\\x1b) in "
+                                   "the table and on a terminal; --csv and --json into a "
+                                   "file or a pipe are exact. On PostgreSQL, $SLOPETUI_READ_DB "
+                                   "names a role that only reads (docs/store.md). Exit "
+                                   "status: 0 done, 1 stopped by --timeout, 2 refused or "
+                                   "invalid, 130 interrupted.",
                        epilog="example: slopetui sql \"SELECT regime, count(*) FROM runs "
                               "WHERE sweep_id = 3 GROUP BY regime\"")
     p.add_argument("query", metavar="SQL", help="one SQL statement")
@@ -81,7 +90,7 @@ class Writer:
     """Rows out as they come: start(columns), write(chunk)..., finish(count, more) when
     every row asked for was read, else stop()."""
 
-    def __init__(self, out: TextIO) -> None:
+    def __init__(self, out: TextOut) -> None:
         self.out = out
         self.started = False
 
@@ -123,7 +132,7 @@ class TableWriter(Writer):
     streams."""
 
     def start(self, columns: list[str]) -> None:
-        super().start(columns)
+        super().start([terminal_safe(c) for c in columns])  # cell_text escapes the cells
         self.held: list[list[str]] | None = []
         self.widths: list[int] = []
 
@@ -196,8 +205,9 @@ def handle(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise UsageError(f"--timeout {exc}") from None
     query = ReadQuery(args.query, timeout_s)
-    writer: Writer = (CsvWriter if args.csv else JsonWriter if args.json
-                      else TableWriter)(sys.stdout)
+    # CSV is data: raw into a file or a pipe, escaped on a terminal only
+    writer: Writer = (CsvWriter(for_terminal(sys.stdout)) if args.csv
+                      else (JsonWriter if args.json else TableWriter)(sys.stdout))
     engine = open_db(args).read_only_engine()
     try:
         with cancel_on_sigint(query):
@@ -222,7 +232,7 @@ def _report(exc: QueryCancelled | QueryTimedOut | QueryError) -> int:
         return EXIT_INTERRUPTED
     if isinstance(exc, QueryTimedOut):
         hint = " (--timeout S sets the limit; 0 for none)" if exc.timeout_s else ""
-        print(f"slopetui sql: {exc}{hint}", file=sys.stderr)
+        print(f"slopetui sql: {terminal_safe(exc)}{hint}", file=sys.stderr)
         return EXIT_TIMED_OUT
     print(f"slopetui sql: {error_text(exc)}", file=sys.stderr)
     return EXIT_REJECTED

@@ -5,6 +5,9 @@ Everything comes from the store's workers table and the pool files of this host
 (slopetui.queue.local_pool), so it works from any login, over SSH too. A pool on another
 host is known by its workers' rows only: its pid is not in the database, and it cannot be
 signalled from here.
+
+Worker ids and host names are stored text that any host sharing the store can write: they
+are printed through ``terminal_safe`` (``--json`` escapes them itself).
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ import time
 from typing import TYPE_CHECKING
 
 from slopetui.cli.options import add_db_option, open_db
+from slopetui.display_text import terminal_safe
 
 if TYPE_CHECKING:
     from slopetui.queue.local_pool import LocalPool
@@ -48,7 +52,7 @@ def _age(seconds: float | None) -> str:
 
 def _worker_line(w: WorkerInfo) -> str:
     doing = f"run {w.run_id}" if w.run_id else "idle"
-    return (f"  worker {w.id:24} {doing:12} {w.jobs_done:>6} done  "
+    return (f"  worker {terminal_safe(w.id):24} {doing:12} {w.jobs_done:>6} done  "
             f"heartbeat {w.heartbeat_age_s:.0f} s ago")
 
 
@@ -98,12 +102,12 @@ def handle(args: argparse.Namespace) -> int:
             print(_worker_line(w))
     for host, ws in sorted(remote.items()):
         up = max((now - w.started_at).total_seconds() for w in ws)
-        print(f"workers on {host} (another host: their pool's pid is not known here), up "
+        print(f"workers on {terminal_safe(host)} (another host: their pool's pid is not known here), up "
               f"{_age(up)}, {len(ws)} workers")
         for w in ws:
             print(_worker_line(w))
     for w in orphans:
-        print(f"orphan worker {w.id} (its pool is gone; `slopetui worker --stop` stops it)")
+        print(f"orphan worker {terminal_safe(w.id)} (its pool is gone; `slopetui worker --stop` stops it)")
     return 0
 
 
@@ -112,7 +116,8 @@ def handle(args: argparse.Namespace) -> int:
 def _waiting_for(pool: LocalPool) -> str:
     if not pool.workers:
         return f"pool {pool.pid} (starting, no worker yet)"
-    doing = ", ".join(f"{w.id} on run {w.run_id}" if w.run_id else f"{w.id} idle"
+    doing = ", ".join(f"{terminal_safe(w.id)} on run {w.run_id}" if w.run_id
+                      else f"{terminal_safe(w.id)} idle"
                       for w in pool.workers)
     return f"pool {pool.pid}: {doing}"
 
@@ -124,8 +129,9 @@ def stop_pools(db: Database, *, now: bool = False) -> int:
     from slopetui.queue.local_pool import is_alive, local_pools, signal_pool
     here = socket.gethostname()
     for host, ws in sorted(_remote(db).items()):
-        print(f"{len(ws)} workers of this store run on {host}: they cannot be signalled "
-              f"from {here}; run `slopetui worker --stop` on {host}", file=sys.stderr)
+        shown = terminal_safe(host)
+        print(f"{len(ws)} workers of this store run on {shown}: they cannot be signalled "
+              f"from {here}; run `slopetui worker --stop` on {shown}", file=sys.stderr)
     pools, orphans = local_pools(db)
     if not (pools or orphans):
         print(f"no worker pool of this store runs on {here}")
@@ -154,8 +160,8 @@ def stop_pools(db: Database, *, now: bool = False) -> int:
                 os.kill(w.pid, signal.SIGTERM)
         except (ProcessLookupError, PermissionError):
             continue
-        targets[w.pid] = f"orphan worker {w.id}"
-        print(f"stopping orphan worker {w.id} ({how})")
+        targets[w.pid] = f"orphan worker {terminal_safe(w.id)}"
+        print(f"stopping orphan worker {terminal_safe(w.id)} ({how})")
     if not targets:
         return status
     if not now:

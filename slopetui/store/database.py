@@ -5,6 +5,21 @@ opens it and migrates it to the current schema. Every write goes through
 ``Database.transaction()``; on SQLite that is a ``BEGIN IMMEDIATE`` transaction, so two
 processes never both hold a read lock they then try to upgrade (that upgrade ignores
 busy_timeout and fails at once with "database is locked").
+
+A SQLite store that this process cannot write (a folder or file of another user, a
+read-only file system) is opened read-only where the caller only reads
+(``Database(url, read_only_ok=True)``: the commands of ``cli.options.READ_COMMANDS``,
+``slopetui show``'s drawing, the notebook API), and ``Database.read_only`` says so in one
+line; every write then fails with SQLite's "attempt to write a readonly database". A WAL
+database needs its -shm file to be read: with ``mode=ro`` SQLite uses an existing one (a
+writer has the store open) or makes one where it may (a file it cannot write, in a folder
+it can). When neither works there is no -shm, so no connection has the store open (the
+last one to close removes the -wal and -shm files, its transactions checkpointed into the
+file): the file holds every committed transaction and is read with ``immutable=1`` (no
+locks, no -shm). That read is a snapshot: a writer that opens the store afterwards
+(someone who may write its folder) is not seen, and its writes may even meet a read in
+progress; the note says "a snapshot". A -wal with transactions but no -shm (a writer
+that crashed) needs a writer's recovery: refused, saying so.
 """
 
 from __future__ import annotations
@@ -12,7 +27,7 @@ from __future__ import annotations
 import os
 import sqlite3
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import closing, contextmanager
 from datetime import datetime
 from pathlib import Path
 from typing import Any, cast
@@ -27,7 +42,7 @@ from core.mounts import network_filesystem
 from slopetui.store.connection_slots import ConnectionSlots
 from slopetui.store.db_time import db_now
 from slopetui.store.failures import StoreError, describe, os_failure
-from slopetui.store.location import DB_ENV, default_url
+from slopetui.store.location import DB_ENV, READ_DB_ENV, default_url
 from slopetui.store.url_text import password_hidden
 
 #: How long a SQLite connection waits for another writer before "database is locked" (ms).
@@ -78,6 +93,41 @@ def refuse_network_filesystem(path: Path) -> None:
             "(its write-ahead log and locks need a local disk). Use a PostgreSQL server: "
             "--db postgresql+psycopg://HOST/DB or SLOPETUI_DB (`slopetui db serve` starts "
             "one of your own), or a SQLite file on a local disk (--db sqlite:////tmp/...)")
+
+
+def unwritable(path: Path) -> str | None:
+    """Why this process cannot write the existing SQLite file at ``path`` (and so cannot
+    open it as a writer: WAL needs its -wal and -shm files), or None if it can."""
+    folder = path.parent
+    if os.statvfs(folder).f_flag & os.ST_RDONLY:
+        return f"{folder} is on a read-only file system"
+    if not os.access(folder, os.W_OK | os.X_OK):
+        return f"no permission to write in {folder}"
+    for name in (path, Path(f"{path}-wal"), Path(f"{path}-shm")):
+        if name.exists() and not os.access(name, os.W_OK):
+            return f"no permission to write {name}"
+    return None
+
+
+def read_only_uri(path: Path) -> tuple[str, bool]:
+    """The URI a reader opens the unwritable store at ``path`` with, and whether it is
+    immutable (the module docstring says when): ``mode=ro`` if a connection opens and
+    reads with it (a -shm file exists, or can be made), else ``immutable=1`` unless a
+    -wal holds transactions (StoreError: only a writer can recover them)."""
+    uri = f"file:{quote(str(path))}?mode=ro"
+    try:
+        with closing(sqlite3.connect(uri, uri=True)) as probe:
+            probe.execute("SELECT count(*) FROM sqlite_master").fetchone()
+        return uri, False
+    except sqlite3.Error:
+        pass  # no -shm, and none can be made: SQLite cannot read the log
+    wal = Path(f"{path}-wal")
+    if wal.exists() and wal.stat().st_size > 0:
+        raise StoreError(f"cannot read {path}: its write-ahead log {wal.name} holds "
+                         "transactions that only a writer can recover (a writer stopped "
+                         "without closing it); open the store once as a user who may write "
+                         f"in {path.parent}")
+    return uri + "&immutable=1", True
 
 
 def _create_private_file(path: Path, *, make_folder: bool) -> None:
@@ -212,18 +262,36 @@ class Database:
     spawned them.
     """
 
-    def __init__(self, url: str | None = None, *, slots: ConnectionSlots | None = None) -> None:
+    def __init__(self, url: str | None = None, *, slots: ConnectionSlots | None = None,
+                 read_only_ok: bool = False) -> None:
         """slots : a connection budget shared with other processes (a worker pool's, see
                    slopetui.store.connection_slots): this process opens a connection only
                    while it holds a slot, and ``idle()`` closes it again. None: no budget
-                   (SQLite, the application, the commands)."""
+                   (SQLite, the application, the commands).
+        read_only_ok : the caller only reads: a SQLite file it cannot write is opened
+                   read-only (module docstring) rather than refused; ``read_only`` then
+                   says so."""
         explicit = url or os.environ.get(DB_ENV)
         self.slots = slots
         self.url = parse_url(explicit or default_url())
         self.path = sqlite_path(self.url)
+        #: None, or the one line that says the store was opened for reading only, and why.
+        self.read_only: str | None = None
+        #: Why this process cannot write the store, when it was opened read-only.
+        self.unwritable: str | None = None
+        #: The URI of a store opened read-only (every connection of this Database uses it).
+        self._read_only_uri: str | None = None
         if self.path is not None:
             refuse_network_filesystem(self.path)
-            _create_private_file(self.path, make_folder=not explicit)
+            why = unwritable(self.path) if read_only_ok and self.path.is_file() else None
+            if why is None:
+                _create_private_file(self.path, make_folder=not explicit)
+            else:
+                self._read_only_uri, snapshot = read_only_uri(self.path)
+                self.unwritable = why
+                self.read_only = (f"store is read-only ({why}): opened for reading"
+                                  + (", as a snapshot (no writer has it open)" if snapshot
+                                     else ""))
             self.url = self.url.set(database=str(self.path))
         self.engine = self._make_engine()
         #: The same pool, for reads: ``with db.reader.connect() as conn``.
@@ -259,11 +327,17 @@ class Database:
                 # the server's local time on a server whose TimeZone is not UTC
                 connect["options"] = "-c TimeZone=UTC"
             options["connect_args"] = connect
+        if self._read_only_uri is not None:
+            uri = self._read_only_uri
+            options["creator"] = lambda: sqlite3.connect(uri, uri=True, check_same_thread=False)
         try:
             engine = create_engine(self.url, **options)
         except Exception as exc:  # a missing driver, a bad option: say which URL
             raise StoreError(f"cannot open database {self.display_url}: {exc}") from exc
-        if self.is_sqlite:
+        if self._read_only_uri is not None:  # no journal_mode to set: it cannot write
+            event.listen(engine, "connect", _sqlite_read_only_connect)
+            event.listen(engine, "begin", _sqlite_begin)
+        elif self.is_sqlite:
             event.listen(engine, "connect", _sqlite_on_connect)
             event.listen(engine, "begin", _sqlite_begin)
         if self.slots is not None:
@@ -312,20 +386,38 @@ class Database:
         assert now is not None  # a SELECT of a function always returns its row
         return now
 
+    def reader_url(self) -> URL:
+        """The URL the read-only queries of a PostgreSQL store connect with: that of
+        ``$SLOPETUI_READ_DB`` (a role that only reads, slopetui.store.local_server) when it
+        names this store's database (same host, port and database), else the store's own.
+        Another database's reader is not used: its rows would be shown as this store's."""
+        named = os.environ.get(READ_DB_ENV)
+        if not named:
+            return self.url
+        reader = parse_url(named)
+
+        def where(url: URL) -> tuple[object, ...]:
+            return (url.get_backend_name(), url.host, url.port or 5432, url.database,
+                    url.query.get("host"), url.query.get("port"))
+
+        return reader if where(reader) == where(self.url) else self.url
+
     def read_only_engine(self) -> Engine:
         """An engine on which the database itself refuses writes: SQLite opened with
-        mode=ro (plus query_only), PostgreSQL in READ ONLY transactions."""
+        mode=ro (plus query_only), PostgreSQL in READ ONLY transactions under the reading
+        role when there is one (``reader_url``), its statements checked first
+        (``slopetui.store.pg_read_guard``, in ``read_query``)."""
         backend = self.url.get_backend_name()
         if backend == "sqlite":
             if self.path is None:
                 raise StoreError("read-only queries need a SQLite file, not :memory:")
-            uri = f"file:{quote(str(self.path))}?mode=ro"
+            uri = self._read_only_uri or f"file:{quote(str(self.path))}?mode=ro"
             engine = create_engine("sqlite://", creator=lambda: sqlite3.connect(
                 uri, uri=True, check_same_thread=False))
             event.listen(engine, "connect", _sqlite_read_only_connect)
             return engine
         if backend == "postgresql":
-            engine = create_engine(self.url)
+            engine = create_engine(self.reader_url())
             event.listen(engine, "begin", _postgres_read_only_begin)
             return engine
         raise StoreError(f"read-only queries are supported on SQLite and PostgreSQL, "

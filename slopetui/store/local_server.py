@@ -8,6 +8,8 @@ The server lives in one folder, DIR (default ``default_folder()``,
                    in data/slopetui.conf (rewritten at each start from the options)
     password       the password of the role ``slopetui`` (mode 600, made once)
     url            the URL for the workers, written at each start (mode 600)
+    read-password  the password of the role ``slopetui_read`` (mode 600, made once)
+    read-url       the URL for reading only (SLOPETUI_READ_DB), written at each start
     server.log     the server's log (pg_ctl -l)
     serve.lock     flock()ed by the ``slopetui db serve`` process that runs the server
     serve.pid      that process's pid, so that ``--stop`` can ask it to stop
@@ -24,6 +26,17 @@ here by libpq, so the password is never sent to the server in clear either. The
 superuser is the folder's owner, on the Unix socket only (peer authentication). TCP is
 not encrypted (no TLS): someone on the network between the workers and the server can
 read the queries and the results, not the password.
+
+Reading only. ``slopetui sql`` and the application's console refuse writes (a READ ONLY
+transaction), but a READ ONLY transaction still lets a role cancel or terminate the
+backends of its own role and take advisory locks, and the workers' role is everyone's.
+So the server has a second role, ``slopetui_read``: SELECT on the tables of ``slopetui``
+(default privileges cover the tables that later migrations add), no other privilege, not
+a member of ``slopetui`` (so ``pg_terminate_backend`` and ``pg_cancel_backend`` refuse
+the workers' backends), and no EXECUTE on the advisory lock functions, which are revoked
+from PUBLIC and granted to ``slopetui`` alone. Its URL is in DIR/read-url: the commands
+that only read use it when ``SLOPETUI_READ_DB`` names it (slopetui.store.database), and a
+colleague who should only read gets that URL, not the workers'.
 
 Nothing here prints: the functions return what happened and raise ``StoreError`` with a
 one-line message naming the option (--dir, --port...) for what the user can fix.
@@ -63,6 +76,8 @@ DEFAULT_LISTEN = "*"
 DEFAULT_MAX_CONNECTIONS = 100
 #: The role and the database the workers use.
 ROLE = DATABASE = "slopetui"
+#: The role that only reads (module docstring).
+READ_ROLE = "slopetui_read"
 #: Oldest PostgreSQL accepted: scram-sha-256 (password_encryption, initdb --auth-host)
 #: appeared in 10.
 MIN_MAJOR = 10
@@ -82,7 +97,8 @@ SHELL_SPECIAL = set('"$`\\\'')
 #: What a --listen may hold: host names, IPv4 and IPv6 addresses, '*', commas.
 LISTEN_CHARS = re.compile(r"[A-Za-z0-9.:*_, -]+")
 #: The names this module writes in DIR (a folder holding anything else is not its own).
-OWN_NAMES = frozenset({"data", "data.init", "password", "url", "server.log", "serve.lock",
+OWN_NAMES = frozenset({"data", "data.init", "password", "url", "read-password", "read-url",
+                       "server.log", "serve.lock",
                        "serve.pid", "server.host"})
 #: Where distributions put the server programs when they are not on PATH (newest wins).
 PG_BIN_GLOBS = ("/usr/lib/postgresql/*/bin", "/usr/pgsql-*/bin",
@@ -342,24 +358,26 @@ def _serve_pid(folder: Path) -> int | None:
         return None
 
 
-def read_password(folder: Path) -> str | None:
-    """The role's password stored in DIR/password, None if there is none yet."""
+def read_password(folder: Path, name: str = "password") -> str | None:
+    """The role's password stored in DIR/password (``name``: DIR/read-password, the
+    reading role's), None if there is none yet."""
     try:
-        text = (folder / "password").read_text().strip()
+        text = (folder / name).read_text().strip()
     except FileNotFoundError:
         return None
     return text or None
 
 
-def _password(folder: Path) -> str:
-    """The role's password: the stored one, else a new one, stored (mode 600). Deleting
-    the file and starting again gives the role a new password."""
-    stored = read_password(folder)
+def _password(folder: Path, name: str = "password") -> str:
+    """The role's password (``name``: read-password, the reading role's): the stored one,
+    else a new one, stored (mode 600). Deleting the file and starting again gives the
+    role a new password."""
+    stored = read_password(folder, name)
     if stored is not None:
-        os.chmod(folder / "password", 0o600)  # in case someone loosened it
+        os.chmod(folder / name, 0o600)  # in case someone loosened it
         return stored
     password = secrets.token_urlsafe(24)  # 192 bits; URL-safe: no escaping in the URL
-    _write_private(folder / "password", password + "\n")
+    _write_private(folder / name, password + "\n")
     return password
 
 
@@ -378,6 +396,10 @@ local   all       "{owner}"            peer
 local   {DATABASE}  {ROLE}               scram-sha-256
 host    {DATABASE}  {ROLE}  0.0.0.0/0  scram-sha-256
 host    {DATABASE}  {ROLE}  ::/0       scram-sha-256
+# readers: the role {READ_ROLE} (SELECT only), on the same database, with its own password
+local   {DATABASE}  {READ_ROLE}               scram-sha-256
+host    {DATABASE}  {READ_ROLE}  0.0.0.0/0  scram-sha-256
+host    {DATABASE}  {READ_ROLE}  ::/0       scram-sha-256
 """
 
 
@@ -606,28 +628,62 @@ def pg_ctl_stop(folder: Path, binaries: Binaries) -> None:
         raise StoreError(_command_error("pg_ctl stop", result))
 
 
-def _provision(folder: Path, port: int, password: str) -> None:
-    """Make (or repair) the role and its database, as the superuser on the Unix socket.
+def _provision(folder: Path, port: int, password: str, reader_password: str) -> None:
+    """Make (or repair) the roles and their database, as the superuser on the Unix socket.
     Run at every start, so that a start interrupted after initdb is completed by the next
-    one, and a new DIR/password takes effect."""
+    one, and a new DIR/password or DIR/read-password takes effect."""
     import psycopg
     from psycopg import sql
 
     with psycopg.connect(host=str(folder), port=port, user=_owner(), dbname="postgres",
                          autocommit=True, connect_timeout=30) as conn:
         role = sql.Identifier(ROLE)
-        if conn.execute("SELECT 1 FROM pg_roles WHERE rolname = %s", (ROLE,)).fetchone() is None:
-            conn.execute(sql.SQL("CREATE ROLE {} LOGIN").format(role))
-        # the SCRAM verifier, made by libpq: the password itself never reaches the
-        # server (nor its log, should a statement fail)
-        verifier = conn.pgconn.encrypt_password(password.encode(), ROLE.encode(),
-                                                b"scram-sha-256").decode()
-        conn.execute(sql.SQL("ALTER ROLE {} WITH LOGIN NOSUPERUSER NOCREATEDB NOCREATEROLE "
-                             "NOREPLICATION PASSWORD {}").format(role, sql.Literal(verifier)))
+        for name, secret in ((ROLE, password), (READ_ROLE, reader_password)):
+            if conn.execute("SELECT 1 FROM pg_roles WHERE rolname = %s",
+                            (name,)).fetchone() is None:
+                conn.execute(sql.SQL("CREATE ROLE {} LOGIN").format(sql.Identifier(name)))
+            # the SCRAM verifier, made by libpq: the password itself never reaches the
+            # server (nor its log, should a statement fail)
+            verifier = conn.pgconn.encrypt_password(secret.encode(), name.encode(),
+                                                    b"scram-sha-256").decode()
+            conn.execute(sql.SQL("ALTER ROLE {} WITH LOGIN NOSUPERUSER NOCREATEDB "
+                                 "NOCREATEROLE NOREPLICATION PASSWORD {}").format(
+                sql.Identifier(name), sql.Literal(verifier)))
         if conn.execute("SELECT 1 FROM pg_database WHERE datname = %s",
                         (DATABASE,)).fetchone() is None:
             conn.execute(sql.SQL("CREATE DATABASE {} OWNER {}").format(
                 sql.Identifier(DATABASE), role))
+    with psycopg.connect(host=str(folder), port=port, user=_owner(), dbname=DATABASE,
+                         autocommit=True, connect_timeout=30) as conn:
+        for statement in reader_grants(ROLE, READ_ROLE, DATABASE):
+            conn.execute(statement)
+
+
+def reader_grants(owner: str, reader: str, database: str) -> list[str]:
+    """The statements, for a superuser connected to ``database``, that make ``reader`` a
+    role that only reads the tables that ``owner`` (the workers' role) makes, and keep the
+    advisory locks to ``owner``. Idempotent. docs/store.md prints them for other servers.
+    (``reader`` must not be a member of ``owner``: that is CREATE ROLE's default.)"""
+    o, r, d = (f'"{name}"' for name in (owner, reader, database))
+    owner_literal = "'" + owner.replace("'", "''") + "'"
+    # no % in the text: a client that takes parameters (SQLAlchemy, psql -v) reads it whole
+    advisory = ("SELECT p.oid::regprocedure FROM pg_proc p JOIN pg_namespace n "
+                "ON n.oid = p.pronamespace WHERE n.nspname = 'pg_catalog' "
+                "AND p.proname ~ '^pg_(try_)?advisory_'")
+    return [
+        f"GRANT CONNECT ON DATABASE {d} TO {r}",
+        # PostgreSQL < 15 lets PUBLIC create in the schema public: only the owner may
+        "REVOKE CREATE ON SCHEMA public FROM PUBLIC",
+        f"GRANT USAGE, CREATE ON SCHEMA public TO {o}",
+        f"GRANT USAGE ON SCHEMA public TO {r}",
+        f"GRANT SELECT ON ALL TABLES IN SCHEMA public TO {r}",
+        f"ALTER DEFAULT PRIVILEGES FOR ROLE {o} IN SCHEMA public GRANT SELECT ON TABLES TO {r}",
+        # every pg_advisory_* and pg_try_advisory_*: revoked from PUBLIC, for the owner only
+        "DO $$DECLARE f regprocedure; BEGIN FOR f IN " + advisory + " LOOP "
+        "EXECUTE 'REVOKE EXECUTE ON FUNCTION ' || f || ' FROM PUBLIC'; "
+        f"EXECUTE 'GRANT EXECUTE ON FUNCTION ' || f || ' TO ' || quote_ident({owner_literal}); "
+        "END LOOP; END$$",
+    ]
 
 
 def local_url(folder: Path, port: int, password: str) -> str:
@@ -639,10 +695,11 @@ def local_url(folder: Path, port: int, password: str) -> str:
                       ).render_as_string(hide_password=False)
 
 
-def tcp_url(host: str, port: int, password: str) -> str:
-    """postgresql+psycopg://slopetui:PASSWORD@HOST:PORT/slopetui (an IPv6 address in [])."""
+def tcp_url(host: str, port: int, password: str, role: str = ROLE) -> str:
+    """postgresql+psycopg://slopetui:PASSWORD@HOST:PORT/slopetui (an IPv6 address in [];
+    ``role``: READ_ROLE for the reading role's URL)."""
     shown = f"[{host}]" if ":" in host else host
-    return f"postgresql+psycopg://{ROLE}:{password}@{shown}:{port}/{DATABASE}"
+    return f"postgresql+psycopg://{role}:{password}@{shown}:{port}/{DATABASE}"
 
 
 def _loopback_only(host: str) -> bool:
@@ -824,6 +881,9 @@ def start(folder: Path, settings: Settings, binaries: Binaries, *,
             _initdb(folder, binaries)
             timings["initdb"] = time.monotonic() - t0
         password = _password(folder)
+        reader_password = _password(folder, "read-password")
+        # rewritten at each start: a cluster made before the reading role gets its lines
+        _write_private(folder / "data" / "pg_hba.conf", _pg_hba(_owner()))
         _write_private(folder / "data" / "slopetui.conf",
                        _settings_conf(folder, port, listen, max_connections))
         log = folder / "server.log"
@@ -834,13 +894,15 @@ def start(folder: Path, settings: Settings, binaries: Binaries, *,
         timings["start"] = time.monotonic() - t0
         try:
             t0 = time.monotonic()
-            _provision(folder, port, password)
+            _provision(folder, port, password, reader_password)
             from slopetui.store.open import open_store
             open_store(local_url(folder, port, password)).dispose()  # migrates
             timings["setup"] = time.monotonic() - t0
             host, note = worker_host(listen)
             worker_url = tcp_url(host, port, password)
             _write_private(folder / "url", worker_url + "\n")
+            _write_private(folder / "read-url",
+                           tcp_url(host, port, reader_password, READ_ROLE) + "\n")
         except BaseException:
             with contextlib.suppress(StoreError):
                 pg_ctl_stop(folder, binaries)

@@ -9,6 +9,10 @@ from platformdirs import user_data_path
 
 #: Environment variable that selects the database (any SQLAlchemy URL).
 DB_ENV = "SLOPETUI_DB"
+#: Environment variable naming a PostgreSQL role's URL that only reads the same database:
+#: ``slopetui sql`` and the application's console run their queries under it
+#: (slopetui.store.database.Database.read_only_engine; docs/store.md).
+READ_DB_ENV = "SLOPETUI_READ_DB"
 
 
 def default_url() -> str:

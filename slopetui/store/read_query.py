@@ -16,7 +16,9 @@ aborts the statement and the DB-API raises OperationalError("interrupted"). The 
 counts time spent inside SQLite only, not time the caller spends writing rows out (a
 ``slopetui sql ... | less`` left open is not "the query taking long").
 
-PostgreSQL: ``SET LOCAL statement_timeout`` inside the read-only transaction (the server's
+PostgreSQL: the statement is checked first (``pg_read_guard``: a READ ONLY transaction
+still lets a statement signal other backends, take advisory locks, NOTIFY, run a DO
+block...); then ``SET LOCAL statement_timeout`` inside the read-only transaction (the server's
 clock: it runs from the statement's start, the reader's pace included), and a watcher
 thread that calls the psycopg connection's ``cancel()`` once the flag is set. Rows are
 streamed (psycopg's ``Cursor.stream``): a client-side cursor would first load the whole
@@ -219,6 +221,12 @@ class ReadQuery:
     @contextmanager
     def _postgres_guard(self, conn: Any, raw: Any
                         ) -> Iterator[tuple[list[str] | None, Callable[[int], list[Row]]]]:
+        from slopetui.store.pg_read_guard import refusal
+
+        # READ ONLY refuses writes to tables only (pg_read_guard lists what else it lets by)
+        why = refusal(self.sql)
+        if why is not None:
+            raise QueryError(why, refused=True)
         # The statement itself goes through the raw cursor, past SQLAlchemy: make sure
         # the engine's begin hook has made this transaction READ ONLY before it runs.
         if conn.exec_driver_sql("SHOW transaction_read_only").scalar() != "on":

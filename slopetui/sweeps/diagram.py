@@ -8,7 +8,7 @@ listed by ``SweepDiagram.unqueued`` so that drawings show them as pending.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -156,7 +156,8 @@ def load_diagram(db: Database, sweep_id: int, *, drawn_only: bool = False) -> Sw
                         run_points(read.columns, read.rows, read.spec.y is not None))
 
 
-def load_drawing(url: str | None, sweep_id: int | None) -> SweepDiagram | None:
+def load_drawing(url: str | None, sweep_id: int | None,
+                 say: Callable[[str], None] | None = None) -> SweepDiagram | None:
     """What a drawing of a sweep needs (``load_diagram(..., drawn_only=True)``), from the
     store at ``url`` (default: ``$SLOPETUI_DB``, else the default file), which it opens
     and closes: the sweep ``sweep_id``, or the newest one if None; None if the store has
@@ -164,12 +165,13 @@ def load_drawing(url: str | None, sweep_id: int | None) -> SweepDiagram | None:
 
     A SQLite file at the current schema is read without SQLAlchemy
     (``store.sqlite_diagram_reads``, 0.35-0.45 s less for `slopetui show`); any other
-    store is opened with ``open_store`` (created, migrated) and read by ``load_diagram``.
+    store is opened with ``open_store`` (created, migrated) and read by ``load_diagram``;
+    a SQLite file this user cannot write is opened read-only, and ``say`` is told so.
     """
     try:
         read = read_sqlite_diagram(url, sweep_id, read_spec, drawn_only=True)
     except NeedsDatabase:
-        return _load_drawing_through_database(url, sweep_id)
+        return _load_drawing_through_database(url, sweep_id, say)
     if read is None:
         if sweep_id is None:
             return None
@@ -179,11 +181,14 @@ def load_drawing(url: str | None, sweep_id: int | None) -> SweepDiagram | None:
                         run_points(read.columns, read.rows, read.spec.y is not None))
 
 
-def _load_drawing_through_database(url: str | None, sweep_id: int | None) -> SweepDiagram | None:
+def _load_drawing_through_database(url: str | None, sweep_id: int | None,
+                                   say: Callable[[str], None] | None) -> SweepDiagram | None:
     from slopetui.store.open import open_store
     from slopetui.store.queries import newest_sweep_id
 
-    db = open_store(url)
+    db = open_store(url, read_only_ok=say is not None)
+    if db.read_only is not None and say is not None:
+        say(db.read_only)
     try:
         if sweep_id is None:
             sweep_id = newest_sweep_id(db)

@@ -35,3 +35,25 @@ def test_the_application_shows_stored_names_escaped_and_never_as_markup(db, evil
             assert "[red]x" in screen and "[/oops]" in screen and "\\x1b[2J" in screen
 
     run(scenario)
+
+
+def test_a_store_failure_quoting_stored_text_is_shown_escaped_and_not_as_markup(db):
+    """A worker's failed read is one notification: its error may quote stored text (an
+    escape sequence; brackets that would be markup, or a MarkupError)."""
+    from slopetui.tui.app import SlopeApp
+    from slopetui.tui.messages import StoreFailed
+
+    async def scenario():
+        app = SlopeApp(db.display_url, start_workers=False, refresh_s=0.2)
+        async with app.run_test(size=(100, 30)) as pilot:
+            await pilot.pause(0.2)
+            app.screen.post_message(StoreFailed("read the queue",
+                                                "ValueError: '\x1b]0;owned\x07 [/oops]'"))
+            await wait_until(pilot, lambda: len(app._notifications) > 0)
+            note = list(app._notifications)[-1]
+            assert note.message == "could not read the queue: ValueError: '\\x1b]0;owned\\x07 [/oops]'"
+            assert not note.markup
+            await pilot.pause(0.2)
+            assert "\x1b]" not in app.export_screenshot()
+
+    run(scenario)

@@ -381,3 +381,31 @@ def test_the_console_tightens_an_old_history(store: str, history_path: Path) -> 
 
     in_console(store, scenario)
     assert stat.S_IMODE(history_path.stat().st_mode) == 0o600
+
+
+def test_stored_escapes_reach_the_grid_escaped(db_url: str, evil_sweep: int) -> None:
+    """`select name, error from sweeps, runs` set the terminal's title and cleared the
+    screen: every cell, column name and status line is shown escaped (and never as markup)."""
+    hostile = "\x1b]0;owned\x07\x1b[2J\x9b1m\u202eabc [red]x"
+    with sqlite3.connect(db_url.removeprefix("sqlite:///")) as conn:
+        conn.execute("UPDATE sweeps SET name = ?", (hostile,))
+        conn.execute("UPDATE runs SET status = 'failed', error = ? WHERE id = 1", (hostile,))
+    conn.close()
+    shown = "\\x1b]0;owned\\x07\\x1b[2J\\x9b1m\\u202eabc [red]x"
+
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        message = await run_sql(pilot, f'SELECT name, error AS "{hostile}" FROM sweeps, runs '
+                                       "WHERE runs.id = 1")
+        assert message.startswith("1 row in"), message
+        labels, rows = table_rows(pilot)
+        assert labels == ["name", shown] and rows == [[shown, shown]]
+        message = await run_sql(pilot, f'SELECT * FROM "{hostile}"')
+        assert message == f"error: no such table: {shown}"
+        await run_sql(pilot, f'SELECT name, error AS "{hostile}" FROM sweeps, runs')
+        # the grid, the status and the history as drawn (the editor shows what was typed)
+        app.screen.query_one("#sql-editor", TextArea).text = ""
+        await pilot.pause()
+        screen = app.export_screenshot()
+        assert not any(ch in screen for ch in ("\x1b", "\x07", "\x9b", "\u202e"))
+
+    in_console(db_url, scenario)

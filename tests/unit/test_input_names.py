@@ -26,6 +26,14 @@ def test_terminal_safe_escapes_controls_and_bidi(char):
     assert shown.isprintable()
 
 
+def test_the_scan_and_the_definition_agree():
+    """terminal_safe's one-pass regex (UNSAFE) finds exactly is_unsafe's characters (Cc
+    lies below U+00A0; the other unsafe ones below U+3000)."""
+    from slopetui.display_text import UNSAFE, is_unsafe
+    for code in range(0x3000):
+        assert (UNSAFE.match(chr(code)) is not None) == is_unsafe(chr(code)), hex(code)
+
+
 def test_plain_text_is_left_as_it_is():
     for text in ("Fig. 4A: bifurcation in k", "τ = 10, δ = 0.1 — k ∈ [3, 24]", "[bold]x", ""):
         assert terminal_safe(text) == text and unsafe_characters(text) == []

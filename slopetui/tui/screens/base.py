@@ -27,6 +27,7 @@ from textual import events, on
 from textual.screen import Screen
 from textual.timer import Timer
 
+from slopetui.display_text import terminal_safe_lines
 from slopetui.tui import garbage
 from slopetui.tui.messages import StoreFailed
 
@@ -91,4 +92,6 @@ class SlopeScreen(Screen[ResultT]):
         """A worker's database or file call failed: one notification, never a traceback
         (every screen shows it the same way)."""
         failed.stop()  # shown here; the app need not show it again
-        self.notify(f"could not {failed.action}: {failed.error}", severity="error", timeout=8)
+        # the error may quote stored text: escaped, and never read as markup
+        self.notify(terminal_safe_lines(f"could not {failed.action}: {failed.error}"),
+                    severity="error", timeout=8, markup=False)

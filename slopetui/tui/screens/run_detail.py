@@ -44,6 +44,7 @@ from textual.worker import get_current_worker
 from core import ParameterError, Params, SolverSettings
 from core.jit_cache import source_digest
 from core.result_fields import DETAIL_FIELDS, ResultField
+from slopetui.display_text import terminal_safe_lines
 from slopetui.plots.run_plots import (
     TIME_PERIODS,
     render_lyapunov,
@@ -135,7 +136,8 @@ def _peaks_text(peaks: list[float] | None) -> str:
 def summary_text(run: StoredRun) -> str:
     """The header of the screen, five lines: who the run is, its parameters, its solver
     settings, and its stored result or, for a run not done, its status and the cause of
-    its last error."""
+    its last error. Escaped (terminal_safe_lines): the status, worker id, regime and error
+    are stored text."""
     cached = f" · copied from run {run.cached_from}" if run.cached_from is not None else ""
     who = (f"run {run.id} · sweep {run.sweep_id} · {run.status} · attempts {run.attempts} · "
            f"worker {run.worker_id or '–'} · runtime {_num(run.runtime_s, '.2g')} s{cached}")
@@ -145,15 +147,17 @@ def summary_text(run: StoredRun) -> str:
               f"engine {run.engine}")
     if run.inferred:
         what = (f"inferred {run.regime}" if run.done else "inferred failed")
-        return "\n".join([who, params, solver,
-                          f"{what}, not computed: its cell's 4 corners agree (level {run.level})",
-                          "no measurements; r computes this point"])
+        return terminal_safe_lines("\n".join([
+            who, params, solver,
+            f"{what}, not computed: its cell's 4 corners agree (level {run.level})",
+            "no measurements; r computes this point"]))
     if not run.done:
         error = f"last error: {last_line(run.error)}" if run.error else "no error recorded"
-        return "\n".join([who, params, solver, f"no stored result ({run.status})", error])
+        return terminal_safe_lines("\n".join([who, params, solver,
+                                               f"no stored result ({run.status})", error]))
     items = [result_item(run, f) for f in DETAIL_FIELDS]
     lines = [" · ".join(items[i:i + ITEMS_PER_LINE]) for i in range(0, len(items), ITEMS_PER_LINE)]
-    return "\n".join([who, params, solver, *lines])
+    return terminal_safe_lines("\n".join([who, params, solver, *lines]))
 
 
 def result_item(run: StoredRun, field: ResultField) -> str:

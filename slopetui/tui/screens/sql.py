@@ -41,6 +41,7 @@ from textual.widgets.text_area import LanguageDoesNotExist
 from textual.worker import get_current_worker
 
 from slopetui import sql_history
+from slopetui.display_text import terminal_safe, terminal_safe_lines
 from slopetui.sql_history import History
 from slopetui.sql_results import (
     QueryDone,
@@ -77,10 +78,11 @@ GROUP BY sweep_id, regime ORDER BY sweep_id, runs DESC;
 # -- formatting -------------------------------------------------------------------------
 
 def format_cell(value: object) -> Text:
-    """One value as the table shows it: ``slopetui sql``'s text (cell_text), NULL dimmed,
-    numbers right-aligned. Unlike the CLI, which prints data whole, a cell shows decimals
-    to 6 significant digits as floats, bytes in hex, and at most CELL_CHARS characters.
-    A Text, so that brackets in the data (JSON lists) are not read as markup."""
+    """One value as the table shows it: ``slopetui sql``'s text (cell_text, control
+    characters escaped), NULL dimmed, numbers right-aligned. Unlike the CLI, which prints
+    data whole, a cell shows decimals to 6 significant digits as floats, bytes in hex, and
+    at most CELL_CHARS characters. A Text, so that brackets in the data (JSON lists) are
+    not read as markup."""
     if value is None:
         return Text(cell_text(value), style="dim")
     if isinstance(value, bool):
@@ -298,7 +300,7 @@ class SqlScreen(SlopeScreen[None]):
             self.set_status(f"the statement returns no rows ({elapsed})", "-done")
             return
         table = self.query_one("#sql-results", DataTable)
-        table.add_columns(*(Text(c) for c in done.columns))
+        table.add_columns(*(Text(terminal_safe(c)) for c in done.columns))
         table.add_rows(cells)
         noun = "row" if done.total == 1 else "rows"
         shown = f" (first {len(cells)} shown)" if done.total > len(cells) else ""
@@ -313,9 +315,11 @@ class SqlScreen(SlopeScreen[None]):
         tree = self.query_one("#sql-schema", Tree)
         tree.clear()
         for table, columns in loaded.tables:
-            node = tree.root.add(Text(table, style="bold"), data=table)
+            # names and types as escaped Text: any tool that writes the store can name a table
+            node = tree.root.add(Text(terminal_safe(table), style="bold"), data=table)
             for name, type_, primary in columns:
-                label = Text.assemble(name, " ", (type_.lower(), "dim"),
+                label = Text.assemble(terminal_safe(name), " ",
+                                      (terminal_safe(type_.lower()), "dim"),
                                       (" pk", "dim italic") if primary else "")
                 node.add_leaf(label, data=name)
 
@@ -403,14 +407,15 @@ class SqlScreen(SlopeScreen[None]):
     def show_history(self) -> None:
         options = self.query_one("#sql-history", OptionList)
         options.clear_options()
-        options.add_options([Option(Text(one_line(q), no_wrap=True, overflow="ellipsis"))
+        options.add_options([Option(Text(terminal_safe(one_line(q)), no_wrap=True,
+                                         overflow="ellipsis"))
                              for q in self.history.queries])
 
     def set_status(self, message: str, kind: str) -> None:
         """kind: -info (hints, progress), -done (a result), -error (error or refusal)."""
         self._status = message
         status = self.query_one("#sql-status", Static)
-        status.update(Text(message))
+        status.update(Text(terminal_safe_lines(message)))  # it may quote stored text
         status.set_class(kind == "-info", "-info")
         status.set_class(kind == "-done", "-done")
         status.set_class(kind == "-error", "-error")
