@@ -4,7 +4,6 @@ its folds, period doublings and tori (and, from the Hopf point, its criticality)
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import time
@@ -13,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.cli.orbit import add_point_options, point_of
+from slopetui.json_text import json_text
 from slopetui.sweeps.branch_records import bifurcation_record, point_record
 
 if TYPE_CHECKING:
@@ -163,7 +163,7 @@ def handle(args: argparse.Namespace) -> int:
         out["hopf"] = {"value": hopf.value, "period": hopf.period}
         out["criticality"] = critical
     if quiet:
-        print(json.dumps(out))
+        print(json_text(out))
         return 0
     print(f"end: {branch.end} ({len(branch.points)} points, {took:.1f} s)")
     if hopf is not None:

@@ -5,7 +5,6 @@ queue such a sweep for the workers (``--submit``) and read a stored one back (``
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import shutil
 import sys
@@ -16,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.cli.options import UsageError, add_db_option, open_db, say_queued
 from slopetui.cli.orbit import add_point_options, point_of
-from slopetui.cli.run import json_safe
+from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
     from core.hysteresis import WarmPoint
@@ -100,11 +99,9 @@ def fields(pt: WarmPoint) -> dict[str, Any]:
 
 
 def record(pt: Mapping[str, Any]) -> dict[str, Any]:
-    """A point as ``--json`` prints it (NaN as null)."""
-    def finite(x: float) -> float | None:
-        return x if math.isfinite(x) else None
-    return {"value": pt["value"], "regime": pt["regime"], "amplitude": finite(pt["amplitude"]),
-            "detail": pt["detail"], "growth": finite(pt["growth"]), "jumped": pt["jumped"]}
+    """A point as ``--json`` prints it (NaN as null: slopetui.json_text)."""
+    return {"value": pt["value"], "regime": pt["regime"], "amplitude": pt["amplitude"],
+            "detail": pt["detail"], "growth": pt["growth"], "jumped": pt["jumped"]}
 
 
 def _line(direction: str, param: str, pt: Mapping[str, Any]) -> str:
@@ -156,9 +153,8 @@ def _show(args: argparse.Namespace) -> int:
         raise UsageError(f"no hysteresis sweep {args.show} in this store")
     row, param = sweep.row, sweep.param
     if args.json:
-        print(json.dumps({**{k: json_safe(v) for k, v in sweep.summary().items()},
-                          "up": [record(p) for p in sweep.up],
-                          "down": [record(p) for p in sweep.down]}))
+        print(json_text({**sweep.summary(), "up": [record(p) for p in sweep.up],
+                         "down": [record(p) for p in sweep.down]}))
         return 0
     print(f"hysteresis sweep {sweep.id} in {param} from {row['start']:g} to {row['stop']:g}, "
           f"{row['n_points']} points each way: {row['status']}, {row['n_done']} points, "
@@ -211,11 +207,11 @@ def handle(args: argparse.Namespace) -> int:
     took = time.process_time() - t0
     up, down = [fields(p) for p in result.up], [fields(p) for p in result.down]
     if args.json:
-        print(json.dumps({"param": args.param, "up": [record(p) for p in up],
-                          "down": [record(p) for p in down],
-                          "onset_up": result.onset_up, "offset_down": result.offset_down,
-                          "dt": dt, "t_settle": t_settle, "window": window,
-                          "runtime_s": took}))
+        print(json_text({"param": args.param, "up": [record(p) for p in up],
+                         "down": [record(p) for p in down],
+                         "onset_up": result.onset_up, "offset_down": result.offset_down,
+                         "dt": dt, "t_settle": t_settle, "window": window,
+                         "runtime_s": took}))
         return 0
     _changes(args.param, up, down, result.onset_up, result.offset_down,
              abs(stop - start) / (args.points - 1))

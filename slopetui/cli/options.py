@@ -9,9 +9,9 @@ homes without numpy (``core.methods.METHODS``, ``slopetui.sweeps.sizes.CONFIRM_A
 from __future__ import annotations
 
 import argparse
-import json
 from typing import TYPE_CHECKING
 
+from slopetui.json_text import json_text
 from slopetui.store.location import DB_ENV
 
 if TYPE_CHECKING:
@@ -27,7 +27,7 @@ def say_queued(as_json: bool, what: str, job_id: int, show: str) -> int:
     """The answer of a ``--submit``: ``{"id": N, "status": "queued"}``, or a line saying
     that ``what`` was queued, who computes it, and the command ``show`` that shows it."""
     if as_json:
-        print(json.dumps({"id": job_id, "status": "queued"}))
+        print(json_text({"id": job_id, "status": "queued"}))
     else:
         print(f"{what} {job_id} queued: a worker computes it (`slopetui worker`, or the "
               f"application's pool); `{show}` shows it")

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import time
@@ -11,6 +10,7 @@ from typing import TYPE_CHECKING
 
 from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.cli.run import PARAM_HELP, accept_negative_numbers
+from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
     from core.periodic_orbit import Orbit
@@ -114,5 +114,5 @@ def handle(args: argparse.Namespace) -> int:
         print(f"slopetui orbit: no orbit: {exc}", file=sys.stderr)
         return 1
     took = time.process_time() - t0
-    print(json.dumps(record(orbit, took)) if args.json else render(orbit, took))
+    print(json_text(record(orbit, took)) if args.json else render(orbit, took))
     return 0

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import re
 import sys
@@ -106,19 +105,11 @@ def carried_of(args: argparse.Namespace, settings: SolverSettings
     return replace(settings, history=end.name), end
 
 
-def json_safe(value: object) -> object:
-    """JSON has no NaN or infinity: they become null."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, list):
-        return [json_safe(v) for v in value]
-    return value
-
-
 def json_text(record: dict[str, object], history: str = "constant") -> str:
     """The record of ``--json``: one JSON object, its keys in JSON_KEYS order, then the
-    history the run started from."""
-    return json.dumps({**{k: json_safe(record[k]) for k in JSON_KEYS}, "history": history})
+    history the run started from (NaN, ±inf as null: slopetui.json_text)."""
+    from slopetui.json_text import json_text as strict_json
+    return strict_json({**{k: record[k] for k in JSON_KEYS}, "history": history})
 
 
 def render_text(r: PointResult) -> str:

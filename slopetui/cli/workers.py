@@ -10,7 +10,6 @@ signalled from here.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import signal
 import socket
@@ -19,6 +18,7 @@ import time
 from typing import TYPE_CHECKING
 
 from slopetui.cli.options import add_db_option, open_db
+from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
     from slopetui.queue.local_pool import LocalPool
@@ -77,7 +77,7 @@ def handle(args: argparse.Namespace) -> int:
     now = database_now(db)
     here = socket.gethostname()
     if args.json:
-        print(json.dumps({
+        print(json_text({
             "pools": [{"host": here, "pid": p.pid, "uptime_s": p.uptime_s, "log": p.log,
                        "workers": [_worker_json(w) for w in p.workers]} for p in pools]
                      + [{"host": host, "pid": None,
