@@ -9,6 +9,7 @@ homes without numpy (``core.methods.METHODS``, ``slopetui.sweeps.sizes.CONFIRM_A
 from __future__ import annotations
 
 import argparse
+import math
 from typing import TYPE_CHECKING
 
 from slopetui.json_text import json_text
@@ -59,6 +60,22 @@ def int_arg(flag: str, text: str, low: int, high: int = MAX_SQL_INT, note: str =
         raise UsageError(f"{flag} = {text!r} is out of range: allowed {allowed}") from None
     if not low <= value <= high:
         raise UsageError(f"{flag} = {value} is out of range: allowed {allowed}")
+    return value
+
+
+def float_arg(flag: str, text: str, low: float, high: float, note: str = "", *,
+              above: bool = False) -> float:
+    """A finite number argument from ``low`` (``above``: excluded) to ``high``, or a
+    one-line UsageError naming it and its range (see int_arg): NaN, inf, garbage and ""
+    are refused alike."""
+    allowed = (f"a number above {low:g}, at most {high:g}" if above else
+               f"a number from {low:g} to {high:g}") + note
+    try:
+        value = float(text)
+    except ValueError:
+        raise UsageError(f"{flag} = {text!r} is out of range: allowed {allowed}") from None
+    if not (math.isfinite(value) and low <= value <= high) or (above and value == low):
+        raise UsageError(f"{flag} = {text!r} is out of range: allowed {allowed}")
     return value
 
 

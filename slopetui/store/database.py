@@ -54,7 +54,7 @@ def is_refusal(message: str) -> bool:
 def parse_url(url: str) -> URL:
     try:
         return make_url(url)
-    except ArgumentError as exc:
+    except (ArgumentError, ValueError) as exc:  # ValueError: a port or IPv6 host misread
         raise StoreError(f"--db: {url!r} is not a SQLAlchemy database URL "
                          "(e.g. sqlite:///runs.db or postgresql+psycopg://host/db)") from exc
 
