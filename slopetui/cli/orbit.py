@@ -53,8 +53,9 @@ def point_of(args: argparse.Namespace) -> tuple[Params, float]:
 
 
 def seed_length(text: str, params: Params, dt: float) -> float:
-    """--t-seed as a number the seed simulation can run; ParameterError naming it (or dt:
-    check_seed_steps)."""
+    """--t-seed as a number the seed simulation can run; ParameterError naming it, or dt
+    when even the shortest seed is too many steps of it (check_seed_steps)."""
+    check_seed_steps(params, dt, MIN_T_SEED)
     high = MAX_SEED_STEPS * dt
     allowed = f"a number from {MIN_T_SEED:g} to {high:g} ({MAX_SEED_STEPS:g} steps of dt = {dt:g})"
     try:
@@ -63,7 +64,6 @@ def seed_length(text: str, params: Params, dt: float) -> float:
         raise ParameterError("t-seed", text, allowed) from None
     if not (math.isfinite(value) and MIN_T_SEED <= value <= high):  # -5: a ValueError, inf:
         raise ParameterError("t-seed", text, allowed)               # an OverflowError before
-    check_seed_steps(params, dt, value)
     return value
 
 

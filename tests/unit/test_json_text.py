@@ -13,6 +13,7 @@ import pytest
 
 from slopetui.cli import main
 from slopetui.json_text import json_text
+from tests.support import finish_all
 
 
 def strict(text: str):
@@ -63,3 +64,20 @@ def test_run_json_of_a_chaotic_point_holds_a_numpy_bool(capsys):
     rec = strict(capsys.readouterr().out)
     assert rec["settled"] in (True, False) and rec["attractor"] == "chaotic"
     assert rec["period"] is None and rec["lambda_max"] is None  # NaN: null
+
+
+def test_a_run_has_the_same_json_values_from_run_and_from_export(db, db_url, capsys):
+    """Before: export --json wrote "nan" where run --json wrote null (a sliding run's
+    period, lambda_max without Lyapunov exponents)."""
+    solver = ["--method", "rk4", "--dt", "0.01", "--t-end", "200", "--window", "100", "--no-lyap"]
+    assert main(["run", "--k", "4", "--tau", "2", *solver, "--json"]) == 0
+    alone = strict(capsys.readouterr().out)
+    assert alone["regime"] == "sliding" and alone["period"] is None
+    assert main(["submit", "--x", "k=4:5:2", "--tau", "2", *solver, "--db", db_url]) == 0
+    capsys.readouterr()
+    finish_all(db)
+    assert main(["export", "1", "--json", "--db", db_url]) == 0
+    stored = next(r for r in strict(capsys.readouterr().out) if r["k"] == 4)
+    same = [key for key in alone if key in stored and key != "runtime_s"]
+    assert len(same) == len(alone) - 1  # all but runtime_s (history is a column too)
+    assert {key: stored[key] for key in same} == {key: alone[key] for key in same}
