@@ -11,6 +11,7 @@ import math
 import os
 import re
 import sys
+import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -157,9 +158,11 @@ def _log_file(text: str) -> Path:
     if not folder.is_dir():
         raise UsageError(f"--log = {text!r}: {str(folder)!r} is not a folder: allowed a file "
                          "in a folder")
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise UsageError(f"--log = {text!r} cannot be created: the folder {str(folder)!r} is "
-                         "not writable")
+    try:  # a file made and removed there: os.access answers yes to root where it may not
+        tempfile.TemporaryFile(dir=folder).close()  # write (/sys), or on a read-only mount
+    except OSError as exc:
+        raise UsageError(f"--log = {text!r} cannot be created in {str(folder)!r} "
+                         f"({exc.strerror}): allowed a file in a folder you may write") from None
     return path
 
 

@@ -1,11 +1,11 @@
 """Bad input that ended in a traceback or exited 0 (issue 31, item 6), row by row: each is
 now one line on stderr naming the field and what is allowed, exit status 2, and nothing
 written (no store created, no default store, no figure). The numpy bool of `run --json`
-is tests/unit/test_json_text.py's; a log in a folder the user cannot write is
-tests/integration/test_worker_log_input.py's (it needs another user than root)."""
+is tests/unit/test_json_text.py's."""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -108,6 +108,28 @@ def test_worker_log_a_folder_or_no_file(capsys, tmp_path, log):
     line = one_line(capsys, "worker", f"--log = {log!r}")
     assert ("is a folder" in line or "is not a folder" in line or "is empty" in line), line
     nothing_created(tmp_path, "folder", "file")
+
+
+def unwritable_folder(tmp_path: Path) -> Path:
+    """A folder this process may not create a file in: a 0500 folder, or for root (who
+    writes anywhere, and whom os.access answers yes) sysfs, where even root may not."""
+    if os.geteuid() != 0:
+        folder = tmp_path / "read-only"
+        folder.mkdir(mode=0o500)
+        return folder
+    return Path("/sys")
+
+
+def test_worker_log_in_a_folder_it_cannot_write(capsys, tmp_path):
+    """Before: PermissionError from the pool's logging, after the store was created."""
+    folder = unwritable_folder(tmp_path)
+    for log in (folder / "worker.log", folder / "new" / "worker.log"):
+        assert main(["worker", "-j", "1", "--exit-when-idle", "--log", str(log),
+                     "--db", f"sqlite:///{tmp_path / 's.db'}"]) == 2
+        line = one_line(capsys, "worker", f"--log = {str(log)!r} cannot be created in")
+        assert "allowed a file in a folder you may write" in line
+        assert not log.exists() and not (folder / "new").exists()
+    nothing_created(tmp_path, *(["read-only"] if folder.parent == tmp_path else []))
 
 
 def test_figure_to_an_empty_name(db, db_url, capsys, tmp_path):
