@@ -166,7 +166,7 @@ def bad_input() -> st.SearchStrategy[tuple[list[str], str]]:
     return st.one_of([one(case) for case in CASES])
 
 
-@quick(60)
+@quick(100)
 @given(case=bad_input(), as_json=st.booleans())
 def test_bad_input_is_one_line_naming_the_option(capsys, tmp_path, case, as_json):
     argv, field = case
