@@ -140,6 +140,14 @@ def test_figure_to_an_empty_name(db, db_url, capsys, tmp_path):
     assert not list(tmp_path.glob("sweep-*"))
 
 
+def test_export_to_an_empty_name(db, db_url, capsys):
+    """Before: exit 0, and the runs on stdout, as without -o (as figure's -o '')."""
+    sweep = submit_quick(db, 3).sweep_id
+    for form in ("--csv", "--json"):
+        assert main(["export", str(sweep), form, "-o", "", "--db", db_url]) == 2
+        assert "allowed a file name" in one_line(capsys, "export", "--output = '' is empty")
+
+
 def test_continue_to_where_it_starts(capsys, tmp_path):
     """Before: a branch of two points, one step past --to, and exit 0."""
     for extra in ([], ["--submit", "--db", f"sqlite:///{tmp_path / 's.db'}"]):
