@@ -32,6 +32,8 @@ from slopetui.cli import (
     worker,
     workers,
 )
+from slopetui.store.failures import StoreError
+from slopetui.store.location import checked_url
 
 #: Errors that are the user's input or environment, not a bug: one line, no traceback,
 #: exit 2. Named by module rather than imported: a class whose module was never loaded
@@ -73,6 +75,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     if "_ARGCOMPLETE" in os.environ:  # a shell asks for completions (slopetui completion)
         completion.enable(parser)
     args = parser.parse_args(argv)
+    # --db '' or in-memory SQLite: refused before anything opens or creates a store.
+    # `cluster` names a server for other hosts and refuses every SQLite URL itself.
+    url = args.tui_db if args.command is None else getattr(args, "db", None)
+    if url is not None and args.command != "cluster":
+        try:
+            checked_url(url)
+        except StoreError as exc:
+            print(f"slopetui{' ' + args.command if args.command else ''}: error: {exc}",
+                  file=sys.stderr)
+            return 2
     if args.command is None:  # the application
         from slopetui.tui.app import run_app
         return run_app(args.tui_db, start_workers=not args.no_workers)

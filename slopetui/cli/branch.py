@@ -4,14 +4,13 @@ or one of them with its points, its bifurcations and, with ``--plot``, its diagr
 from __future__ import annotations
 
 import argparse
-import json
 import shutil
 from typing import TYPE_CHECKING
 
 from slopetui.cli.continuation import print_bifurcations, print_point
 from slopetui.cli.options import UsageError, add_db_option, open_db
-from slopetui.cli.run import json_safe
 from slopetui.display_text import terminal_safe
+from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
     from slopetui.sweeps.branches import StoredBranch
@@ -44,8 +43,7 @@ def _listing(args: argparse.Namespace) -> int:
     from slopetui.sweeps.branches import listing
     branches = listing(open_db(args))
     if args.json:
-        print(json.dumps({"continuations": [
-            {k: json_safe(v) for k, v in b.summary().items()} for b in branches]}))
+        print(json_text({"continuations": [b.summary() for b in branches]}))
         return 0
     if not branches:
         print("no continuations yet: slopetui continue --help (with --submit)")
@@ -68,8 +66,8 @@ def _one(args: argparse.Namespace) -> int:
     row = branch.row
     param = terminal_safe(branch.param)  # stored text, as every other text printed below
     if args.json:
-        print(json.dumps({**{k: json_safe(v) for k, v in branch.summary().items()},
-                          "branch": branch.points, "bifurcations": branch.bifurcations}))
+        print(json_text({**branch.summary(), "branch": branch.points,
+                         "bifurcations": branch.bifurcations}))
         return 0
     if args.plot:
         from slopetui.plots.branch_plot import render_branch

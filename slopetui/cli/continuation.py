@@ -4,7 +4,6 @@ its folds, period doublings and tori (and, from the Hopf point, its criticality)
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import time
@@ -12,8 +11,10 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from core.params import PARAM_NAMES, ParameterError, Params
-from slopetui.cli.orbit import add_point_options, point_of
+from slopetui.cli.options import float_arg, int_arg
+from slopetui.cli.orbit import add_point_options, check_seed_steps, point_of
 from slopetui.display_text import terminal_safe
+from slopetui.json_text import json_text
 from slopetui.sweeps.branch_records import bifurcation_record, point_record
 
 if TYPE_CHECKING:
@@ -23,6 +24,9 @@ if TYPE_CHECKING:
 #: Parameters a branch can follow: every parameter of the model but delta, which only
 #: places the seed (eq. 19), not the orbit.
 CONTINUABLE = tuple(n for n in PARAM_NAMES if n != "delta")
+#: The largest --max-step: a step along the branch in (parameter, period) space; a larger
+#: one is no request a continuation can honour (its steps adapt far below it).
+MAX_STEP = 1e3
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -38,15 +42,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     start = p.add_mutually_exclusive_group()
     start.add_argument("--from-hopf", action="store_true",
                        help="start at the Hopf point of the steady state in --param")
-    start.add_argument("--from-run", dest="from_run", metavar="ID", type=int,
+    start.add_argument("--from-run", dest="from_run", metavar="ID",
                        help="start from the orbit at a stored run's parameters")
     p.add_argument("--to", metavar="VALUE",
                    help="stop once the parameter passes VALUE (default: the Hopf point or "
                         "--points)")
-    p.add_argument("--points", type=int, default=300, metavar="N",
+    p.add_argument("--points", default="300", metavar="N",
                    help="at most N points (default 300, from 2 to 5000)")
-    p.add_argument("--max-step", dest="max_step", type=float, default=0.5, metavar="X",
-                   help="largest step along the branch (default 0.5)")
+    p.add_argument("--max-step", dest="max_step", default="0.5", metavar="X",
+                   help=f"largest step along the branch (default 0.5, at most {MAX_STEP:g})")
     p.add_argument("--submit", action="store_true",
                    help="queue the continuation for the workers (`slopetui worker`, the "
                         "application's pool) instead of computing it here; it is stored point "
@@ -71,18 +75,28 @@ def _end_value(args: argparse.Namespace, params: Params) -> float | None:
     return value
 
 
+def _not_the_start(args: argparse.Namespace, params: Params, end: float | None) -> None:
+    """--to other than where the branch starts (the simulated orbit's or the stored run's
+    parameter; the Hopf point is not known yet): before, a branch from there to there
+    took one step past it and exited 0."""
+    here = getattr(params, args.param)
+    if end is not None and not args.from_hopf and end == here:
+        raise ParameterError("to", args.to, f"a value other than the start, {args.param} = {here:g}")
+
+
 def _check(args: argparse.Namespace) -> None:
-    if not 2 <= args.points <= 5000:
-        raise ParameterError("points", args.points, "an integer from 2 to 5000")
-    if not (math.isfinite(args.max_step) and args.max_step > 0):
-        raise ParameterError("max-step", args.max_step, "a number > 0")
+    """--points, --max-step and --from-run as numbers (one line naming a bad one)."""
+    args.points = int_arg("points", args.points, 2, 5000)
+    args.max_step = float_arg("max-step", args.max_step, 0, MAX_STEP, above=True)
+    if args.from_run is not None:
+        args.from_run = int_arg("from-run", args.from_run, 1, note=" (a run id)")
 
 
 def _params_of_run(args: argparse.Namespace, params: Params) -> Params:
     """The stored run's parameters (flags given explicitly still win)."""
-    from slopetui.store.open import open_store
+    from slopetui.cli.options import open_db
     from slopetui.store.queries import run_by_id
-    run = run_by_id(open_store(args.db), args.from_run)
+    run = run_by_id(open_db(args), args.from_run)
     if run is None:
         raise ParameterError("from-run", args.from_run, "the id of a run in this store")
     given = {n for n in PARAM_NAMES if getattr(args, n) is not None}
@@ -127,6 +141,10 @@ def handle(args: argparse.Namespace) -> int:
         _check(args)
         if args.from_run is not None:
             params = _params_of_run(args, params)
+        _not_the_start(args, params, end)
+        if not args.from_hopf:  # a simulated orbit's seed, held in memory
+            from core.periodic_orbit import SEED_T_END
+            check_seed_steps(params, dt, SEED_T_END)
     except ParameterError as exc:
         print(f"slopetui continue: error: {exc}", file=sys.stderr)
         return 2
@@ -164,7 +182,7 @@ def handle(args: argparse.Namespace) -> int:
         out["hopf"] = {"value": hopf.value, "period": hopf.period}
         out["criticality"] = critical
     if quiet:
-        print(json.dumps(out))
+        print(json_text(out))
         return 0
     print(f"end: {branch.end} ({len(branch.points)} points, {took:.1f} s)")
     if hopf is not None:

@@ -75,8 +75,11 @@ def handle(args: argparse.Namespace) -> int:
     if len(set(run_ids)) < len(run_ids):
         raise UsageError("--run names the same run twice")
     default = sweep_stem(sweep) if sweep is not None else runs_stem(run_ids)
+    if args.output is not None and not args.output.strip():  # before: the default name
+        raise UsageError(f"--output = {args.output!r} is empty: allowed a file name ending "
+                         f"in {FORMATS_TEXT}")
     try:
-        path = check_output(args.output or f"{default}.{DEFAULT_FORMAT}")
+        path = check_output(args.output if args.output is not None else f"{default}.{DEFAULT_FORMAT}")
     except FigureError as exc:
         raise UsageError(str(exc)) from None
     db = open_db(args)

@@ -5,7 +5,6 @@ queue such a sweep for the workers (``--submit``) and read a stored one back (``
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import shutil
 import sys
@@ -14,10 +13,10 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from core.params import PARAM_NAMES, ParameterError, Params
-from slopetui.cli.options import UsageError, add_db_option, open_db, say_queued
+from slopetui.cli.options import UsageError, add_db_option, int_arg, open_db, say_queued
 from slopetui.cli.orbit import add_point_options, point_of
-from slopetui.cli.run import json_safe
 from slopetui.display_text import terminal_safe
+from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
     from core.hysteresis import WarmPoint
@@ -26,6 +25,9 @@ if TYPE_CHECKING:
 #: Parameters a warm-started sweep can follow: not tau (the state's history is one delay
 #: long and would change size) nor delta (which only places the first point's start).
 FOLLOWABLE = tuple(n for n in PARAM_NAMES if n not in ("tau", "delta"))
+#: Bytes a step of the window takes: core.hysteresis.settle keeps the window's five rows
+#: of float64, every step.
+WINDOW_STEP_BYTES = 5 * 8
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -45,17 +47,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--param", choices=FOLLOWABLE, help="the parameter to follow")
     p.add_argument("--from", dest="start", metavar="X", help="first value")
     p.add_argument("--to", dest="stop", metavar="X", help="last value")
-    p.add_argument("--points", type=int, default=40, metavar="N",
+    p.add_argument("--points", default="40", metavar="N",
                    help="values from --from to --to, ends included (default 40, 2 to 2000)")
-    p.add_argument("--t-settle", dest="t_settle", type=float, default=None, metavar="T",
+    p.add_argument("--t-settle", dest="t_settle", default=None, metavar="T",
                    help="time integrated at each point (default 6000)")
-    p.add_argument("--window", type=float, default=None, metavar="T",
+    p.add_argument("--window", default=None, metavar="T",
                    help="analysis window at the end of each point (default 1000)")
     p.add_argument("--submit", action="store_true",
                    help="queue the sweep for the workers (`slopetui worker`, the application's "
                         "pool) instead of computing it here; it is stored point by point, "
                         "resumes where it stopped, and --show ID prints it")
-    p.add_argument("--show", type=int, default=None, metavar="ID",
+    p.add_argument("--show", default=None, metavar="ID",
                    help="print the stored sweep ID (queued with --submit) as this command "
                         "prints a sweep it computes, with its status")
     p.add_argument("--plot", action="store_true", help="also draw both branches")
@@ -64,33 +66,43 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(handler=handle)
 
 
-def _number(flag: str, text: str, params: Params, name: str) -> float:
+def _number(flag: str, text: str, params: Params | None = None, name: str = "") -> float:
+    """A finite number; with ``params``, a value of the parameter ``name`` (Params names
+    its range)."""
     try:
         value = float(text)
     except ValueError:
         raise ParameterError(flag, text, "a finite number") from None
     if not math.isfinite(value):
         raise ParameterError(flag, text, "a finite number")
-    params.with_(**{name: value})  # raises ParameterError naming the parameter's range
+    if params is not None:
+        params.with_(**{name: value})  # raises ParameterError naming the parameter's range
     return value
 
 
 def _checked(args: argparse.Namespace) -> tuple[Params, float, float, float, float, float]:
     from core.hysteresis import T_SETTLE, WINDOW
+    from core.solve import MAX_RUN_BYTES, MAX_STEPS
     params, dt = point_of(args)
     start = _number("from", args.start, params, args.param)
     stop = _number("to", args.stop, params, args.param)
     if start == stop:
         raise ParameterError("to", args.stop, f"a value other than --from = {start:g}")
-    if not 2 <= args.points <= 2000:
-        raise ParameterError("points", args.points, "an integer from 2 to 2000")
-    t_settle = T_SETTLE if args.t_settle is None else args.t_settle
-    window = min(WINDOW, t_settle) if args.window is None else args.window
+    args.points = int_arg("points", args.points, 2, 2000)
+    t_settle = T_SETTLE if args.t_settle is None else _number("t-settle", args.t_settle)
+    window = min(WINDOW, t_settle) if args.window is None else _number("window", args.window)
     if not (math.isfinite(t_settle) and t_settle >= 10 * params.tau and t_settle <= 1e6):
         raise ParameterError("t-settle", t_settle, f"a number from 10 tau = {10 * params.tau:g} "
                                                    "to 1e6")
+    if t_settle / dt > MAX_STEPS:  # a run's limit (core.solve), per point
+        raise ParameterError("t-settle", t_settle, f"at most {MAX_STEPS:.0e} steps of dt = "
+                                                   f"{dt:g}, {MAX_STEPS * dt:g}")
     if not (math.isfinite(window) and 10 * dt <= window <= t_settle):
         raise ParameterError("window", window, f"a number from 10 dt to --t-settle = {t_settle:g}")
+    if window / dt * WINDOW_STEP_BYTES > MAX_RUN_BYTES:  # held in memory, as a run's
+        high = MAX_RUN_BYTES / WINDOW_STEP_BYTES * dt
+        raise ParameterError("window", window, f"at most {high:g} ({MAX_RUN_BYTES / 1024**3:g} "
+                                               f"GiB of samples at dt = {dt:g})")
     return params, dt, start, stop, t_settle, window
 
 
@@ -101,11 +113,9 @@ def fields(pt: WarmPoint) -> dict[str, Any]:
 
 
 def record(pt: Mapping[str, Any]) -> dict[str, Any]:
-    """A point as ``--json`` prints it (NaN as null)."""
-    def finite(x: float) -> float | None:
-        return x if math.isfinite(x) else None
-    return {"value": pt["value"], "regime": pt["regime"], "amplitude": finite(pt["amplitude"]),
-            "detail": pt["detail"], "growth": finite(pt["growth"]), "jumped": pt["jumped"]}
+    """A point as ``--json`` prints it (NaN as null: slopetui.json_text)."""
+    return {"value": pt["value"], "regime": pt["regime"], "amplitude": pt["amplitude"],
+            "detail": pt["detail"], "growth": pt["growth"], "jumped": pt["jumped"]}
 
 
 def _line(direction: str, param: str, pt: Mapping[str, Any]) -> str:
@@ -152,14 +162,14 @@ def _submit(args: argparse.Namespace, params: Params, dt: float, start: float, s
 
 def _show(args: argparse.Namespace) -> int:
     from slopetui.sweeps.hysteresis_runs import hysteresis_of
+    args.show = int_arg("show", args.show, 1, note=" (a hysteresis sweep id)")
     sweep = hysteresis_of(open_db(args), args.show)
     if sweep is None:
         raise UsageError(f"no hysteresis sweep {args.show} in this store")
     row, param = sweep.row, terminal_safe(sweep.param)  # stored text, escaped as the rest
     if args.json:
-        print(json.dumps({**{k: json_safe(v) for k, v in sweep.summary().items()},
-                          "up": [record(p) for p in sweep.up],
-                          "down": [record(p) for p in sweep.down]}))
+        print(json_text({**sweep.summary(), "up": [record(p) for p in sweep.up],
+                         "down": [record(p) for p in sweep.down]}))
         return 0
     print(f"hysteresis sweep {sweep.id} in {param} from {row['start']:g} to {row['stop']:g}, "
           f"{row['n_points']} points each way: {terminal_safe(row['status'])}, {row['n_done']} points, "
@@ -213,11 +223,11 @@ def handle(args: argparse.Namespace) -> int:
     took = time.process_time() - t0
     up, down = [fields(p) for p in result.up], [fields(p) for p in result.down]
     if args.json:
-        print(json.dumps({"param": args.param, "up": [record(p) for p in up],
-                          "down": [record(p) for p in down],
-                          "onset_up": result.onset_up, "offset_down": result.offset_down,
-                          "dt": dt, "t_settle": t_settle, "window": window,
-                          "runtime_s": took}))
+        print(json_text({"param": args.param, "up": [record(p) for p in up],
+                         "down": [record(p) for p in down],
+                         "onset_up": result.onset_up, "offset_down": result.offset_down,
+                         "dt": dt, "t_settle": t_settle, "window": window,
+                         "runtime_s": took}))
         return 0
     _changes(args.param, up, down, result.onset_up, result.offset_down,
              abs(stop - start) / (args.points - 1))

@@ -9,10 +9,11 @@ homes without numpy (``core.methods.METHODS``, ``slopetui.sweeps.sizes.CONFIRM_A
 from __future__ import annotations
 
 import argparse
-import json
+import math
 import sys
 from typing import TYPE_CHECKING
 
+from slopetui.json_text import json_text
 from slopetui.store.location import DB_ENV
 
 if TYPE_CHECKING:
@@ -28,7 +29,7 @@ def say_queued(as_json: bool, what: str, job_id: int, show: str) -> int:
     """The answer of a ``--submit``: ``{"id": N, "status": "queued"}``, or a line saying
     that ``what`` was queued, who computes it, and the command ``show`` that shows it."""
     if as_json:
-        print(json.dumps({"id": job_id, "status": "queued"}))
+        print(json_text({"id": job_id, "status": "queued"}))
     else:
         print(f"{what} {job_id} queued: a worker computes it (`slopetui worker`, or the "
               f"application's pool); `{show}` shows it")
@@ -69,6 +70,22 @@ def int_arg(flag: str, text: str, low: int, high: int = MAX_SQL_INT, note: str =
         raise UsageError(f"{flag} = {text!r} is out of range: allowed {allowed}") from None
     if not low <= value <= high:
         raise UsageError(f"{flag} = {value} is out of range: allowed {allowed}")
+    return value
+
+
+def float_arg(flag: str, text: str, low: float, high: float, note: str = "", *,
+              above: bool = False) -> float:
+    """A finite number argument from ``low`` (``above``: excluded) to ``high``, or a
+    one-line UsageError naming it and its range (see int_arg): NaN, inf, garbage and ""
+    are refused alike."""
+    allowed = (f"a number above {low:g}, at most {high:g}" if above else
+               f"a number from {low:g} to {high:g}") + note
+    try:
+        value = float(text)
+    except ValueError:
+        raise UsageError(f"{flag} = {text!r} is out of range: allowed {allowed}") from None
+    if not (math.isfinite(value) and low <= value <= high) or (above and value == low):
+        raise UsageError(f"{flag} = {text!r} is out of range: allowed {allowed}")
     return value
 
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import time
@@ -11,12 +10,20 @@ from typing import TYPE_CHECKING
 
 from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.cli.run import PARAM_HELP, accept_negative_numbers
+from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
     from core.periodic_orbit import Orbit
 
 #: Multipliers printed and in --json (the leading ones, by modulus).
 SHOWN = 10
+#: The seed simulation's shortest length: returns are looked for in its second half,
+#: which must hold a few oscillations (the basic period is about 10 time units); below
+#: it the search read an empty window (a ValueError from numpy).
+MIN_T_SEED = 100.0
+#: Its most steps: the seed's trajectory is held whole, 5 float64 rows (40 bytes a step),
+#: so 5e7 steps take 2 GB, as a run may (core.solve); beyond, MemoryError or hours.
+MAX_SEED_STEPS = 5e7
 
 
 def add_point_options(p: argparse.ArgumentParser) -> None:
@@ -45,6 +52,32 @@ def point_of(args: argparse.Namespace) -> tuple[Params, float]:
     return params, dt
 
 
+def seed_length(text: str, params: Params, dt: float) -> float:
+    """--t-seed as a number the seed simulation can run; ParameterError naming it, or dt
+    when even the shortest seed is too many steps of it (check_seed_steps)."""
+    check_seed_steps(params, dt, MIN_T_SEED)
+    high = MAX_SEED_STEPS * dt
+    allowed = f"a number from {MIN_T_SEED:g} to {high:g} ({MAX_SEED_STEPS:g} steps of dt = {dt:g})"
+    try:
+        value = float(text)
+    except ValueError:
+        raise ParameterError("t-seed", text, allowed) from None
+    if not (math.isfinite(value) and MIN_T_SEED <= value <= high):  # -5: a ValueError, inf:
+        raise ParameterError("t-seed", text, allowed)               # an OverflowError before
+    return value
+
+
+def check_seed_steps(params: Params, dt: float, t_seed: float) -> None:
+    """A ParameterError naming dt when the seed simulation (t_seed, and at least 4 tau +
+    600: core.periodic_orbit.find_orbit) would take more than MAX_SEED_STEPS of it."""
+    from core.periodic_orbit import SEED_SPAN
+    length = max(t_seed, 4 * params.tau + SEED_SPAN)
+    if length > MAX_SEED_STEPS * dt:
+        raise ParameterError("dt", dt, f"at least {length:g} / {MAX_SEED_STEPS:g} = "
+                                       f"{length / MAX_SEED_STEPS:g} (the seed simulation of "
+                                       f"{length:g} time units is held in memory)")
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("orbit", help="the periodic orbit at one point, with its Floquet multipliers",
                        description="Simulate from eq. 19 (offset --delta), find where the state "
@@ -52,8 +85,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                                    "print its period, amplitude, maxima per period, leading "
                                    "Floquet multipliers and stability.")
     add_point_options(p)
-    p.add_argument("--t-seed", dest="t_seed", metavar="X", type=float, default=3000.0,
-                   help="length of the seed simulation (default 3000)")
+    p.add_argument("--t-seed", dest="t_seed", metavar="X", default="3000",
+                   help=f"length of the seed simulation, from {MIN_T_SEED:g} to "
+                        f"{MAX_SEED_STEPS:g} steps of --dt (default 3000)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=handle)
 
@@ -103,16 +137,17 @@ def render(o: Orbit, runtime_s: float) -> str:
 def handle(args: argparse.Namespace) -> int:
     try:
         params, dt = point_of(args)
+        t_seed = seed_length(args.t_seed, params, dt)
     except ParameterError as exc:
         print(f"slopetui orbit: error: {exc}", file=sys.stderr)
         return 2
     from core.periodic_orbit import OrbitError, find_orbit
     t0 = time.process_time()
     try:
-        orbit = find_orbit(params, dt, args.t_seed)
+        orbit = find_orbit(params, dt, t_seed)
     except OrbitError as exc:
         print(f"slopetui orbit: no orbit: {exc}", file=sys.stderr)
         return 1
     took = time.process_time() - t0
-    print(json.dumps(record(orbit, took)) if args.json else render(orbit, took))
+    print(json_text(record(orbit, took)) if args.json else render(orbit, took))
     return 0

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import re
 import sys
@@ -13,6 +12,7 @@ from typing import TYPE_CHECKING
 from core.methods import METHODS
 from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
 from core.result_fields import JSON_KEYS as RECORD_JSON_KEYS
+from slopetui.json_text import json_text as strict_json
 
 if TYPE_CHECKING:  # core.point loads numba and the kernels: only `run` itself needs them;
     # core.solve and core.lyapunov_bias load numpy (~0.1 s), which no parser needs
@@ -106,19 +106,10 @@ def carried_of(args: argparse.Namespace, settings: SolverSettings
     return replace(settings, history=end.name), end
 
 
-def json_safe(value: object) -> object:
-    """JSON has no NaN or infinity: they become null."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, list):
-        return [json_safe(v) for v in value]
-    return value
-
-
 def json_text(record: dict[str, object], history: str = "constant") -> str:
     """The record of ``--json``: one JSON object, its keys in JSON_KEYS order, then the
-    history the run started from."""
-    return json.dumps({**{k: json_safe(record[k]) for k in JSON_KEYS}, "history": history})
+    history the run started from (NaN, ±inf as null: slopetui.json_text)."""
+    return strict_json({**{k: record[k] for k in JSON_KEYS}, "history": history})
 
 
 def render_text(r: PointResult) -> str:

@@ -124,6 +124,8 @@ def handle_export(args: argparse.Namespace) -> int:
     from slopetui.sweeps.control import UnknownSweep
 
     sweep = sweep_arg(args.sweep)
+    if args.output is not None and not args.output.strip():  # before: stdout, as without -o
+        raise UsageError(f"--output = {args.output!r} is empty: allowed a file name")
     if args.format == "parquet":  # refused before the store is opened: nothing written
         _need_pyarrow()
         if not args.output and sys.stdout.isatty():

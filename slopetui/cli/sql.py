@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import json
 import math
 import signal
 import sys
@@ -33,6 +32,7 @@ from types import FrameType
 
 from slopetui.cli.options import UsageError, add_db_option, open_db
 from slopetui.display_text import TextOut, for_terminal, terminal_safe
+from slopetui.json_text import json_text
 from slopetui.sql_results import cell_text, error_text, fetch
 from slopetui.store.read_query import (
     DEFAULT_TIMEOUT_S,
@@ -122,8 +122,8 @@ class CsvWriter(Writer):
 class JsonWriter(Writer):
     def write(self, rows: list[Row]) -> None:
         for row in rows:
-            self.out.write(json.dumps({c: _json_value(v) for c, v in zip(self.columns, row, strict=True)},
-                                      default=str) + "\n")
+            self.out.write(json_text({c: _json_value(v) for c, v in zip(self.columns, row, strict=True)},
+                                     default=str) + "\n")
         self.out.flush()
 
 

@@ -19,11 +19,11 @@ it. It is known from its pool file (slopetui.queue.local_pool); ``--json``:
 from __future__ import annotations
 
 import argparse
-import json
 from typing import TYPE_CHECKING
 
 from slopetui.cli.options import add_db_option, open_db, sweep_arg
 from slopetui.display_text import terminal_safe
+from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
     from slopetui.sweeps.progress import SweepProgress
@@ -59,8 +59,8 @@ def handle(args: argparse.Namespace) -> int:
     starting = [p for p in local_pools(db)[0] if not p.workers]  # warming up (docstring)
     branches, computing = branch_service.activity(db)
     sweeps_h, computing_h = hysteresis_runs.activity(db)
-    if args.json:  # json.dumps escapes control and non-ASCII characters: safe as it is
-        print(json.dumps({
+    if args.json:  # json_text escapes control and non-ASCII characters: safe as it is
+        print(json_text({
             "sweeps": [{"id": p.id, "name": p.name, "axes": p.axes, "status": p.status,
                         "total": p.total, "counts": p.counts, "cached": p.cached,
                         "runs_per_min": p.runs_per_min, "eta_s": p.eta_s,

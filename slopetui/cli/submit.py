@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from collections.abc import Mapping
 from typing import Any
@@ -12,6 +11,7 @@ from core.methods import METHODS
 from core.params import PARAM_NAMES
 from slopetui.cli.options import add_db_option, open_db
 from slopetui.cli.run import PARAM_HELP, accept_negative_numbers
+from slopetui.json_text import json_text
 from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
 
 
@@ -129,7 +129,7 @@ def handle(args: argparse.Namespace) -> int:
         data = {"sweep_id": out.sweep_id, "n_runs": out.n_runs, "n_cached": out.n_cached}
         if out.adaptive_levels is not None:  # n_runs: the coarse runs; n_points: the lattice
             data.update(n_points=out.n_points, adaptive_levels=out.adaptive_levels)
-        print(json.dumps(data))
+        print(json_text(data))
     else:
         cached = f" ({out.n_cached} already computed, taken from the cache)" if out.n_cached else ""
         if out.adaptive_levels is None:

@@ -11,6 +11,7 @@ import math
 import os
 import re
 import sys
+import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -132,6 +133,39 @@ def _check(args: argparse.Namespace) -> None:
                   unit=" of seconds (at least 2 x --heartbeat)")
 
 
+def _log_file(text: str) -> Path:
+    """--log as a file the pool can append to, or a one-line UsageError naming it: checked
+    before the store is opened, so that a refusal creates nothing (before: IsADirectoryError
+    or PermissionError tracebacks from the pool). Missing folders are created later, as
+    for the default log, if the nearest existing one is writable."""
+    if not text.strip():
+        raise UsageError(f"--log = {text!r} is empty: allowed a file name (appended to, "
+                         "created 0600)")
+    path = Path(text)
+    if path.is_dir():
+        raise UsageError(f"--log = {text!r} is a folder: allowed a file, e.g. "
+                         f"{str(path / 'worker.log')!r}")
+    if path.exists():  # opened to append, as the pool's logging will: nothing changes in it
+        try:
+            open(path, "a", encoding="utf-8").close()
+        except OSError as exc:
+            raise UsageError(f"--log = {text!r} cannot be written ({exc.strerror}): allowed "
+                             "a file you may write") from None
+        return path
+    folder = path.absolute().parent
+    while not folder.exists():
+        folder = folder.parent
+    if not folder.is_dir():
+        raise UsageError(f"--log = {text!r}: {str(folder)!r} is not a folder: allowed a file "
+                         "in a folder")
+    try:  # a file made and removed there: os.access answers yes to root where it may not
+        tempfile.TemporaryFile(dir=folder).close()  # write (/sys), or on a read-only mount
+    except OSError as exc:
+        raise UsageError(f"--log = {text!r} cannot be created in {str(folder)!r} "
+                         f"({exc.strerror}): allowed a file in a folder you may write") from None
+    return path
+
+
 def _already_running(pools: list[LocalPool]) -> UsageError:
     pool = pools[0]
     state = f"{len(pool.workers)} workers" if pool.workers else "starting"
@@ -167,13 +201,14 @@ def _detach(args: argparse.Namespace, db: Database, log: Path) -> int:
 
 def handle(args: argparse.Namespace) -> int:
     _check(args)
+    given_log = _log_file(args.log) if args.log is not None else None
     from slopetui.store.open import open_store
     db = open_store(args.db)  # open (and migrate) now: a bad URL fails here, in the foreground
     if args.stop:
         from slopetui.cli.workers import stop_pools
         return stop_pools(db, now=args.now)
     url = db.url.render_as_string(hide_password=False)
-    log = Path(args.log) if args.log else default_log()
+    log = given_log or default_log()
     log.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
     if args.detach:
         return _detach(args, db, log)

@@ -13,7 +13,6 @@ are printed through ``terminal_safe`` (``--json`` escapes them itself).
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import signal
 import socket
@@ -23,6 +22,7 @@ from typing import TYPE_CHECKING
 
 from slopetui.cli.options import add_db_option, open_db
 from slopetui.display_text import terminal_safe
+from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
     from slopetui.queue.local_pool import LocalPool
@@ -81,7 +81,7 @@ def handle(args: argparse.Namespace) -> int:
     now = database_now(db)
     here = socket.gethostname()
     if args.json:
-        print(json.dumps({
+        print(json_text({
             "pools": [{"host": here, "pid": p.pid, "uptime_s": p.uptime_s, "log": p.log,
                        "workers": [_worker_json(w) for w in p.workers]} for p in pools]
                      + [{"host": host, "pid": None,

@@ -70,7 +70,8 @@ def is_refusal(message: str) -> bool:
 def parse_url(url: str) -> URL:
     try:
         return make_url(url)
-    except ArgumentError as exc:  # the message quotes the URL: its password hidden
+    except (ArgumentError, ValueError) as exc:  # ValueError: a port or IPv6 host misread;
+        # the message quotes the URL: its password hidden
         raise StoreError(f"--db: {password_hidden(url)!r} is not a SQLAlchemy database URL "
                          "(e.g. sqlite:///runs.db or postgresql+psycopg://host/db)") from exc
 

@@ -7,12 +7,17 @@ import os
 
 from platformdirs import user_data_path
 
+from slopetui.store.failures import StoreError
+
 #: Environment variable that selects the database (any SQLAlchemy URL).
 DB_ENV = "SLOPETUI_DB"
 #: Environment variable naming a PostgreSQL role's URL that only reads the same database:
 #: ``slopetui sql`` and the application's console run their queries under it
 #: (slopetui.store.database.Database.read_only_engine; docs/store.md).
 READ_DB_ENV = "SLOPETUI_READ_DB"
+#: What --db accepts, for its messages.
+ALLOWED_URLS = ("allowed a SQLAlchemy URL naming a SQLite file (sqlite:///runs.db) or a "
+                "server (postgresql+psycopg://HOST/DB)")
 
 
 def default_url() -> str:
@@ -21,3 +26,26 @@ def default_url() -> str:
     if env:
         return env
     return f"sqlite:///{user_data_path('slopetui') / 'slopetui.db'}"
+
+
+def checked_url(url: str) -> str:
+    """``url`` as the user gave it (``--db URL``), or a StoreError naming ``--db`` for a URL
+    that would open a store other than the one meant, with nothing created:
+
+    - an empty one, which every ``url or default_url()`` took for "no --db" and answered
+      from the default store, creating it;
+    - in-memory SQLite (``sqlite://``, ``sqlite:///:memory:``, ``?mode=memory``): a new,
+      empty store each time, shown as if it were one and gone when the command ends.
+
+    The rest of the URL's form is SQLAlchemy's to judge (``database.parse_url``).
+    """
+    if not url.strip():
+        raise StoreError(f"--db = {url!r} is empty: {ALLOWED_URLS}; without --db: "
+                         f"${DB_ENV}, else the default store")
+    scheme, _, rest = url.partition("://")
+    path, _, query = rest.partition("?")
+    if scheme.split("+")[0].strip().lower() == "sqlite" and (
+            path in ("", "/", "/:memory:") or "mode=memory" in query.split("&")):
+        raise StoreError(f"--db = {url!r} is an in-memory SQLite database, a new empty store "
+                         f"that is gone when the command ends: {ALLOWED_URLS}")
+    return url

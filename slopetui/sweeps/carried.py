@@ -17,6 +17,9 @@ if TYPE_CHECKING:
 RUN_PREFIX = "run:"
 #: What --history accepts, for messages and help.
 HISTORY_CHOICES = "constant (default), consistent, or run:ID (the final state of a stored run)"
+#: The largest run id: what a SQL INTEGER holds (slopetui.cli.options.MAX_SQL_INT). A
+#: larger one cannot name a run, and the drivers refuse it with an OverflowError.
+MAX_RUN_ID = 2**63 - 1
 
 
 def parse_history(text: str) -> tuple[str, int | None]:
@@ -24,8 +27,12 @@ def parse_history(text: str) -> tuple[str, int | None]:
     the field otherwise."""
     if text in HISTORIES:
         return text, None
-    if text.startswith(RUN_PREFIX) and text[len(RUN_PREFIX):].isdigit():
-        return "run", int(text[len(RUN_PREFIX):])
+    digits = text[len(RUN_PREFIX):]
+    # isascii: str.isdigit also takes "²" and "٣", which int() refuses or reads
+    if text.startswith(RUN_PREFIX) and digits.isascii() and digits.isdigit():
+        if 1 <= int(digits) <= MAX_RUN_ID:
+            return "run", int(digits)
+        raise ParameterError("history", text, f"run:ID with ID from 1 to {MAX_RUN_ID} (a run id)")
     raise ParameterError("history", text, HISTORY_CHOICES)
 
 

@@ -8,7 +8,6 @@ else: its measurements are empty cells (never measured), not nan (measured, unde
 from __future__ import annotations
 
 import csv
-import json
 import math
 from collections.abc import Iterable
 from typing import IO, TYPE_CHECKING, Any
@@ -17,6 +16,7 @@ import numpy as np
 
 from core import PARAM_NAMES
 from core.result_fields import RESULT_NAMES
+from slopetui.json_text import json_text
 
 if TYPE_CHECKING:  # only named: the figures' tables use cell() without the store's models
     from slopetui.store.models import Run
@@ -39,7 +39,7 @@ def cell(value: Any) -> Any:
     if isinstance(value, float) and not math.isfinite(value):
         return repr(value)  # 'nan', 'inf', '-inf': float() reads them back
     if isinstance(value, list):
-        return json.dumps(value)
+        return json_text(value)  # the peaks: finite maxima; a NaN would be null
     return value
 
 

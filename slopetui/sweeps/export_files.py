@@ -1,6 +1,6 @@
 """A sweep's runs written as a new file in a folder, in a format of ``slopetui export``:
 CSV (``slopetui.sweeps.export.write_csv``, streamed from the store) or JSON (the rows of
-``slopetui.sweeps.frames.json_rows``, strict JSON, one run a line).
+``slopetui.sweeps.frames.json_rows``, strict JSON by ``slopetui.json_text``, one run a line).
 
 The application's command palette exports the selected sweep this way into the folder
 figures go to. It lives here, not in ``slopetui.cli``, because the faces may not import
@@ -11,13 +11,13 @@ at all (written beside it under a temporary name, then renamed).
 
 from __future__ import annotations
 
-import json
 from collections.abc import Callable
 from contextlib import closing
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, TYPE_CHECKING
 
+from slopetui.json_text import json_text
 from slopetui.store.queries import runs_of, sweep_exists
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.whole_files import as_text, first_free, write_whole
@@ -48,13 +48,14 @@ def unused_export_path(folder: Path, sweep_id: int, fmt: str) -> Path:
 
 
 def write_json(frame: pd.DataFrame, out: IO[str]) -> int:
-    """Strict JSON (no NaN literal: jq and JavaScript refuse it), one run a line, the text
-    as stored: what ``slopetui export --json`` writes."""
+    """Strict JSON (no NaN literal: jq and JavaScript refuse it; NaN and ±inf are null,
+    slopetui.json_text), one run a line, the text as stored: what ``slopetui export
+    --json`` writes."""
     from slopetui.sweeps.frames import json_rows
 
     rows = json_rows(frame)
     out.write("[\n" if rows else "[")
-    out.write(",\n".join(json.dumps(row, allow_nan=False, ensure_ascii=False) for row in rows))
+    out.write(",\n".join(json_text(row, ensure_ascii=False) for row in rows))
     out.write("\n]\n")
     return len(rows)
 

@@ -27,8 +27,8 @@ measurement, exactly as the CSV export writes empty cells for them. A float64 co
 cannot tell that "never measured" NaN from a measured NaN (the period of a chaotic run,
 ``lambda_max`` of a run without Lyapunov exponents): ``status`` and ``inferred`` do. A
 measurement is a value iff ``status == "done"`` and not ``inferred``
-(``measured_mask``). ``json_rows`` keeps the difference in JSON: null for never
-measured, the strings "nan", "inf", "-inf" for measured non-finite values.
+(``measured_mask``). JSON has null for both (``slopetui.json_text``): ``status`` and
+``inferred`` are in every row.
 
 **Sweeps** (``sweeps_frame``): one row per sweep, by id; ``SWEEP_COLUMNS`` says what each
 column holds.
@@ -47,7 +47,6 @@ wall time, most of it imports.
 
 from __future__ import annotations
 
-import math
 import operator
 from collections.abc import Callable, Iterable, Sequence
 from typing import Any, Literal
@@ -220,16 +219,12 @@ def sweeps_frame(db: Database, sweep_ids: Sequence[int] | None = None) -> pd.Dat
                    for name, column in zip(names, columns, strict=True)})
 
 
-def _number(value: float) -> float | str:
-    """A float for strict JSON: non-finite values spelled as the CSV spells them."""
-    return value if math.isfinite(value) else repr(value)  # 'nan', 'inf', '-inf'
-
-
 def _json_value(kind: Kind) -> Callable[[Any], Any]:
     """The function that turns one cell of a column of this kind into a JSON value
-    (None: missing). Cells that are not measured are nulled by json_rows before."""
+    (None: missing). Cells that are not measured are nulled by json_rows before; NaN
+    and ±inf are nulled by the encoder (slopetui.json_text)."""
     if kind == "float":
-        return lambda v: _number(float(v))
+        return float
     if kind in ("int", "int?"):
         return lambda v: None if v is pd.NA else int(v)
     if kind in ("bool", "bool?"):
@@ -237,21 +232,15 @@ def _json_value(kind: Kind) -> Callable[[Any], Any]:
     if kind == "time":
         return lambda v: None if v is pd.NaT else v.isoformat()
     if kind == "list":
-        return lambda v: None if v is None else [_number(float(x)) for x in v]
+        return lambda v: None if v is None else [float(x) for x in v]
     return lambda v: v if isinstance(v, str) else None  # text: NaN / None missing
 
 
 def json_rows(frame: pd.DataFrame) -> list[dict[str, Any]]:
-    """The runs of a ``runs_frame`` as JSON objects with the keys of COLUMNS: missing or
-    never measured values are None (null); a measured NaN or infinity is the string "nan",
-    "inf" or "-inf" as in the CSV (strict JSON has no literal for them, and jq and
-    JavaScript refuse Python's NaN); peaks is a list, timestamps ISO 8601 with their UTC
-    offset. ``json.dumps(rows, allow_nan=False)`` takes them as they are.
-
-    A float result that is NaN in the frame is null when the run has no measurement
-    (``measured_mask``) and "nan" when it has: the frame alone cannot tell them apart. An
-    ``optional`` result (t_blowup, runtime_s) that is NaN is null: it did not exist (no
-    blow-up), as in the CSV's empty cell.
+    """The runs of a ``runs_frame`` as JSON objects with the keys of COLUMNS, for
+    ``slopetui.json_text``: missing or never measured values are None (null); a measured
+    NaN or infinity stays a float, which the encoder writes as null too (its one rule for
+    every JSON output); peaks is a list, timestamps ISO 8601 with their UTC offset.
     """
     done, measured = measured_mask(frame["status"].tolist(), frame["inferred"].tolist())
     columns: list[list[Any]] = []
@@ -261,9 +250,7 @@ def json_rows(frame: pd.DataFrame) -> list[dict[str, Any]]:
         cells = frame[name].tolist()
         if name in RESULT_NAMES:
             shown = done if name == "regime" else measured
-            absent_nan = BY_NAME[name].kind == "optional"
-            cells = [None if not keep or (absent_nan and v != v) else convert(v)  # v != v: NaN
-                     for v, keep in zip(cells, shown, strict=True)]
+            cells = [convert(v) if keep else None for v, keep in zip(cells, shown, strict=True)]
         else:
             cells = [convert(v) for v in cells]
         columns.append(cells)
