@@ -18,8 +18,8 @@ Event.set() waits until every process sleeping in Event.wait() has woken, so one
 stuck in a handler used to hang the pool's set(), and with it the whole pool.
 
 A worker that exits with status 0 left on purpose (a SIGTERM sent to it alone, an idle
-queue with exit_when_idle): it is not replaced and not counted as a death. The pool exits
-when its last worker has.
+queue with exit_when_idle or once the pool's owner has quit: slopetui.queue.idle_exit):
+it is not replaced and not counted as a death. The pool exits when its last worker has.
 
 Exit status: 0 after a stop, 1 when it gave up because workers kept dying (DEATH_WINDOW_S),
 so that a supervisor such as systemd's Restart=on-failure starts it again.
@@ -176,7 +176,7 @@ class Pool:
         proc.join()
         wid = worker_id_for(proc.pid or 0, self.opts.host)
         if proc.exitcode == 0:
-            if not (self.stop.is_set() or self.opts.exit_when_idle):
+            if not (self.stop.is_set() or self.opts.leaves_when_idle):
                 log.info("worker %s left (exit status 0: it was sent SIGTERM); not "
                          "replaced, %d workers left", wid, len(self.procs))
             return
@@ -207,7 +207,7 @@ class Pool:
         self.abort_at = None
 
     def run(self) -> int:
-        """Run until stopped (or, with exit_when_idle, until the queue is drained).
+        """Run until stopped (or until its workers leave: slopetui.queue.idle_exit).
         Returns the exit status: 0, or 1 if it gave up (see the module docstring)."""
         db = open_store(self.opts.db_url)  # migrates a new or old database, under a lock
         damage = integrity_problems(db, quick=True)

@@ -58,12 +58,13 @@ from typing import TYPE_CHECKING, Any
 
 from slopetui.queue import branch_jobs, defaults, hysteresis_jobs, jobs
 from slopetui.queue.batch_memory import MIB, fitting
+from slopetui.queue.idle_exit import IdleExit, Owner
 from slopetui.queue.priority import lower_priority
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
 from slopetui.queue.warm_up import watched_warm_up
-from slopetui.store.claims import queue_drained
 from slopetui.store.connection_slots import DEFAULT_CONNECTIONS, ConnectionSlots
 from slopetui.store.database import Database
+from slopetui.store.queue_backlog import backlog
 from slopetui.store.worker_rows import register_worker, unregister_worker
 
 if TYPE_CHECKING:  # numpy: loaded by the kernels, after the worker has started
@@ -98,7 +99,15 @@ class WorkerOptions:
     heartbeat_s: float = defaults.HEARTBEAT_S
     lease_s: float = defaults.LEASE_S
     max_attempts: int = defaults.MAX_ATTEMPTS
+    #: Leave once nothing is queued or running; with queued runs only in paused sweeps,
+    #: once nothing has been claimable for idle_grace_s (slopetui.queue.idle_exit).
     exit_when_idle: bool = False
+    #: How long nothing may be claimable before a worker that leaves on its own leaves
+    #: while something may still come back (slopetui.queue.idle_exit).
+    idle_grace_s: float = defaults.IDLE_GRACE_S
+    #: The process the pool works for (the application that started it): once it has
+    #: quit, the workers leave when the store has been idle for idle_grace_s.
+    owner: Owner | None = None
     #: Runs claimed and computed together (see the module docstring); 1: one at a time.
     batch: int = defaults.DEFAULT_BATCH
     #: The memory the runs of a batch may take together (MiB; slopetui.queue.batch_memory):
@@ -125,11 +134,19 @@ class WorkerOptions:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"WorkerOptions.{name} must be finite and > 0, got {value}")
+        if not (math.isfinite(self.idle_grace_s) and self.idle_grace_s >= 0):
+            raise ValueError(f"WorkerOptions.idle_grace_s must be finite and >= 0, got "
+                             f"{self.idle_grace_s}")
         if self.lease_s < 2 * self.heartbeat_s:
             raise ValueError("WorkerOptions.lease_s must be >= 2 x heartbeat_s")
         if min(self.max_attempts, self.batch, self.connections, self.memory_mib) < 1:
             raise ValueError("WorkerOptions.max_attempts, batch, connections and memory_mib "
                              "must be >= 1")
+
+    @property
+    def leaves_when_idle(self) -> bool:
+        """Do the workers leave on their own (exit status 0) once there is nothing to do?"""
+        return self.exit_when_idle or self.owner is not None
 
     @property
     def host(self) -> str:
@@ -430,8 +447,10 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
     control.tick = Heartbeat(db, wid, opts)
     log.info("worker %s started", wid)
     executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="compute")
+    leaving = IdleExit(opts.exit_when_idle, opts.idle_grace_s, opts.owner)
     try:
         while not control.stopping():
+            leaving.new_round()
             branch = branch_jobs.claim(db, wid)  # before runs: see branch_jobs
             if branch is not None:
                 branch_jobs.compute(db, wid, branch, lambda fn: _run(fn, executor, control),
@@ -452,7 +471,9 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
             # e.g. an adaptive sweep whose level is complete queues its next level
             if opts.idle_hook is not None and opts.idle_hook(db):
                 continue
-            if opts.exit_when_idle and queue_drained(db):
+            reason = leaving.reason_to_leave(lambda: backlog(db))
+            if reason is not None:
+                log.info("worker %s: leaving: %s", wid, reason)
                 break
             control.sleep(opts.poll_s)
         if control.stopping():
