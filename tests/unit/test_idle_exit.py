@@ -5,6 +5,7 @@ and the store has been idle; the store's backlog behind those decisions
 
 from __future__ import annotations
 
+import os
 import subprocess
 
 import pytest
@@ -163,3 +164,39 @@ def test_bad_idle_options_are_refused_in_one_line(option, value, says, tmp_path,
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and says in err
     assert not (tmp_path / "s.db").exists()  # refused before the store is opened
+
+
+def test_the_application_starts_its_pool_as_its_owner_and_says_when_it_leaves(db, monkeypatch):
+    from slopetui.queue import local_pool
+    from slopetui.tui.app import SlopeApp
+
+    started: dict[str, object] = {}
+
+    def start(_db, **options):
+        started.update(options)
+        return 4242, local_pool.default_log()
+    monkeypatch.setattr(local_pool, "local_pools", lambda _db: ([], []))
+    monkeypatch.setattr(local_pool, "start_detached_pool", start)
+    app = SlopeApp(db.display_url, start_workers=False)
+    said: list[object] = []
+    monkeypatch.setattr(app, "post_message", said.append)
+    app.attach_pool(db)
+    assert started["extra"] == ("--owner-pid", str(os.getpid()))
+    assert "leaves once the store has been idle for 60 s" in said[0].text  # type: ignore[attr-defined]
+
+
+def test_a_pool_the_application_finds_gets_no_owner(db, monkeypatch):
+    """A pool already running (`slopetui worker`) keeps its own rules: the application
+    starts nothing and tells it nothing."""
+    from slopetui.queue import local_pool
+    from slopetui.tui.app import SlopeApp
+
+    monkeypatch.setattr(local_pool, "local_pools",
+                        lambda _db: ([local_pool.LocalPool(4242)], []))
+    monkeypatch.setattr(local_pool, "start_detached_pool",
+                        lambda *_, **__: pytest.fail("started a second pool"))
+    app = SlopeApp(db.display_url, start_workers=False)
+    said: list[object] = []
+    monkeypatch.setattr(app, "post_message", said.append)
+    app.attach_pool(db)
+    assert "attached to the worker pool of this host (pid 4242" in said[0].text  # type: ignore[attr-defined]
