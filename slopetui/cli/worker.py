@@ -220,4 +220,4 @@ def handle(args: argparse.Namespace) -> int:
                          memory_mib=args.memory, idle_hook=advance_all, progress=PoolProgress,
                          host_id=args.host_id, connections=args.connections)
     os.environ.setdefault("PYTHONUNBUFFERED", "1")
-    return run_pool(opts, args.jobs)
+    return run_pool(opts, args.jobs, exiting=True)  # a late SIGTERM cannot make it 143

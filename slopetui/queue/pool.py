@@ -206,9 +206,11 @@ class Pool:
                 proc.kill()
         self.abort_at = None
 
-    def run(self) -> int:
+    def run(self, *, exiting: bool = False) -> int:
         """Run until stopped (or until its workers leave: slopetui.queue.idle_exit).
-        Returns the exit status: 0, or 1 if it gave up (see the module docstring)."""
+        Returns the exit status: 0, or 1 if it gave up (see the module docstring).
+        ``exiting``: the process exits once the pool has stopped (`slopetui worker`): the
+        stop signals stay ignored from then on (stop_signals.SignalPipe.close)."""
         db = open_store(self.opts.db_url)  # migrates a new or old database, under a lock
         damage = integrity_problems(db, quick=True)
         if damage:  # results written into a damaged file could be lost with it
@@ -246,7 +248,7 @@ class Pool:
                 db.idle()  # its slot back to the workers until the next statement
             progress.tick(force=True)  # where the pool left the sweeps
         finally:
-            signals.close()
+            signals.close(then_ignore=exiting)
             remove_pool_file(url, os.getpid())
             db.dispose()
             if slots is not None:
@@ -266,8 +268,9 @@ def _stderr_is(path: str | None) -> bool:
     return (a.st_dev, a.st_ino) == (b.st_dev, b.st_ino)
 
 
-def run_pool(opts: WorkerOptions, n_workers: int) -> int:
+def run_pool(opts: WorkerOptions, n_workers: int, *, exiting: bool = False) -> int:
     """Run a pool in this process; its own messages (start, progress, stop, errors) also go
-    to stderr, unless stderr is the log file itself (a detached pool)."""
+    to stderr, unless stderr is the log file itself (a detached pool). ``exiting``: see
+    Pool.run."""
     configure_logging(opts.log_path, echo=not _stderr_is(opts.log_path))
-    return Pool(opts, n_workers).run()
+    return Pool(opts, n_workers).run(exiting=exiting)
