@@ -21,8 +21,13 @@ A worker that exits with status 0 left on purpose (a SIGTERM sent to it alone, a
 queue with exit_when_idle or once the pool's owner has quit: slopetui.queue.idle_exit):
 it is not replaced and not counted as a death. The pool exits when its last worker has.
 
-Exit status: 0 after a stop, 1 when it gave up because workers kept dying (DEATH_WINDOW_S),
-so that a supervisor such as systemd's Restart=on-failure starts it again.
+A store that refuses writes (read-only, a full disk: slopetui.store.write_checks) is
+named in one line before the warm-up; met later, by a worker's write, the worker says so
+in one line and exits with WRITE_REFUSED, and the pool stops.
+
+Exit status: 0 after a stop, 1 when it gave up because workers kept dying (DEATH_WINDOW_S)
+or the store refused writes, so that a supervisor such as systemd's Restart=on-failure
+starts it again.
 """
 
 from __future__ import annotations
@@ -45,6 +50,7 @@ from slopetui.queue.local_pool import default_jobs, remove_pool_file, write_pool
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, block_stop_signals
 from slopetui.queue.warm_up import pool_warm_up
 from slopetui.queue.worker_process import (
+    WRITE_REFUSED,
     WorkerOptions,
     configure_logging,
     worker_id_for,
@@ -54,6 +60,7 @@ from slopetui.store.connection_slots import remove_slots_folder, slots_folder
 from slopetui.store.database import Database
 from slopetui.store.integrity import integrity_problems
 from slopetui.store.open import open_store
+from slopetui.store.write_checks import refuses_writes
 
 __all__ = ["DeathWindow", "Pool", "default_jobs", "run_pool"]
 
@@ -175,6 +182,13 @@ class Pool:
     def _reap(self, db: Database, proc: BaseProcess) -> None:
         proc.join()
         wid = worker_id_for(proc.pid or 0, self.opts.host)
+        if proc.exitcode == WRITE_REFUSED:  # it said why, in one line
+            if not self.gave_up:
+                log.error("the store refuses writes (the worker's line above says why): the "
+                          "pool stops; exit status 1")
+            self.gave_up = True
+            self.stop.set()
+            return
         if proc.exitcode == 0:
             if not (self.stop.is_set() or self.opts.leaves_when_idle):
                 log.info("worker %s left (exit status 0: it was sent SIGTERM); not "
@@ -216,6 +230,11 @@ class Pool:
         if damage:  # results written into a damaged file could be lost with it
             log.error("the database file %s is damaged (%s): the pool does not start; "
                       "`slopetui db check` lists what is broken", db.path, damage[0])
+            return 1
+        refused = refuses_writes(db)
+        if refused is not None:  # said now, not after a warm-up of up to 20 s for nothing
+            log.error("%s: the pool does not start", refused)
+            db.dispose()
             return 1
         url = db.url.render_as_string(hide_password=False)
         slots = None if db.is_sqlite else slots_folder(f"{self.opts.host}-{os.getpid()}")

@@ -66,6 +66,7 @@ from slopetui.store.connection_slots import DEFAULT_CONNECTIONS, ConnectionSlots
 from slopetui.store.database import Database
 from slopetui.store.queue_backlog import backlog
 from slopetui.store.worker_rows import register_worker, unregister_worker
+from slopetui.store.write_checks import write_refusal
 
 if TYPE_CHECKING:  # numpy: loaded by the kernels, after the worker has started
     from core.history import CarriedState
@@ -74,6 +75,10 @@ log = logging.getLogger("slopetui.worker")
 
 #: How often the main thread looks at the stop sources while it waits (s).
 TICK_S = 0.2
+#: A worker's exit status when the store refused a write (read-only, full disk, no
+#: privilege: slopetui.store.write_checks): it has said why in one line, and the pool
+#: stops rather than start workers that would meet the same refusal.
+WRITE_REFUSED = 3
 
 
 #: A step a worker takes after each batch (unless it is aborting) and whenever it finds
@@ -260,8 +265,12 @@ class Heartbeat:
                                                         self.opts.max_attempts)
                 if requeued or failed:
                     log.warning("expired leases: %d jobs requeued, %d failed", requeued, failed)
-            except Exception:  # a busy or briefly unreachable database: try again later
-                log.exception("heartbeat failed")
+            except Exception as exc:  # a busy or briefly unreachable database: try again later
+                refused = write_refusal(self.db, exc)
+                if refused is None:
+                    log.exception("heartbeat failed")
+                else:  # one line: the write of the result will say it again, and leave
+                    log.warning("heartbeat failed: %s", refused)
         self.db.idle()
 
 
@@ -418,6 +427,15 @@ def _process(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadPool
         _one_by_one(db, wid, batch, executor, control, opts)
 
 
+def _unregister(db: Database, wid: str) -> None:
+    """Mark the worker stopped; a store that refuses the write has had its line."""
+    try:
+        unregister_worker(db, wid)
+    except Exception as exc:
+        if write_refusal(db, exc) is None:
+            raise
+
+
 def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> None:
     """Entry point of a spawned worker process (stop and abort are multiprocessing Events,
     set by the pool's main loop; pool_pid is the pool, given rather than read with
@@ -443,12 +461,13 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
         logging.shutdown()
         os._exit(0)
     db = opts.open_store()
-    register_worker(db, wid, opts.host, os.getpid())
-    control.tick = Heartbeat(db, wid, opts)
-    log.info("worker %s started", wid)
     executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="compute")
     leaving = IdleExit(opts.exit_when_idle, opts.idle_grace_s, opts.owner)
+    status = 0
     try:
+        register_worker(db, wid, opts.host, os.getpid())
+        control.tick = Heartbeat(db, wid, opts)
+        log.info("worker %s started", wid)
         while not control.stopping():
             leaving.new_round()
             branch = branch_jobs.claim(db, wid)  # before runs: see branch_jobs
@@ -478,14 +497,22 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
             control.sleep(opts.poll_s)
         if control.stopping():
             control.say(wid)
+    except Exception as exc:
+        refused = write_refusal(db, exc)
+        if refused is None:
+            raise
+        # one line, no traceback: nothing can be written until someone fixes the store
+        log.error("worker %s leaves: %s; the runs it holds go back to the queue when "
+                  "their leases expire", wid, refused)
+        status = WRITE_REFUSED
     finally:
-        unregister_worker(db, wid)
+        _unregister(db, wid)
         log.info("worker %s stopped", wid)
     # os._exit, not a return: the interpreter's finalisation puts SIGTERM's default action
     # back, and a late SIGTERM (the second of a stop) would then kill the worker with -15,
     # which the pool must count as a death. On an abort, a computation may also still run
     # in the thread: it is not waited for.
-    executor.shutdown(wait=not control.aborting())
+    executor.shutdown(wait=not control.aborting() and status == 0)
     db.dispose()
     logging.shutdown()
-    os._exit(0)
+    os._exit(status)
