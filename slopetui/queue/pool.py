@@ -220,6 +220,20 @@ class Pool:
                 proc.kill()
         self.abort_at = None
 
+    def _abandon(self) -> None:
+        """The pool itself failed (an error of its own, e.g. a write of the store
+        refused): its workers give their runs back and exit now, and are killed after
+        ABORT_GRACE_S. They must not outlive it: multiprocessing's exit handler waits for
+        them, and a pool on a full disk hung that way with its last worker polling."""
+        self.stop.set()
+        self.abort.set()
+        deadline = time.monotonic() + ABORT_GRACE_S
+        for proc in self.procs.values():
+            proc.join(max(0.0, deadline - time.monotonic()))
+            if proc.is_alive():
+                proc.kill()
+                proc.join()
+
     def run(self, *, exiting: bool = False) -> int:
         """Run until stopped (or until its workers leave: slopetui.queue.idle_exit).
         Returns the exit status: 0, or 1 if it gave up (see the module docstring).
@@ -266,6 +280,9 @@ class Pool:
                 progress.tick()
                 db.idle()  # its slot back to the workers until the next statement
             progress.tick(force=True)  # where the pool left the sweeps
+        except BaseException:
+            self._abandon()
+            raise
         finally:
             signals.close(then_ignore=exiting)
             remove_pool_file(url, os.getpid())
