@@ -77,8 +77,9 @@ log = logging.getLogger("slopetui.worker")
 TICK_S = 0.2
 #: A worker's exit status when the store refused a write (read-only, full disk, no
 #: privilege: slopetui.store.write_checks): it has said why in one line, and the pool
-#: stops rather than start workers that would meet the same refusal.
-WRITE_REFUSED = 3
+#: stops rather than start workers that would meet the same refusal. sysexits.h's
+#: EX_IOERR: no crash exits with it (a traceback exits 1, a signal 128+n or -n).
+WRITE_REFUSED = 74
 
 
 #: A step a worker takes after each batch (unless it is aborting) and whenever it finds
