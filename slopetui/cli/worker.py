@@ -196,6 +196,11 @@ def handle(args: argparse.Namespace) -> int:
         from slopetui.cli.workers import stop_pools
         return stop_pools(db, now=args.now)
     url = db.url.render_as_string(hide_password=False)
+    if owner is not None:  # the store's other applications count as its owner too
+        from dataclasses import replace
+
+        from slopetui.queue.local_pool import store_key
+        owner = replace(owner, store=store_key(url))
     log = Path(args.log) if args.log else default_log()
     log.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
     if args.detach:

@@ -12,8 +12,9 @@ the store's backlog (slopetui.store.queue_backlog):
 * ``--exit-when-idle`` and queued runs only in paused sweeps: it leaves once nothing has
   been claimable for the grace period (``--idle-grace``). A sweep paused and resumed a
   few seconds later used to find every pool of a Slurm array gone;
-* an owner (the application's pool): while the owner runs, never; once it has quit, when
-  nothing has been claimable or running for the grace period after it quit (drained or
+* an owner (the application's pool): while the owner runs, or another application of the
+  store that found the pool (slopetui.queue.open_apps), never; once they have quit, when
+  nothing has been claimable or running for the grace period after that (drained or
   not: the user may open the application again, or submit from the command line).
 
 The owner is a process id and its start time (pids are reused): a pid that now names a
@@ -27,12 +28,14 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from slopetui.queue.local_pool import is_alive, start_ticks
+from slopetui.queue.open_apps import open_apps
 from slopetui.store.queue_backlog import Backlog
 
 
 @dataclass(frozen=True)
 class Owner:
-    """The process a pool works for (the application that started it)."""
+    """The process a pool works for (the application that started it), and the other
+    applications of its store open on this host (slopetui.queue.open_apps)."""
 
     pid: int
     #: Its start time (clock ticks after boot), None where /proc does not tell.
@@ -40,19 +43,29 @@ class Owner:
     #: Was it running when the pool started? If not, it is gone for good, whatever later
     #: process takes its pid.
     found: bool
+    #: The store's key (local_pool.store_key): while another application of the store
+    #: is open on this host (one that found this pool), the owner is not gone. None: the
+    #: owner alone counts.
+    store: str | None = None
 
     @classmethod
-    def of(cls, pid: int) -> Owner:
+    def of(cls, pid: int, store: str | None = None) -> Owner:
         """The owner as it is now (read at the pool's start, while the owner, which has
         just started the pool, still runs)."""
         found = is_alive(pid)
-        return cls(pid, start_ticks(pid) if found else None, found)
+        return cls(pid, start_ticks(pid) if found else None, found, store)
 
-    def gone(self) -> bool:
+    def _exited(self) -> bool:
         if not self.found or not is_alive(self.pid):
             return True
         ticks = start_ticks(self.pid)
         return self.ticks is not None and ticks is not None and ticks != self.ticks
+
+    def gone(self) -> bool:
+        """The owner has quit, and no other application of the store is open."""
+        if not self._exited():
+            return False
+        return self.store is None or not open_apps(self.store)
 
 
 def _paused(backlog: Backlog) -> str:
@@ -117,7 +130,7 @@ class IdleExit:
         if owner_gone and self.owner is not None and self.owner_gone_at is not None:
             since = max(self.idle_since, self.owner_gone_at)
             if now - since >= self.grace_s:
-                return (f"the process that started the pool (pid {self.owner.pid}) has quit "
-                        f"and nothing was claimable or running for {self.grace_s:g} s"
-                        f"{_paused(backlog)}")
+                return (f"the process that started the pool (pid {self.owner.pid}) and the "
+                        f"applications of the store have quit, and nothing was claimable or "
+                        f"running for {self.grace_s:g} s{_paused(backlog)}")
         return None

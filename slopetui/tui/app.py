@@ -239,8 +239,11 @@ class SlopeApp(App[None], inherit_bindings=False):
     def attach_pool(self, db: Database) -> None:
         """In the store's worker: find or start the pool (it may take a few seconds)."""
         from slopetui.queue.defaults import IDLE_GRACE_S
-        from slopetui.queue.local_pool import local_pools, start_detached_pool
+        from slopetui.queue.local_pool import local_pools, start_detached_pool, store_key
+        from slopetui.queue.open_apps import record_app
         try:
+            # open on this store: a pool another application started stays while it is
+            record_app(store_key(db.url.render_as_string(hide_password=False)), os.getpid())
             pools, _ = local_pools(db)  # a pool still warming up has no workers yet
             if pools:
                 n = sum(len(p.workers) for p in pools)

@@ -8,6 +8,8 @@ from __future__ import annotations
 import subprocess
 import time
 
+from slopetui.queue.local_pool import store_key
+from slopetui.queue.open_apps import record_app
 from slopetui.store import open_store
 from slopetui.sweeps import control
 from tests.integration.pool_support import by_status, start_pool, wait_until
@@ -86,5 +88,32 @@ def test_the_applications_pool_leaves_once_its_owner_has_quit_and_the_store_is_i
             pool.kill()
     assert pool.returncode == 0, err
     assert took < 15, took
-    assert (f"the process that started the pool (pid {owner.pid}) has quit and nothing was "
-            "claimable or running for 1 s") in log.read_text()
+    assert (f"the process that started the pool (pid {owner.pid}) and the applications of "
+            "the store have quit, and nothing was claimable or running for 1 s"
+            ) in log.read_text()
+
+
+def test_a_second_application_keeps_the_pool_the_first_one_started(db_url, tmp_path,
+                                                                    monkeypatch):
+    db = open_store(db_url)
+    log = tmp_path / "pool.log"
+    monkeypatch.setenv("XDG_STATE_HOME", str(log.parent / "state"))  # the pool's (pool_env)
+    first = subprocess.Popen(["sleep", "600"])   # the application that starts the pool
+    second = subprocess.Popen(["sleep", "600"])  # one that found it
+    record_app(store_key(db.url.render_as_string(hide_password=False)), second.pid)
+    pool = start_pool(db_url, log, "-j", "1", "--owner-pid", str(first.pid),
+                      "--idle-grace", "1")
+    try:
+        wait_until("the worker", lambda: _worker_started(log), 120)
+        first.kill()
+        first.wait()
+        time.sleep(4.0)  # idle, its owner gone: the second application keeps it
+        assert pool.poll() is None, log.read_text()
+        second.kill()
+        second.wait()
+        err = _finish(pool, 60)
+    finally:
+        for proc in (first, second, pool):
+            if proc.poll() is None:
+                proc.kill()
+    assert pool.returncode == 0, err

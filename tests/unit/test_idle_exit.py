@@ -5,6 +5,7 @@ and the store has been idle; the store's backlog behind those decisions
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 
@@ -14,6 +15,7 @@ from slopetui.cli import main
 from slopetui.queue import hysteresis_jobs, jobs
 from slopetui.queue.idle_exit import IdleExit, Owner
 from slopetui.queue.local_pool import start_ticks
+from slopetui.queue.open_apps import open_apps, record_app
 from slopetui.store.queue_backlog import Backlog, backlog
 from slopetui.sweeps import control
 from tests.support import submit_quick
@@ -117,8 +119,9 @@ def test_the_applications_pool_stays_while_its_owner_runs_then_leaves_once_idle(
     clock.t += 59.0
     assert _look(idle, DRAINED) is None
     clock.t += 1.0
-    assert _look(idle, DRAINED) == ("the process that started the pool (pid 4242) has quit "
-                                    "and nothing was claimable or running for 60 s")
+    assert _look(idle, DRAINED) == ("the process that started the pool (pid 4242) and the "
+                                    "applications of the store have quit, and nothing was "
+                                    "claimable or running for 60 s")
 
 
 def test_the_grace_counts_from_the_owners_exit():
@@ -166,7 +169,41 @@ def test_bad_idle_options_are_refused_in_one_line(option, value, says, tmp_path,
     assert not (tmp_path / "s.db").exists()  # refused before the store is opened
 
 
-def test_the_application_starts_its_pool_as_its_owner_and_says_when_it_leaves(db, monkeypatch):
+def test_the_other_applications_of_the_store_keep_the_pool(tmp_path, monkeypatch):
+    """A second application that found the pool (and did not start it) keeps it: the
+    owner is gone only once every application of the store has quit."""
+    monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path / "state"))
+    first, second = subprocess.Popen(["sleep", "60"]), subprocess.Popen(["sleep", "60"])
+    try:
+        owner = Owner.of(first.pid, store="k1")
+        record_app("k1", second.pid)
+        record_app("k2", os.getpid())  # another store's application counts for nothing
+        first.kill()
+        first.wait()
+        assert not owner.gone()
+        second.kill()
+        second.wait()
+        assert owner.gone()
+        assert open_apps("k1") == [] and not list((tmp_path / "state").rglob(f"k1-{second.pid}*"))
+    finally:
+        for proc in (first, second):
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+
+
+def test_a_stale_application_record_is_recognised(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path / "state"))
+    path = record_app("k", os.getpid())
+    assert open_apps("k") == [os.getpid()]
+    path.write_text(json.dumps({"pid": os.getpid(), "ticks": start_ticks(os.getpid()) + 1}))
+    assert open_apps("k") == []  # the pid reused by another process: not the application
+    assert not path.exists()
+
+
+def test_the_application_starts_its_pool_as_its_owner_and_says_when_it_leaves(db, monkeypatch,
+                                                                               tmp_path):
+    monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path / "state"))
     from slopetui.queue import local_pool
     from slopetui.tui.app import SlopeApp
 
@@ -182,12 +219,16 @@ def test_the_application_starts_its_pool_as_its_owner_and_says_when_it_leaves(db
     monkeypatch.setattr(app, "post_message", said.append)
     app.attach_pool(db)
     assert started["extra"] == ("--owner-pid", str(os.getpid()))
+    assert open_apps(local_pool.store_key(db.url.render_as_string(hide_password=False))) \
+        == [os.getpid()]
     assert "leaves once the store has been idle for 60 s" in said[0].text  # type: ignore[attr-defined]
 
 
-def test_a_pool_the_application_finds_gets_no_owner(db, monkeypatch):
+def test_a_pool_the_application_finds_gets_no_owner(db, monkeypatch, tmp_path):
     """A pool already running (`slopetui worker`) keeps its own rules: the application
-    starts nothing and tells it nothing."""
+    starts nothing and tells it nothing (it records itself as open on the store, which
+    only a pool started by an application reads)."""
+    monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path / "state"))
     from slopetui.queue import local_pool
     from slopetui.tui.app import SlopeApp
 
