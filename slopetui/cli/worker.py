@@ -41,6 +41,10 @@ MAX_ATTEMPTS_RANGE = (1, 100)
 MEMORY_RANGE = (64, 512 * 1024)
 #: A pool's connection budget on a server database (slopetui.store.connection_slots).
 CONNECTIONS_RANGE = (1, 64)
+#: --idle-grace: up to a day (s).
+MAX_IDLE_GRACE_S = 86_400.0
+#: --owner-pid: Linux's largest pid (PID_MAX_LIMIT).
+MAX_PID = 4_194_304
 #: What a --host-id may hold: it is written into worker ids and log lines.
 HOST_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,62}")
 
@@ -74,7 +78,18 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="with --stop: give the running runs back to the queue and exit at "
                         "once (a second SIGTERM)")
     p.add_argument("--exit-when-idle", action="store_true",
-                   help="exit once no queued or running run is left")
+                   help="exit once nothing is queued or running; while queued runs are left "
+                        "only in paused sweeps, once nothing has been claimable for "
+                        "--idle-grace seconds")
+    p.add_argument("--idle-grace", type=float, default=defaults.IDLE_GRACE_S, metavar="S",
+                   help=f"with --exit-when-idle or --owner-pid: seconds with nothing "
+                        f"claimable before the pool leaves while work may still come back "
+                        f"(a paused sweep, the owner's user), 0 to {MAX_IDLE_GRACE_S:g} "
+                        f"(default {defaults.IDLE_GRACE_S:g})")
+    p.add_argument("--owner-pid", type=int, metavar="PID",
+                   help="the pool works for process PID (the application starts its pool "
+                        "so): once PID has exited, the pool leaves when nothing has been "
+                        "claimable or running for --idle-grace seconds")
     p.add_argument("--lease", type=float, default=defaults.LEASE_S, metavar="S",
                    help=f"seconds without heartbeat before a run is requeued, from 2 x "
                         f"--heartbeat to {MAX_LEASE_S:g} (default {defaults.LEASE_S:g})")
@@ -125,6 +140,9 @@ def _check(args: argparse.Namespace) -> None:
     _in_range("--max-attempts", args.max_attempts, *MAX_ATTEMPTS_RANGE)
     _in_range("--heartbeat", args.heartbeat, *HEARTBEAT_RANGE, unit=" of seconds")
     _in_range("--connections", args.connections, *CONNECTIONS_RANGE)
+    _in_range("--idle-grace", args.idle_grace, 0, MAX_IDLE_GRACE_S, unit=" of seconds")
+    if args.owner_pid is not None:
+        _in_range("--owner-pid", args.owner_pid, 1, MAX_PID)
     if args.host_id is not None and not HOST_ID.fullmatch(args.host_id):
         raise UsageError(f"--host-id must be 1 to 63 letters, digits, '.', '_' or '-' "
                          f"(starting with a letter or digit), got {args.host_id!r}")
@@ -184,6 +202,9 @@ def _detach(args: argparse.Namespace, db: Database, log: Path) -> int:
         extra += ["--host-id", args.host_id]
     if args.exit_when_idle:
         extra.append("--exit-when-idle")
+    extra += ["--idle-grace", str(args.idle_grace)]
+    if args.owner_pid is not None:
+        extra += ["--owner-pid", str(args.owner_pid)]
     try:
         pid, log = start_detached_pool(db, jobs=args.jobs, log=log, extra=tuple(extra),
                                        another_pool=args.another_pool)
@@ -203,11 +224,21 @@ def handle(args: argparse.Namespace) -> int:
     _check(args)
     given_log = _log_file(args.log) if args.log is not None else None
     from slopetui.store.open import open_store
+    # read first, while the owner (which has just started this pool) surely still runs
+    owner = None
+    if args.owner_pid is not None and not args.stop:
+        from slopetui.queue.idle_exit import Owner
+        owner = Owner.of(args.owner_pid)
     db = open_store(args.db)  # open (and migrate) now: a bad URL fails here, in the foreground
     if args.stop:
         from slopetui.cli.workers import stop_pools
         return stop_pools(db, now=args.now)
     url = db.url.render_as_string(hide_password=False)
+    if owner is not None:  # the store's other applications count as its owner too
+        from dataclasses import replace
+
+        from slopetui.queue.local_pool import store_key
+        owner = replace(owner, store=store_key(url))
     log = given_log or default_log()
     log.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
     if args.detach:
@@ -227,8 +258,9 @@ def handle(args: argparse.Namespace) -> int:
               file=sys.stderr)
     opts = WorkerOptions(db_url=url, log_path=str(log), heartbeat_s=args.heartbeat,
                          lease_s=args.lease, max_attempts=args.max_attempts,
-                         exit_when_idle=args.exit_when_idle, batch=args.batch,
+                         exit_when_idle=args.exit_when_idle, idle_grace_s=args.idle_grace,
+                         owner=owner, batch=args.batch,
                          memory_mib=args.memory, idle_hook=advance_all, progress=PoolProgress,
                          host_id=args.host_id, connections=args.connections)
     os.environ.setdefault("PYTHONUNBUFFERED", "1")
-    return run_pool(opts, args.jobs)
+    return run_pool(opts, args.jobs, exiting=True)  # a late SIGTERM cannot make it 143

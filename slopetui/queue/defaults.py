@@ -29,3 +29,8 @@ MEMORY_MIB = 1024
 #: ms and a p95 of 180 ms to switch screens with two workers busy (benchmarks/bench_tui.py),
 #: most of it waiting for a core. A nice worker loses nothing on an otherwise idle machine.
 WORKER_NICE = 10
+#: A pool that leaves on its own (--exit-when-idle; the application's pool, once the
+#: application has quit) waits this long with nothing claimable before it leaves while
+#: something may still come back: a paused sweep's queued runs, or the application's user
+#: starting it again (s). A drained queue under --exit-when-idle is left at once.
+IDLE_GRACE_S = 60.0

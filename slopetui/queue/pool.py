@@ -18,11 +18,16 @@ Event.set() waits until every process sleeping in Event.wait() has woken, so one
 stuck in a handler used to hang the pool's set(), and with it the whole pool.
 
 A worker that exits with status 0 left on purpose (a SIGTERM sent to it alone, an idle
-queue with exit_when_idle): it is not replaced and not counted as a death. The pool exits
-when its last worker has.
+queue with exit_when_idle or once the pool's owner has quit: slopetui.queue.idle_exit):
+it is not replaced and not counted as a death. The pool exits when its last worker has.
 
-Exit status: 0 after a stop, 1 when it gave up because workers kept dying (DEATH_WINDOW_S),
-so that a supervisor such as systemd's Restart=on-failure starts it again.
+A store that refuses writes (read-only, a full disk: slopetui.store.write_checks) is
+named in one line before the warm-up; met later, by a worker's write, the worker says so
+in one line and exits with WRITE_REFUSED, and the pool stops.
+
+Exit status: 0 after a stop, 1 when it gave up because workers kept dying (DEATH_WINDOW_S)
+or the store refused writes, so that a supervisor such as systemd's Restart=on-failure
+starts it again.
 """
 
 from __future__ import annotations
@@ -45,6 +50,7 @@ from slopetui.queue.local_pool import default_jobs, remove_pool_file, write_pool
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, block_stop_signals
 from slopetui.queue.warm_up import pool_warm_up
 from slopetui.queue.worker_process import (
+    WRITE_REFUSED,
     WorkerOptions,
     configure_logging,
     worker_id_for,
@@ -54,6 +60,7 @@ from slopetui.store.connection_slots import remove_slots_folder, slots_folder
 from slopetui.store.database import Database
 from slopetui.store.integrity import integrity_problems
 from slopetui.store.open import open_store
+from slopetui.store.write_checks import refuses_writes
 
 __all__ = ["DeathWindow", "Pool", "default_jobs", "run_pool"]
 
@@ -175,8 +182,15 @@ class Pool:
     def _reap(self, db: Database, proc: BaseProcess) -> None:
         proc.join()
         wid = worker_id_for(proc.pid or 0, self.opts.host)
+        if proc.exitcode == WRITE_REFUSED:  # it said why, in one line
+            if not self.gave_up:
+                log.error("the store refuses writes (the worker's line above says why): the "
+                          "pool stops; exit status 1")
+            self.gave_up = True
+            self.stop.set()
+            return
         if proc.exitcode == 0:
-            if not (self.stop.is_set() or self.opts.exit_when_idle):
+            if not (self.stop.is_set() or self.opts.leaves_when_idle):
                 log.info("worker %s left (exit status 0: it was sent SIGTERM); not "
                          "replaced, %d workers left", wid, len(self.procs))
             return
@@ -206,14 +220,35 @@ class Pool:
                 proc.kill()
         self.abort_at = None
 
-    def run(self) -> int:
-        """Run until stopped (or, with exit_when_idle, until the queue is drained).
-        Returns the exit status: 0, or 1 if it gave up (see the module docstring)."""
+    def _abandon(self) -> None:
+        """The pool itself failed (an error of its own, e.g. a write of the store
+        refused): its workers give their runs back and exit now, and are killed after
+        ABORT_GRACE_S. They must not outlive it: multiprocessing's exit handler waits for
+        them, and a pool on a full disk hung that way with its last worker polling."""
+        self.stop.set()
+        self.abort.set()
+        deadline = time.monotonic() + ABORT_GRACE_S
+        for proc in self.procs.values():
+            proc.join(max(0.0, deadline - time.monotonic()))
+            if proc.is_alive():
+                proc.kill()
+                proc.join()
+
+    def run(self, *, exiting: bool = False) -> int:
+        """Run until stopped (or until its workers leave: slopetui.queue.idle_exit).
+        Returns the exit status: 0, or 1 if it gave up (see the module docstring).
+        ``exiting``: the process exits once the pool has stopped (`slopetui worker`): the
+        stop signals stay ignored from then on (stop_signals.SignalPipe.close)."""
         db = open_store(self.opts.db_url)  # migrates a new or old database, under a lock
         damage = integrity_problems(db, quick=True)
         if damage:  # results written into a damaged file could be lost with it
             log.error("the database file %s is damaged (%s): the pool does not start; "
                       "`slopetui db check` lists what is broken", db.path, damage[0])
+            return 1
+        refused = refuses_writes(db)
+        if refused is not None:  # said now, not after a warm-up of up to 20 s for nothing
+            log.error("%s: the pool does not start", refused)
+            db.dispose()
             return 1
         url = db.url.render_as_string(hide_password=False)
         slots = None if db.is_sqlite else slots_folder(f"{self.opts.host}-{os.getpid()}")
@@ -245,8 +280,11 @@ class Pool:
                 progress.tick()
                 db.idle()  # its slot back to the workers until the next statement
             progress.tick(force=True)  # where the pool left the sweeps
+        except BaseException:
+            self._abandon()
+            raise
         finally:
-            signals.close()
+            signals.close(then_ignore=exiting)
             remove_pool_file(url, os.getpid())
             db.dispose()
             if slots is not None:
@@ -266,8 +304,9 @@ def _stderr_is(path: str | None) -> bool:
     return (a.st_dev, a.st_ino) == (b.st_dev, b.st_ino)
 
 
-def run_pool(opts: WorkerOptions, n_workers: int) -> int:
+def run_pool(opts: WorkerOptions, n_workers: int, *, exiting: bool = False) -> int:
     """Run a pool in this process; its own messages (start, progress, stop, errors) also go
-    to stderr, unless stderr is the log file itself (a detached pool)."""
+    to stderr, unless stderr is the log file itself (a detached pool). ``exiting``: see
+    Pool.run."""
     configure_logging(opts.log_path, echo=not _stderr_is(opts.log_path))
-    return Pool(opts, n_workers).run()
+    return Pool(opts, n_workers).run(exiting=exiting)

@@ -67,11 +67,18 @@ class SignalPipe:
     def name(self) -> str:
         return signal.Signals(self.last).name if self.last else "a signal"
 
-    def close(self) -> None:
+    def close(self, *, then_ignore: bool = False) -> None:
         """Put back the previous handlers and wakeup fd (a pool may run inside another
-        program, e.g. `slopetui reproduce`)."""
+        program, e.g. `slopetui reproduce`).
+
+        then_ignore : leave the signals ignored instead: the process exits next (`slopetui
+                      worker`), and a late signal, such as the second SIGTERM of `worker
+                      --stop --now` or systemd's to the whole group, landing after the
+                      pool stopped turned its exit status 0 into 143. SIG_IGN, not an
+                      empty handler: the interpreter's finalisation puts the default
+                      action back under a Python handler, but leaves SIG_IGN alone."""
         for signum, old in self._old.items():
-            signal.signal(signum, old)
+            signal.signal(signum, signal.SIG_IGN if then_ignore else old)
         signal.set_wakeup_fd(self._old_fd)
         os.close(self._read)
         os.close(self._write)

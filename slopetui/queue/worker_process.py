@@ -58,13 +58,15 @@ from typing import TYPE_CHECKING, Any
 
 from slopetui.queue import branch_jobs, defaults, hysteresis_jobs, jobs
 from slopetui.queue.batch_memory import MIB, fitting
+from slopetui.queue.idle_exit import IdleExit, Owner
 from slopetui.queue.priority import lower_priority
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
 from slopetui.queue.warm_up import watched_warm_up
-from slopetui.store.claims import queue_drained
 from slopetui.store.connection_slots import DEFAULT_CONNECTIONS, ConnectionSlots
 from slopetui.store.database import Database
+from slopetui.store.queue_backlog import backlog
 from slopetui.store.worker_rows import register_worker, unregister_worker
+from slopetui.store.write_checks import write_refusal
 
 if TYPE_CHECKING:  # numpy: loaded by the kernels, after the worker has started
     from core.history import CarriedState
@@ -73,6 +75,11 @@ log = logging.getLogger("slopetui.worker")
 
 #: How often the main thread looks at the stop sources while it waits (s).
 TICK_S = 0.2
+#: A worker's exit status when the store refused a write (read-only, full disk, no
+#: privilege: slopetui.store.write_checks): it has said why in one line, and the pool
+#: stops rather than start workers that would meet the same refusal. sysexits.h's
+#: EX_IOERR: no crash exits with it (a traceback exits 1, a signal 128+n or -n).
+WRITE_REFUSED = 74
 
 
 #: A step a worker takes after each batch (unless it is aborting) and whenever it finds
@@ -98,7 +105,15 @@ class WorkerOptions:
     heartbeat_s: float = defaults.HEARTBEAT_S
     lease_s: float = defaults.LEASE_S
     max_attempts: int = defaults.MAX_ATTEMPTS
+    #: Leave once nothing is queued or running; with queued runs only in paused sweeps,
+    #: once nothing has been claimable for idle_grace_s (slopetui.queue.idle_exit).
     exit_when_idle: bool = False
+    #: How long nothing may be claimable before a worker that leaves on its own leaves
+    #: while something may still come back (slopetui.queue.idle_exit).
+    idle_grace_s: float = defaults.IDLE_GRACE_S
+    #: The process the pool works for (the application that started it): once it has
+    #: quit, the workers leave when the store has been idle for idle_grace_s.
+    owner: Owner | None = None
     #: Runs claimed and computed together (see the module docstring); 1: one at a time.
     batch: int = defaults.DEFAULT_BATCH
     #: The memory the runs of a batch may take together (MiB; slopetui.queue.batch_memory):
@@ -125,11 +140,19 @@ class WorkerOptions:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"WorkerOptions.{name} must be finite and > 0, got {value}")
+        if not (math.isfinite(self.idle_grace_s) and self.idle_grace_s >= 0):
+            raise ValueError(f"WorkerOptions.idle_grace_s must be finite and >= 0, got "
+                             f"{self.idle_grace_s}")
         if self.lease_s < 2 * self.heartbeat_s:
             raise ValueError("WorkerOptions.lease_s must be >= 2 x heartbeat_s")
         if min(self.max_attempts, self.batch, self.connections, self.memory_mib) < 1:
             raise ValueError("WorkerOptions.max_attempts, batch, connections and memory_mib "
                              "must be >= 1")
+
+    @property
+    def leaves_when_idle(self) -> bool:
+        """Do the workers leave on their own (exit status 0) once there is nothing to do?"""
+        return self.exit_when_idle or self.owner is not None
 
     @property
     def host(self) -> str:
@@ -243,8 +266,12 @@ class Heartbeat:
                                                         self.opts.max_attempts)
                 if requeued or failed:
                     log.warning("expired leases: %d jobs requeued, %d failed", requeued, failed)
-            except Exception:  # a busy or briefly unreachable database: try again later
-                log.exception("heartbeat failed")
+            except Exception as exc:  # a busy or briefly unreachable database: try again later
+                refused = write_refusal(self.db, exc)
+                if refused is None:
+                    log.exception("heartbeat failed")
+                else:  # one line: the write of the result will say it again, and leave
+                    log.warning("heartbeat failed: %s", refused)
         self.db.idle()
 
 
@@ -395,6 +422,15 @@ def _process(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadPool
         _one_by_one(db, wid, batch, executor, control, opts)
 
 
+def _unregister(db: Database, wid: str) -> None:
+    """Mark the worker stopped; a store that refuses the write has had its line."""
+    try:
+        unregister_worker(db, wid)
+    except Exception as exc:
+        if write_refusal(db, exc) is None:
+            raise
+
+
 def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> None:
     """Entry point of a spawned worker process (stop and abort are multiprocessing Events,
     set by the pool's main loop; pool_pid is the pool, given rather than read with
@@ -420,12 +456,15 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
         logging.shutdown()
         os._exit(0)
     db = opts.open_store()
-    register_worker(db, wid, opts.host, os.getpid())
-    control.tick = Heartbeat(db, wid, opts)
-    log.info("worker %s started", wid)
     executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="compute")
+    leaving = IdleExit(opts.exit_when_idle, opts.idle_grace_s, opts.owner)
+    status = 0
     try:
+        register_worker(db, wid, opts.host, os.getpid())
+        control.tick = Heartbeat(db, wid, opts)
+        log.info("worker %s started", wid)
         while not control.stopping():
+            leaving.new_round()
             branch = branch_jobs.claim(db, wid)  # before runs: see branch_jobs
             if branch is not None:
                 branch_jobs.compute(db, wid, branch, lambda fn: _run(fn, executor, control),
@@ -446,19 +485,29 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
             # e.g. an adaptive sweep whose level is complete queues its next level
             if opts.idle_hook is not None and opts.idle_hook(db):
                 continue
-            if opts.exit_when_idle and queue_drained(db):
+            reason = leaving.reason_to_leave(lambda: backlog(db))
+            if reason is not None:
+                log.info("worker %s: leaving: %s", wid, reason)
                 break
             control.sleep(opts.poll_s)
         if control.stopping():
             control.say(wid)
+    except Exception as exc:
+        refused = write_refusal(db, exc)
+        if refused is None:
+            raise
+        # one line, no traceback: nothing can be written until someone fixes the store
+        log.error("worker %s leaves: %s; the runs it holds go back to the queue when "
+                  "their leases expire", wid, refused)
+        status = WRITE_REFUSED
     finally:
-        unregister_worker(db, wid)
+        _unregister(db, wid)
         log.info("worker %s stopped", wid)
     # os._exit, not a return: the interpreter's finalisation puts SIGTERM's default action
     # back, and a late SIGTERM (the second of a stop) would then kill the worker with -15,
     # which the pool must count as a death. On an abort, a computation may also still run
     # in the thread: it is not waited for.
-    executor.shutdown(wait=not control.aborting())
+    executor.shutdown(wait=not control.aborting() and status == 0)
     db.dispose()
     logging.shutdown()
-    os._exit(0)
+    os._exit(status)

@@ -16,6 +16,7 @@ takes what a key cannot (open run 12, new sweep from a preset, export a sweep).
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -237,16 +238,24 @@ class SlopeApp(App[None], inherit_bindings=False):
 
     def attach_pool(self, db: Database) -> None:
         """In the store's worker: find or start the pool (it may take a few seconds)."""
-        from slopetui.queue.local_pool import local_pools, start_detached_pool
+        from slopetui.queue.defaults import IDLE_GRACE_S
+        from slopetui.queue.local_pool import local_pools, start_detached_pool, store_key
+        from slopetui.queue.open_apps import record_app
         try:
+            # open on this store: a pool another application started stays while it is
+            record_app(store_key(db.url.render_as_string(hide_password=False)), os.getpid())
             pools, _ = local_pools(db)  # a pool still warming up has no workers yet
             if pools:
                 n = sum(len(p.workers) for p in pools)
                 message = (f"attached to the worker pool of this host (pid "
                            f"{', '.join(str(p.pid) for p in pools)}, {n} workers)")
             else:
-                pid, log = start_detached_pool(db)
-                message = f"worker pool started (pid {pid}, log {log}); it keeps running after you quit"
+                # its owner is this process: it leaves once the application has quit and
+                # the store has been idle for the grace period (slopetui.queue.idle_exit)
+                pid, log = start_detached_pool(db, extra=("--owner-pid", str(os.getpid())))
+                message = (f"worker pool started (pid {pid}, log {log}); after you quit it "
+                           f"finishes the queue, then leaves once the store has been idle "
+                           f"for {IDLE_GRACE_S:g} s")
         except Exception as exc:
             self.post_message(self.PoolFailed(str(exc)))
             return

@@ -39,3 +39,18 @@ def test_a_signal_ignored_at_start_stays_ignored():
         assert signal.getsignal(signal.SIGHUP) == signal.SIG_IGN
     finally:
         signal.signal(signal.SIGHUP, old)
+
+
+def test_a_pipe_closed_before_the_process_exits_leaves_the_signals_ignored():
+    """`slopetui worker` exits once its pool has stopped: a SIGTERM landing after that
+    (the second of `worker --stop --now`) must not kill it with 143. SIG_IGN survives the
+    interpreter's finalisation, which puts SIG_DFL back under a Python handler."""
+    old = {s: signal.getsignal(s) for s in STOP_SIGNALS}
+    try:
+        SignalPipe(STOP_SIGNALS).close(then_ignore=True)
+        assert all(signal.getsignal(s) == signal.SIG_IGN for s in STOP_SIGNALS)
+        os.kill(os.getpid(), signal.SIGTERM)  # would end the test run under SIG_DFL
+        time.sleep(0.05)
+    finally:
+        for signum, handler in old.items():
+            signal.signal(signum, handler)
