@@ -31,6 +31,7 @@ from textual.screen import Screen
 from textual.widget import AwaitMount
 from textual.widgets import Select
 
+from slopetui.display_text import terminal_safe_lines
 from slopetui.store.database import Database
 from slopetui.store.open import open_store
 from slopetui.sweeps.fold_overlay import Curve
@@ -307,11 +308,17 @@ class SlopeApp(App[None], inherit_bindings=False):
 
     @on(PoolAttached)
     def _pool_attached(self, message: PoolAttached) -> None:
-        self.notify(message.text, timeout=6)
+        self.notify_text(message.text, timeout=6)
 
     @on(PoolFailed)
     def _pool_failed(self, message: PoolFailed) -> None:
-        self.notify(f"could not start workers: {message.cause}", severity="error", timeout=10)
+        self.notify_text(f"could not start workers: {message.cause}", severity="error", timeout=10)
+
+    def notify_text(self, text: str, **kwargs: Any) -> None:
+        """A notification whose text may quote stored text, a database's message or a path:
+        its control characters escaped (slopetui.display_text) and never read as markup (a
+        bracket in a name or a path would be a tag)."""
+        self.notify(terminal_safe_lines(text), markup=False, **kwargs)
 
     def refresh_active_screen(self) -> None:
         """Tell the screen in view that the store is open or has changed."""
@@ -333,12 +340,12 @@ class SlopeApp(App[None], inherit_bindings=False):
 
     @on(SweepControlled)
     def _sweep_controlled(self, message: SweepControlled) -> None:
-        self.notify(message.text)
+        self.notify_text(message.text)
         self.refresh_active_screen()
 
     @on(SweepControlFailed)
     def _sweep_control_failed(self, message: SweepControlFailed) -> None:
-        self.notify(f"{message.action} sweep {message.sweep_id}: {message.cause}",
+        self.notify_text(f"{message.action} sweep {message.sweep_id}: {message.cause}",
                     severity="error", timeout=8)
 
     async def action_new_sweep(self) -> None:
@@ -410,11 +417,11 @@ class SlopeApp(App[None], inherit_bindings=False):
     def _figure_written(self, message: FigureWritten) -> None:
         figure, *data = message.paths
         beside = f" (its data: {', '.join(p.name for p in data)})" if data else ""
-        self.notify(f"figure written: {figure}{beside}", timeout=10)
+        self.notify_text(f"figure written: {figure}{beside}", timeout=10)
 
     @on(FigureFailed)
     def _figure_failed(self, message: FigureFailed) -> None:
-        self.notify(f"could not write the figure: {message.cause}", severity="error", timeout=10)
+        self.notify_text(f"could not write the figure: {message.cause}", severity="error", timeout=10)
 
     @work(thread=True, group="export")
     def export_sweep(self, sweep_id: int, fmt: str) -> None:
@@ -433,11 +440,11 @@ class SlopeApp(App[None], inherit_bindings=False):
 
     @on(SweepExported)
     def _sweep_exported(self, message: SweepExported) -> None:
-        self.notify(message.text, timeout=10, markup=False)  # a path may hold brackets
+        self.notify_text(message.text, timeout=10)  # a path may hold brackets
 
     @on(ExportFailed)
     def _export_failed(self, message: ExportFailed) -> None:
-        self.notify(f"could not export sweep {message.sweep_id}: {message.cause}",
+        self.notify_text(f"could not export sweep {message.sweep_id}: {message.cause}",
                     severity="error", timeout=10, markup=False)
 
 

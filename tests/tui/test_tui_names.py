@@ -57,3 +57,33 @@ def test_a_store_failure_quoting_stored_text_is_shown_escaped_and_not_as_markup(
             assert "\x1b]" not in app.export_screenshot()
 
     run(scenario)
+
+
+def test_the_applications_own_notifications_quoting_a_cause_are_escaped_and_not_markup(db):
+    """The application's notices of a failed pool start, sweep control, figure or export
+    quote a cause or a path that may hold stored text: escaped, and never read as markup
+    (a "[/oops]" in a cause raised a MarkupError; an ESC reached the terminal)."""
+    from slopetui.tui.app import SlopeApp
+
+    cause = "ValueError: '\x1b]0;owned\x07 [/oops] \u202e'"
+    shown = "ValueError: '\\x1b]0;owned\\x07 [/oops] \\u202e'"
+
+    async def scenario():
+        app = SlopeApp(db.display_url, start_workers=False, refresh_s=0.2)
+        async with app.run_test(size=(100, 30)) as pilot:
+            await pilot.pause(0.2)
+            for message, text in [
+                    (app.PoolFailed(cause), f"could not start workers: {shown}"),
+                    (app.SweepControlFailed("pause", 3, cause), f"pause sweep 3: {shown}"),
+                    (app.FigureFailed(cause), f"could not write the figure: {shown}"),
+                    (app.SweepExported(cause), shown)]:
+                before = len(app._notifications)
+                app.post_message(message)
+                await wait_until(pilot, lambda n=before: len(app._notifications) > n)
+                note = list(app._notifications)[-1]
+                assert note.message == text
+                assert not note.markup
+            await pilot.pause(0.2)
+            assert "\x1b]" not in app.export_screenshot()
+
+    run(scenario)

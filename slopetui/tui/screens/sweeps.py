@@ -495,5 +495,5 @@ class SweepsScreen(SlopeScreen[None]):
     @on(FoldFailed)
     def _fold_failed(self, message: FoldFailed) -> None:
         self._fold_for, self.sub_title = None, None
-        self.notify(f"could not compute the fold of cycles of sweep {message.sweep_id}: "
-                    f"{message.cause}", severity="error", timeout=10)
+        self.app.notify_text(f"could not compute the fold of cycles of sweep {message.sweep_id}: "
+                             f"{message.cause}", severity="error", timeout=10)
