@@ -34,6 +34,7 @@ from slopetui.cli import (
 )
 from slopetui.store.failures import StoreError
 from slopetui.store.location import checked_url
+from slopetui.store.url_text import holds_password
 
 #: Errors that are the user's input or environment, not a bug: one line, no traceback,
 #: exit 2. Named by module rather than imported: a class whose module was never loaded
@@ -42,6 +43,9 @@ from slopetui.store.location import checked_url
 USER_ERRORS = (("core.params", "ParameterError"), ("core.orbit", "OrbitError"), ("slopetui.sweeps.spec", "SpecError"),
                ("slopetui.store.failures", "StoreError"),
                ("slopetui.sweeps.control", "UnknownSweep"), ("slopetui.cli.options", "UsageError"))
+#: The commands that run for hours (a pool, the application; None is the application):
+#: a password on their command line is in `ps` all that time, so they warn of it.
+LONG_LIVED = (None, "worker")
 #: The database failed (disk full, damaged file...): one line naming the file, exit 1.
 DATABASE_ERRORS = (("sqlalchemy.exc", "SQLAlchemyError"),)
 
@@ -85,6 +89,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"slopetui{' ' + args.command if args.command else ''}: error: {exc}",
                   file=sys.stderr)
             return 2
+        if args.command in LONG_LIVED and holds_password(url):  # the user's choice; not silent
+            print("slopetui: warning: the password in --db is on this command line, which "
+                  "`ps` shows to every user of this host for as long as it runs: set "
+                  "$SLOPETUI_DB or use a ~/.pgpass file instead (the pools slopetui starts get "
+                  "the URL in their environment)", file=sys.stderr)
     if args.command is None:  # the application
         from slopetui.tui.app import run_app
         return run_app(args.tui_db, start_workers=not args.no_workers)

@@ -26,3 +26,8 @@ def password_hidden(text: str) -> str:
     if at < 0 or colon < 0:
         return text
     return f"{text[:colon + 1]}{HIDDEN}{text[at:]}"
+
+
+def holds_password(text: str) -> bool:
+    """Whether ``text`` (a URL as typed) carries a password: what ``password_hidden`` hides."""
+    return password_hidden(text) != text

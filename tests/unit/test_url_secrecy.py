@@ -34,3 +34,16 @@ def test_a_url_that_does_not_parse_is_refused_without_its_password(url, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "is not a SQLAlchemy database URL" in err
     assert "s3cret" not in err and "alice:***@db.example/slopes" in err
+
+
+def test_a_pool_started_with_a_password_on_its_command_line_warns_of_ps(monkeypatch, capsys):
+    """slopetui hands its own pools the URL in their environment; a user who types the
+    password into `slopetui worker --db` is told that ps shows it, and how to avoid it.
+    (The warning comes before the store opens: this one cannot, and the command fails.)"""
+    url = "postgresql+psycopg://alice:s3cret@127.0.0.1:1/slopes"
+    main(["worker", "--db", url, "--exit-when-idle"])
+    err = capsys.readouterr().err
+    assert "warning: the password in --db is on this command line" in err
+    assert "SLOPETUI_DB" in err and "s3cret" not in err
+    main(["worker", "--db", "postgresql+psycopg://alice@127.0.0.1:1/slopes", "--exit-when-idle"])
+    assert "warning" not in capsys.readouterr().err
