@@ -8,7 +8,7 @@ import shutil
 from typing import TYPE_CHECKING
 
 from slopetui.cli.continuation import print_bifurcations, print_point
-from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.cli.options import UsageError, add_db_option, int_arg, open_db
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
 
@@ -22,7 +22,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                                    "what was found). With ID: its branch point by point, the "
                                    "Hopf point and criticality when it started there, and "
                                    "the bifurcations located on it once it is done.")
-    p.add_argument("id", nargs="?", type=int, metavar="ID", help="a continuation's id")
+    p.add_argument("id", nargs="?", metavar="ID", help="a continuation's id")
     p.add_argument("--plot", action="store_true",
                    help="with ID: draw the branch (amplitude against the parameter, stable "
                         "and unstable orbits apart) instead of listing its points")
@@ -96,4 +96,6 @@ def _one(args: argparse.Namespace) -> int:
 def handle(args: argparse.Namespace) -> int:
     if args.plot and args.id is None:
         raise UsageError("--plot draws one continuation: give its ID")
+    if args.id is not None:  # read as text: a one-line error, not argparse's usage or SQL's overflow
+        args.id = int_arg("ID", args.id, 1, note=" (a continuation id)")
     return _listing(args) if args.id is None else _one(args)

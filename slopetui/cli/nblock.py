@@ -7,7 +7,7 @@ import shutil
 from typing import TYPE_CHECKING
 
 from core.params import PARAM_NAMES, Params
-from slopetui.cli.options import UsageError
+from slopetui.cli.options import UsageError, int_arg
 from slopetui.cli.run import PARAM_HELP
 from slopetui.cli.show import use_color
 
@@ -48,7 +48,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--t-end", dest="t_end", type=float, default=50.0, metavar="T",
                    help="end time (default 50: about five periods at tau = 10, k = 10)")
     p.add_argument("--dt", type=float, default=1e-3, metavar="X", help="time step (default 1e-3)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--seed", default="0", help="random seed, an integer >= 0 (default 0)")
     p.add_argument("--no-plot", dest="plot", action="store_false",
                    help="only the table (the plot shows the largest N at the smallest d)")
     p.add_argument("--color", choices=("auto", "always", "never"), default="auto")
@@ -66,6 +66,8 @@ def _check(args: argparse.Namespace) -> tuple[list[int], list[float]]:
         raise UsageError(f"--dt must be in (0, 0.1], got {args.dt}")
     if not 0 < args.t_end <= 1e5:
         raise UsageError(f"--t-end must be in (0, 1e5], got {args.t_end}")
+    # numpy's generators take any integer >= 0 (a negative one was a traceback)
+    args.seed = int_arg("--seed", args.seed, 0)
     return ns, ds
 
 

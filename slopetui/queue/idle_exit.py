@@ -98,9 +98,13 @@ class IdleExit:
         self.rounds += 1
 
     def _owner_gone(self, now: float) -> bool:
+        """Asked every idle round, not once: an application opened on the store after the
+        owner quit (it found the pool and recorded itself) keeps the pool again."""
         if self.owner is None:
             return False
-        if self.owner_gone_at is None and self.owner.gone():
+        if not self.owner.gone():
+            self.owner_gone_at = None
+        elif self.owner_gone_at is None:
             self.owner_gone_at = now
         return self.owner_gone_at is not None
 

@@ -185,9 +185,14 @@ class Pool:
         if proc.exitcode == WRITE_REFUSED:  # it said why, in one line
             if not self.gave_up:
                 log.error("the store refuses writes (the worker's line above says why): the "
-                          "pool stops; exit status 1")
+                          "pool stops, its workers give their runs back now; exit status 1")
             self.gave_up = True
+            # abort, not only stop: a run whose result cannot be written is not worth the
+            # hours it may still take; its lease expires and it goes back to the queue
             self.stop.set()
+            if not self.abort.is_set():
+                self.abort.set()
+                self.abort_at = time.monotonic()
             return
         if proc.exitcode == 0:
             if not (self.stop.is_set() or self.opts.leaves_when_idle):

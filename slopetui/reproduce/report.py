@@ -36,9 +36,11 @@ def compute(db: Database, resolution: int, t_end: float | None, jobs: int | None
     if unfinished_runs(db, ids.values()):
         from slopetui.sweeps.adaptive import advance_all
         from slopetui.sweeps.progress import PoolProgress
+        # idle_grace_s = 0: the report waits for its own sweeps, which it never pauses,
+        # not for the grace period that a paused sweep elsewhere in the store would hold
         opts = WorkerOptions(db_url=db.url.render_as_string(hide_password=False),
-                             log_path=str(log), exit_when_idle=True, idle_hook=advance_all,
-                             progress=PoolProgress)
+                             log_path=str(log), exit_when_idle=True, idle_grace_s=0.0,
+                             idle_hook=advance_all, progress=PoolProgress)
         run_pool(opts, jobs or default_jobs())
     return ids, time.perf_counter() - t0
 

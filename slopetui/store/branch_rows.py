@@ -40,7 +40,6 @@ release = _JOBS.release
 heartbeat = _JOBS.heartbeat
 requeue_expired = _JOBS.requeue_expired
 requeue_worker = _JOBS.requeue_worker
-waiting = _JOBS.waiting
 status_counts = _JOBS.status_counts
 held = _JOBS.held
 #: Every continuation, newest first; one continuation's row (None: no such id).

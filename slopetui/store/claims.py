@@ -34,7 +34,6 @@ from sqlalchemy.orm import Session
 
 from core.params import PARAM_NAMES
 from core.result_fields import RESULT_NAMES
-from slopetui.store import branch_rows, hysteresis_rows
 from slopetui.store.database import Database, rows_changed
 from slopetui.store.db_time import db_now
 from slopetui.store.models import Run, Sweep, Worker
@@ -267,16 +266,3 @@ def requeue_worker(db: Database, worker_id: str, reason: str,
         s.execute(update(Worker).where(Worker.id == worker_id)
                   .values(run_id=None, stopped_at=db_now()))
         return out
-
-
-def queue_drained(db: Database) -> bool:
-    """Nothing left that a worker could still have to do: no queued run of an active
-    sweep, no running run (a running run may come back if its worker dies), and no
-    queued or running continuation or hysteresis sweep."""
-    with db.sessions() as s:
-        waiting = s.scalar(select(func.count()).select_from(Run).join(Sweep)
-                           .where(Run.status == "queued", Sweep.status == "active"))
-        running = s.scalar(select(func.count()).select_from(Run)
-                           .where(Run.status == "running"))
-    return (waiting == 0 and running == 0 and branch_rows.waiting(db) == 0
-            and hysteresis_rows.waiting(db) == 0)

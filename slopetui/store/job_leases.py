@@ -160,13 +160,6 @@ class JobLeases:
         held = (self.job.status == "running") & (self.job.worker_id == worker_id)
         return self._requeue(db, held, reason, max_attempts)
 
-    def waiting(self, db: Database) -> int:
-        """Jobs queued or running (a worker may still have to compute them)."""
-        with db.sessions() as s:
-            n = s.scalar(select(func.count()).select_from(self.job)
-                         .where(self.job.status.in_(("queued", "running"))))
-        return int(n or 0)
-
     # -- the reads --
 
     def saved_points(self, db: Database, job_id: int) -> list[RowMapping]:

@@ -9,8 +9,13 @@ slopetui.store.location.
 
 from __future__ import annotations
 
+import re
+
 #: What stands for a password in messages (SQLAlchemy's render_as_string does the same).
 HIDDEN = "***"
+#: A password given in the query (``?password=...``: libpq and psycopg take it there too),
+#: which SQLAlchemy's hide_password leaves as it is.
+_QUERY_PASSWORD = re.compile(r"([?&]password=)[^&#]*", re.IGNORECASE)
 
 
 def password_hidden(text: str) -> str:
@@ -18,7 +23,9 @@ def password_hidden(text: str) -> str:
     scheme's ``://`` (or the start) to the last ``@`` replaced by ``***``:
     ``postgresql://u:***@host/db``. A password may hold ``@``, ``:`` or ``/`` unescaped in
     a typo, so this hides too much rather than too little (an ``@`` in a query hides the
-    host too); a text without ``...:...@`` is returned as it is."""
+    host too); a ``password=`` in the query is hidden too (``?password=***``); a text
+    without either is returned as it is."""
+    text = _QUERY_PASSWORD.sub(rf"\g<1>{HIDDEN}", text)
     scheme_end = text.find("://")
     start = 0 if scheme_end < 0 else scheme_end + 3
     at = text.rfind("@", start)

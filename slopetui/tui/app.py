@@ -445,7 +445,7 @@ class SlopeApp(App[None], inherit_bindings=False):
     @on(ExportFailed)
     def _export_failed(self, message: ExportFailed) -> None:
         self.notify_text(f"could not export sweep {message.sweep_id}: {message.cause}",
-                    severity="error", timeout=10, markup=False)
+                         severity="error", timeout=10)
 
 
 def run_app(db_url: str | None = None, *, start_workers: bool = True) -> int:

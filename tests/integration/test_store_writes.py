@@ -37,8 +37,9 @@ def test_a_refused_write_is_one_line_and_the_pool_stops(db_url, tmp_path, capfd,
     t0 = time.monotonic()
     assert Pool(opts, 2, target=worker_on_a_read_only_store).run() == 1
     # before: tracebacks, and workers restarted into the same refusal until the pool
-    # gave up on its crash-loop rule
-    assert time.monotonic() - t0 < 30
+    # gave up on its crash-loop rule (87 s); the bound leaves room for a cold warm-up
+    # (20-45 s of compiling on two cores) on a loaded machine: the lines below are the test
+    assert time.monotonic() - t0 < 80
     text = log.read_text()
     assert "Traceback" not in text and "Traceback" not in capfd.readouterr().err
     leaves = [line for line in text.splitlines() if " leaves: " in line]

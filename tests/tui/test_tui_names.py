@@ -76,7 +76,8 @@ def test_the_applications_own_notifications_quoting_a_cause_are_escaped_and_not_
                     (app.PoolFailed(cause), f"could not start workers: {shown}"),
                     (app.SweepControlFailed("pause", 3, cause), f"pause sweep 3: {shown}"),
                     (app.FigureFailed(cause), f"could not write the figure: {shown}"),
-                    (app.SweepExported(cause), shown)]:
+                    (app.SweepExported(cause), shown),
+                    (app.ExportFailed(3, cause), f"could not export sweep 3: {shown}")]:
                 before = len(app._notifications)
                 app.post_message(message)
                 await wait_until(pilot, lambda n=before: len(app._notifications) > n)

@@ -18,7 +18,7 @@ from core.params import Params
 from slopetui.queue import hysteresis_jobs, jobs
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
 from slopetui.store import hysteresis_rows
-from slopetui.store.claims import queue_drained
+from slopetui.store.queue_backlog import backlog
 from slopetui.sweeps.hysteresis_runs import hysteresis_of
 from tests.unit.test_branch_jobs import Never, inline
 
@@ -73,7 +73,7 @@ def _compute(db: Any, wid: str, control: Any = None, max_attempts: int = 3) -> N
 
 def test_points_are_saved_by_the_lease_holder_only_and_in_order(store):
     sid = hysteresis_jobs.submit(store, SPEC)
-    assert not queue_drained(store)  # a queued sweep keeps --exit-when-idle workers
+    assert not backlog(store).drained  # a queued sweep keeps --exit-when-idle workers
     assert hysteresis_rows.claim(store, "w1")["id"] == sid
     assert hysteresis_rows.claim(store, "w2") is None  # one holder
     assert hysteresis_rows.save_point(store, sid, "w1", _point(0), 0.1)
@@ -132,7 +132,7 @@ def test_a_stopped_sweep_resumes_and_ends_as_an_uninterrupted_one(store, stops):
         [p.detail for p in reference.up + reference.down]
     assert (stored.row["onset_up"], stored.row["offset_down"]) == \
         (reference.onset_up, reference.offset_down)
-    assert queue_drained(store)
+    assert backlog(store).drained
 
 
 def fake_point(p: Params, g: Any, state: np.ndarray, name: str, t_settle: float,

@@ -136,6 +136,29 @@ def test_the_grace_counts_from_the_owners_exit():
     assert _look(idle, DRAINED) is not None
 
 
+def test_an_application_opened_again_after_the_owner_quit_keeps_the_pool():
+    """The owner is asked again every idle round: the application quit, was opened again
+    within the grace period (it found the pool and recorded itself), and the pool stays;
+    the grace counts anew from its second exit."""
+    clock = Clock()
+    owner = FakeOwner()
+    idle = IdleExit(False, 60.0, owner, clock=clock)
+    object.__setattr__(owner, "alive", False)
+    assert _look(idle, DRAINED) is None
+    clock.t += 30.0
+    object.__setattr__(owner, "alive", True)   # another application of the store opened
+    assert _look(idle, DRAINED) is None
+    clock.t += 100.0
+    assert _look(idle, DRAINED) is None        # open: the pool stays however long it idles
+    object.__setattr__(owner, "alive", False)
+    clock.t += 1.0
+    assert _look(idle, DRAINED) is None
+    clock.t += 59.0
+    assert _look(idle, DRAINED) is None        # 59 s since that exit
+    clock.t += 1.0
+    assert _look(idle, DRAINED) is not None
+
+
 def test_a_worker_without_exit_rules_never_leaves():
     idle = IdleExit(False, 0.0, clock=Clock())
     assert not idle.watching and _look(idle, DRAINED) is None

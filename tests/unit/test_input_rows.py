@@ -166,6 +166,9 @@ def test_continue_to_where_it_starts(capsys, tmp_path):
     (["hysteresis", "--param", "k", "--from", "8", "--to", "9", "--t-settle", "x"], "t-settle = "),
     (["hysteresis", "--param", "k", "--from", "8", "--to", "9", "--window", "inf"], "window = "),
     (["hysteresis", "--show", "9" * 30], "show = "),
+    (["branch", "9" * 30], "ID = "),        # found in review: OverflowError from SQLite
+    (["branch", "x"], "ID = 'x'"),
+    (["nblock", "--seed", "-1"], "--seed = -1"),  # a ValueError traceback from numpy
 ])
 def test_numbers_that_argparse_read_are_one_line_too(capsys, tmp_path, args, field):
     """Before: argparse's usage and error (two lines), or an OverflowError from SQL."""

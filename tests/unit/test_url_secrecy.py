@@ -22,6 +22,11 @@ from slopetui.store.url_text import password_hidden
     ("postgresql://db.example:5432/x", "postgresql://db.example:5432/x"),
     ("sqlite:////tmp/runs.db", "sqlite:////tmp/runs.db"),
     ("", ""),
+    # found in review: libpq and psycopg take the password in the query too
+    ("postgresql+psycopg://alice@db.example/slopes?password=s3cret",
+     "postgresql+psycopg://alice@db.example/slopes?password=***"),
+    ("postgresql://alice@h/x?sslmode=require&PASSWORD=s3cret&connect_timeout=5",
+     "postgresql://alice@h/x?sslmode=require&PASSWORD=***&connect_timeout=5"),
 ])
 def test_the_password_is_hidden_even_in_a_typo(text, shown):
     assert password_hidden(text) == shown
@@ -47,3 +52,20 @@ def test_a_pool_started_with_a_password_on_its_command_line_warns_of_ps(monkeypa
     assert "SLOPETUI_DB" in err and "s3cret" not in err
     main(["worker", "--db", "postgresql+psycopg://alice@127.0.0.1:1/slopes", "--exit-when-idle"])
     assert "warning" not in capsys.readouterr().err
+
+
+def test_a_password_in_the_query_is_hidden_from_the_store_url_shown_and_warned_of(capsys):
+    """Database.display_url (the pool's log lines, `workers`, messages) hid the userinfo's
+    password only: SQLAlchemy's hide_password leaves ?password= as it is."""
+    from types import SimpleNamespace
+
+    from sqlalchemy.engine import make_url
+
+    from slopetui.store.database import Database
+    url = "postgresql+psycopg://alice@127.0.0.1:1/slopes?password=s3cret"
+    # the property on the parsed URL alone: a Database connects when it is made
+    shown = Database.display_url.fget(SimpleNamespace(url=make_url(url)))  # type: ignore[attr-defined]
+    assert "s3cret" not in shown and "password=***" in shown
+    main(["worker", "--db", url, "--exit-when-idle"])
+    err = capsys.readouterr().err
+    assert "warning: the password in --db" in err and "s3cret" not in err
