@@ -62,6 +62,9 @@ _WALKS: OrderedDict[tuple[float, ...], _Walk] = OrderedDict()
 
 def heading(p: Params) -> Heading:
     """Where a run at the unstable rest state of p goes (see the module docstring)."""
+    if p.F1 <= 0.0:
+        return Heading("undetermined", f"F'(v) = {p.F1:.4g} <= 0: the rest state is unstable "
+                                       "for every k, no Hopf branch to follow")
     try:
         walk = _walk(p)
     except (OrbitError, ParameterError, ArithmeticError, ValueError) as exc:
