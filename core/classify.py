@@ -43,10 +43,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from core.heading import heading
 from core.lyapunov import LyapunovEstimate
 from core.params import Params, sliding_branches
-from core.rest_stability import NEUTRAL_TOL, rest_exponent
 from core.returns import Return, clusters, find_return, lag_defects
 from core.stability import hopf_period, leading_exponent
 
@@ -300,6 +298,10 @@ def _follow_theory(s: Summary, p: Params | None) -> Summary:
     (core.heading)."""
     if p is None or s.attractor != "fixed-point":
         return s
+    # imported here: the orbit kernels and scipy's sparse solvers they load serve only this
+    # check, and a worker or the CLI importing the classifier need not load them
+    from core.heading import heading
+    from core.rest_stability import NEUTRAL_TOL, rest_exponent
     try:
         root = rest_exponent(p)
     except ArithmeticError as exc:

@@ -94,6 +94,7 @@ def test_below_the_hopf_curve_a_rest_window_stays_sliding(tau):
     assert (s.regime, s.attractor, s.flags, s.detail) == ("sliding", "fixed-point", (), "at rest")
 
 
+@pytest.mark.slow  # 1-3 s: a short branch walk
 def test_past_a_supercritical_hopf_point_a_rest_window_is_headed_for_the_small_cycle():
     # tau = 0.5: supercritical (the Bautin point lies near tau = 0.65, numerics.md); one
     # per cent past k_H the branch's small orbit is stable
