@@ -298,9 +298,6 @@ def _follow_theory(s: Summary, p: Params | None) -> Summary:
     (core.heading)."""
     if p is None or s.attractor != "fixed-point":
         return s
-    # imported here: the orbit kernels and scipy's sparse solvers they load serve only this
-    # check, and a worker or the CLI importing the classifier need not load them
-    from core.heading import heading
     from core.rest_stability import NEUTRAL_TOL, rest_exponent
     try:
         root = rest_exponent(p)
@@ -311,6 +308,9 @@ def _follow_theory(s: Summary, p: Params | None) -> Summary:
                                  f"{NEUTRAL_TOL:.0e}: linear theory decides nothing")
     if root < 0.0:
         return s
+    # imported here: the orbit kernels and scipy's sparse solvers it loads serve only the
+    # rare window at an unstable rest state; a worker importing the classifier skips them
+    from core.heading import heading
     head = heading(p)
     return replace(s, regime=head.regime, attractor="unstable-fixed-point", settled=False,
                    detail=f"{s.detail}; not departed from the unstable rest state (root "

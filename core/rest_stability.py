@@ -21,8 +21,6 @@ import math
 
 import numpy as np
 
-from core.hopf_start import SteadyState, jacobians, steady_state
-from core.orbit import OrbitError
 from core.params import Params
 from core.stability import hopf_k, leading_root, roots, variance_roots
 
@@ -76,8 +74,11 @@ def rest_exponent(p: Params) -> float:
         return -math.inf
     if p.d == 0.0:
         return float(max([leading_root(p).real, *_nonzero(variance_roots(p)).real.tolist()]))
+    # imported here, past the gate: core.hopf_start brings the orbit kernels (core.orbit)
+    from core.hopf_start import jacobians, steady_state
+    from core.orbit import OrbitError
     try:
-        ss: SteadyState = steady_state(p)
+        ss = steady_state(p)
     except OrbitError as exc:
         raise ArithmeticError(str(exc)) from None
     j0, jt = jacobians(p, ss)
