@@ -314,7 +314,7 @@ def _follow_theory(s: Summary, p: Params | None) -> Summary:
     head = heading(p)
     return replace(s, regime=head.regime, attractor="unstable-fixed-point", settled=False,
                    detail=f"{s.detail}; not departed from the unstable rest state (root "
-                          f"{root:+.2e}/t): {head.reason}",
+                          f"{root:+.2e}/t at d = {p.d:g}): {head.reason}",
                    flags=(*s.flags, "not-departed"))
 
 

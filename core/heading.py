@@ -34,7 +34,7 @@ from core.params import ParameterError, Params
 #: peak-to-peak 2.411 and period 60.661, at dt = 0.01 k = 6.1275, 2.411, 60.661, both
 #: stable, for 17 s against 100 s.
 POINTS_PER_DELAY = 600
-#: The orbit step never exceeds this (small tau: the period is ~2 tau, the slips short).
+#: ... and the step at most this: beyond tau = 60 the delay grows, the slips do not.
 MAX_DT = 0.1
 #: Branch points a walk may take before it gives up (tau = 60 reaches k = 6 in 46).
 MAX_POINTS = 200
