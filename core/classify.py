@@ -290,7 +290,7 @@ def _rest(level: float, amplitude: float, drift: float, p: Params | None) -> Sum
                    math.nan, drift, attractor="fast-branch")
 
 
-def _follow_theory(s: Summary, p: Params | None) -> Summary:
+def _follow_theory(s: Summary, p: Params | None, follow_branch: bool = True) -> Summary:
     """A window at, near or toward the fixed point beside the rest state's leading root
     (the module docstring's "Linear theory first"): unchanged where the root is negative,
     said to decide nothing within NEUTRAL_TOL of 0, and where it is positive the window
@@ -310,8 +310,9 @@ def _follow_theory(s: Summary, p: Params | None) -> Summary:
         return s
     # imported here: the orbit kernels and scipy's sparse solvers it loads serve only the
     # rare window at an unstable rest state; a worker importing the classifier skips them
-    from core.heading import heading
-    head = heading(p)
+    from core.heading import Heading, heading
+    head = heading(p) if follow_branch else Heading("undetermined", "the Hopf branch was not "
+                                                                    "followed")
     return replace(s, regime=head.regime, attractor="unstable-fixed-point", settled=False,
                    detail=f"{s.detail}; not departed from the unstable rest state (root "
                           f"{root:+.2e}/t at d = {p.d:g}): {head.reason}",
@@ -411,11 +412,17 @@ def _continuum(peak_y: np.ndarray, early_peaks: tuple[np.ndarray, np.ndarray], a
 
 def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
              lyap: LyapunovEstimate | None = None, mid_t: np.ndarray | None = None,
-             mid: np.ndarray | None = None, p: Params | None = None) -> Summary:
+             mid: np.ndarray | None = None, p: Params | None = None,
+             follow_branch: bool = True) -> Summary:
     """Classify a run from its analysis window (rows m_x, m_y, ... sampled at times t), the
     window that ends at the middle of the run (mid_t, mid; may be empty) and its parameters
     p (for the basic period, the branches and the linear range; without them those tests
-    are skipped)."""
+    are skipped).
+
+    follow_branch: at an unstable rest state, follow the Hopf branch to name where the run
+    is headed (core.heading, seconds); False leaves it undetermined, for a caller that
+    finds out by simulation (core.hysteresis kicks the state and classifies where it
+    lands)."""
     m_x, m_y = window[0], window[1]
     drift = _drift(t, m_x)
     if blew_up:
@@ -424,12 +431,12 @@ def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
     amplitude = float(np.ptp(m_y)) if len(m_y) else math.nan
     level = float(np.mean(m_y)) if len(m_y) else math.nan
     if not amplitude >= AMPLITUDE_FLOOR * max(1.0, abs(level)):
-        return _follow_theory(_rest(level, amplitude, drift, p), p)
+        return _follow_theory(_rest(level, amplitude, drift, p), p, follow_branch)
     early = _early(t, m_y, mid_t, mid)
     if p is not None and p.F1 > 0.0 and p.q != 0.0:
         y_nl = p.F1 / abs(p.q)
         if amplitude < LINEAR_FRACTION * y_nl and abs(level) < LINEAR_FRACTION * y_nl:
-            return _follow_theory(_linear(t, m_y, early, amplitude, drift, p), p)
+            return _follow_theory(_linear(t, m_y, early, amplitude, drift, p), p, follow_branch)
     frequency = dominant_frequency(t, m_y)
 
     amps, centres = subwindow_amplitudes(t, m_y)
@@ -441,7 +448,7 @@ def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
     if rate * (t[-1] - t[0]) < -DECAY_MIN and np.all(np.diff(amps) < 0):
         return _follow_theory(Summary("sliding", f"decaying at {rate:.2e}/t", amplitude, math.nan, 0,
                                       [], frequency, drift, attractor="fixed-point", settled=False,
-                                      flags=("decaying",)), p)
+                                      flags=("decaying",)), p, follow_branch)
 
     peak_t, peak_y = find_peaks(t, m_y)
     if len(peak_y) < 4:
