@@ -38,6 +38,12 @@ POINTS_PER_DELAY = 600
 MAX_DT = 0.1
 #: Branch points a walk may take before it gives up (tau = 60 reaches k = 6 in 46).
 MAX_POINTS = 200
+#: The largest delay a walk is tried at. Measured on a loaded core: tau = 0.5: 1 s,
+#: tau = 2: 11 s, tau = 10: 4-11 s, tau = 60: 17-25 s; at tau = 100 (dt 0.1, N = 1000)
+#: the first orbit's Newton-Krylov correction at the Hopf point had not finished after
+#: 5 min (in GMRES). Beyond this the regime is undetermined, saying so; a bound in points,
+#: not in wall time, so that a label does not depend on the machine.
+MAX_TAU = 60.0
 #: Walks kept per process (one per (a, b, c, d, v, tau)).
 KEPT_WALKS = 8
 
@@ -62,6 +68,9 @@ _WALKS: OrderedDict[tuple[float, ...], _Walk] = OrderedDict()
 
 def heading(p: Params) -> Heading:
     """Where a run at the unstable rest state of p goes (see the module docstring)."""
+    if p.tau > MAX_TAU:
+        return Heading("undetermined", f"no Hopf branch followed beyond tau = {MAX_TAU:g} (too "
+                                       "costly for one run)")
     if p.F1 <= 0.0:
         return Heading("undetermined", f"F'(v) = {p.F1:.4g} <= 0: the rest state is unstable "
                                        "for every k, no Hopf branch to follow")

@@ -172,3 +172,11 @@ def test_runs_just_past_the_exact_hopf_point_at_tau_60_are_not_sliding():
     assert "not-departed" in above.flags
     assert (below.regime, below.attractor) == ("sliding", "fixed-point"), below
     assert "not-departed" not in below.flags
+
+
+def test_beyond_the_largest_delay_walked_the_regime_is_undetermined_saying_why():
+    # tau = 100, 0.5% past k_H: unstable by theory, the branch walk too costly (core.heading)
+    p = Params(k=1.005 * hopf_k(100.0, Params().F1), tau=100.0, delta=1e-6)
+    s = classify(T, rest_window(), p=p)
+    assert (s.regime, s.attractor) == ("undetermined", "unstable-fixed-point"), s
+    assert "not-departed" in s.flags and "beyond tau = 60" in s.detail
