@@ -33,9 +33,12 @@ from core.stability import hopf_k, leading_root, roots, variance_roots
 #: Hopf point's own tolerance. A root of 1e-10 at tau = 60 is k - k_H ~ 2e-5.
 NEUTRAL_TOL = 1e-10
 #: Below this fraction of k_H(tau) (noise-free) the rest state counts as stable without a
-#: root computation: the first Hopf branch is the stability boundary (core.stability), and
-#: the noise moves it by 0.04% at tau = 10 and 60, d = 1e-4; the gate leaves 2%.
+#: root computation, for noise up to GATE_MAX_D: the first Hopf branch is the stability
+#: boundary (core.stability), and the noise lowers it in proportion to d (core.hopf_start:
+#: tau = 10: -0.038% at d = 1e-4, -0.38% at 1e-3, -3.6% at 1e-2, -25% at 0.1; tau = 2:
+#: -0.012%, -0.12%, -1.2%, -9.9%); the gate leaves 2%. Noisier points are always computed.
 STABLE_GATE = 0.98
+GATE_MAX_D = 1e-3
 #: Newton's step budget and relative tolerance on lam for the noisy roots.
 NEWTON_STEPS, NEWTON_TOL = 60, 1e-14
 
@@ -66,11 +69,12 @@ def rest_exponent(p: Params) -> float:
     its growth rate of small perturbations. Negative: stable; positive: a window that sits
     there will leave it; within NEUTRAL_TOL of 0: undecided.
 
-    Computed only near or past the Hopf curve: below STABLE_GATE k_H(tau) (F' > 0) it
-    returns -inf (stable, rate not computed). Raises ArithmeticError when a root cannot
-    be carried to the noisy state.
+    Computed only near or past the Hopf curve: below STABLE_GATE k_H(tau) (F' > 0, d up to
+    GATE_MAX_D) it returns -inf (stable, rate not computed). Raises ArithmeticError when a
+    root cannot be carried to the noisy state. A positive result is sound (Newton stopped
+    on a root); for large d a root that no noise-free one leads to would be missed.
     """
-    if p.F1 > 0.0 and p.tau > 0.0 and p.k < STABLE_GATE * hopf_k(p.tau, p.F1):
+    if p.F1 > 0.0 and p.tau > 0.0 and p.d <= GATE_MAX_D and p.k < STABLE_GATE * hopf_k(p.tau, p.F1):
         return -math.inf
     if p.d == 0.0:
         return float(max([leading_root(p).real, *_nonzero(variance_roots(p)).real.tolist()]))

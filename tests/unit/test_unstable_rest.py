@@ -180,3 +180,11 @@ def test_beyond_the_largest_delay_walked_the_regime_is_undetermined_saying_why()
     s = classify(T, rest_window(), p=p)
     assert (s.regime, s.attractor) == ("undetermined", "unstable-fixed-point"), s
     assert "not-departed" in s.flags and "beyond tau = 60" in s.detail
+
+
+def test_strong_noise_moves_the_hopf_point_below_the_gate_and_the_root_is_computed():
+    # d = 0.01 lowers the Hopf point at tau = 10 by 3.6% (5.9251 against 6.1485): a point
+    # 2.5% below the noise-free k_H is already past it
+    p = Params(k=0.975 * hopf_k(10.0, Params().F1), tau=10.0, d=0.01)
+    assert p.k > hopf_point(p, "k").value
+    assert rest_exponent(p) > NEUTRAL_TOL
