@@ -39,9 +39,9 @@ MAX_DT = 0.1
 #: Branch points a walk may take before it gives up (tau = 60 reaches k = 6 in 46).
 MAX_POINTS = 200
 #: The largest delay a walk is tried at. Measured on a loaded core: tau = 0.5: 1 s,
-#: tau = 2: 11 s, tau = 10: 4-11 s, tau = 60: 17-25 s; at tau = 100 (dt 0.1, N = 1000)
-#: the first orbit's Newton-Krylov correction at the Hopf point had not finished after
-#: 5 min (in GMRES). Beyond this the regime is undetermined, saying so; a bound in points,
+#: tau = 2: 11 s, tau = 10: 4-11 s, tau = 60: 17-25 s for 46 points; at tau = 100 (dt 0.1,
+#: N = 1000) the first branch point came after 177 s and each next one took ~160 s (mostly
+#: in GMRES): the fold lies ~25 points away. Beyond this the regime is undetermined, saying so; a bound in points,
 #: not in wall time, so that a label does not depend on the machine.
 MAX_TAU = 60.0
 #: Walks kept per process (one per (a, b, c, d, v, tau)).
