@@ -6,6 +6,7 @@ Regimes (the paper's five labels) and the attractor word beside them:
                branches that the noise carries (``variance-state``); or a linear
                oscillation near the fixed point (flag ``linear-transient``: the echoes of
                the kink of the constant history, core.solve), or a decaying oscillation;
+               only where linear theory does not call that rest state unstable (below);
   oscillatory  an orbit that returns after one basic period (``periodic``), whatever its
                number of maxima per period (core.returns);
   complex      an orbit that returns after n >= 2 basic periods (``periodic``), a
@@ -15,7 +16,18 @@ Regimes (the paper's five labels) and the attractor word beside them:
   unstable     a runaway to a fast sliding branch far above the drive (``fast-branch``,
                beyond RUNAWAY_RATIO v), or a divergence of the equations (``divergent``;
                core.point first re-integrates a blow-up of an explicit scheme with the
-               stiff-safe one, so what is left diverged there too).
+               stiff-safe one, so what is left diverged there too);
+  undetermined where the run is headed is not known (below).
+
+**Linear theory first.** A window that rests at the fixed point, or oscillates in its
+linear range, or decays toward it, is checked against the rest state's leading root
+(core.rest_stability, with the run's noise). A positive root means the window has not
+departed yet: the attractor is ``unstable-fixed-point``, flag ``not-departed``, and the
+regime is where the run is headed, from the Hopf branch (core.heading): *oscillatory*
+where it reaches the run's k with a stable cycle, else *undetermined*, the reason in the
+detail. A root within NEUTRAL_TOL of 0 decides nothing (the detail says so), and a
+negative root changes nothing: an oscillating window beside a stable rest state is a
+coexisting cycle (the Hopf point is subcritical), not a contradiction.
 
 ``settled`` says whether the pattern was already there in the middle of the run (the
 window that ends at t_end / 2, core.solve.Grid; the first half of the window when the run
@@ -27,7 +39,7 @@ the return time, the peak-to-peak amplitude, the dominant frequency and the drif
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -46,7 +58,8 @@ AMPLITUDE_FLOOR = 1e-6
 #: the linearised system, not an attractor. At tau = 60, k = 6, delta = 1e-6 (0.4% above
 #: k_H) the window holds the echoes of the history's kink, peak-to-peak 5.2e-6 (Euler,
 #: t = 1e5), growing at the leading root's +1.3e-7 on time scales of 1e7; the smallest
-#: limit cycles we saw have amplitudes of 1 and up.
+#: limit cycles we saw have amplitudes of 1 and up. Such a window has not departed from
+#: an unstable rest state: linear theory relabels it (_follow_theory).
 LINEAR_FRACTION = 1e-2
 #: Sub-windows for the decay and switching tests.
 N_SUBWINDOWS = 20
@@ -277,6 +290,35 @@ def _rest(level: float, amplitude: float, drift: float, p: Params | None) -> Sum
                    math.nan, drift, attractor="fast-branch")
 
 
+def _follow_theory(s: Summary, p: Params | None, follow_branch: bool = True) -> Summary:
+    """A window at, near or toward the fixed point beside the rest state's leading root
+    (the module docstring's "Linear theory first"): unchanged where the root is negative,
+    said to decide nothing within NEUTRAL_TOL of 0, and where it is positive the window
+    has not departed: attractor ``unstable-fixed-point``, the regime where it is headed
+    (core.heading)."""
+    if p is None or s.attractor != "fixed-point":
+        return s
+    from core.rest_stability import NEUTRAL_TOL, rest_exponent
+    try:
+        root = rest_exponent(p)
+    except ArithmeticError as exc:
+        return replace(s, detail=f"{s.detail}; linear theory undecided: {exc}")
+    if abs(root) <= NEUTRAL_TOL:
+        return replace(s, detail=f"{s.detail}; root {root:+.1e}/t is 0 to within "
+                                 f"{NEUTRAL_TOL:.0e}: linear theory decides nothing")
+    if root < 0.0:
+        return s
+    # imported here: the orbit kernels and scipy's sparse solvers it loads serve only the
+    # rare window at an unstable rest state; a worker importing the classifier skips them
+    from core.heading import Heading, heading
+    head = heading(p) if follow_branch else Heading("undetermined", "the Hopf branch was not "
+                                                                    "followed")
+    return replace(s, regime=head.regime, attractor="unstable-fixed-point", settled=False,
+                   detail=f"{s.detail}; not departed from the unstable rest state (root "
+                          f"{root:+.2e}/t at d = {p.d:g}): {head.reason}",
+                   flags=(*s.flags, "not-departed"))
+
+
 def _early(t: np.ndarray, y: np.ndarray, mid_t: np.ndarray | None, mid: np.ndarray | None
            ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(early t, early m_y, late t, late m_y): the middle window against the end window,
@@ -370,11 +412,17 @@ def _continuum(peak_y: np.ndarray, early_peaks: tuple[np.ndarray, np.ndarray], a
 
 def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
              lyap: LyapunovEstimate | None = None, mid_t: np.ndarray | None = None,
-             mid: np.ndarray | None = None, p: Params | None = None) -> Summary:
+             mid: np.ndarray | None = None, p: Params | None = None,
+             follow_branch: bool = True) -> Summary:
     """Classify a run from its analysis window (rows m_x, m_y, ... sampled at times t), the
     window that ends at the middle of the run (mid_t, mid; may be empty) and its parameters
     p (for the basic period, the branches and the linear range; without them those tests
-    are skipped)."""
+    are skipped).
+
+    follow_branch: at an unstable rest state, follow the Hopf branch to name where the run
+    is headed (core.heading, seconds); False leaves it undetermined, for a caller that
+    finds out by simulation (core.hysteresis kicks the state and classifies where it
+    lands)."""
     m_x, m_y = window[0], window[1]
     drift = _drift(t, m_x)
     if blew_up:
@@ -383,12 +431,12 @@ def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
     amplitude = float(np.ptp(m_y)) if len(m_y) else math.nan
     level = float(np.mean(m_y)) if len(m_y) else math.nan
     if not amplitude >= AMPLITUDE_FLOOR * max(1.0, abs(level)):
-        return _rest(level, amplitude, drift, p)
+        return _follow_theory(_rest(level, amplitude, drift, p), p, follow_branch)
     early = _early(t, m_y, mid_t, mid)
     if p is not None and p.F1 > 0.0 and p.q != 0.0:
         y_nl = p.F1 / abs(p.q)
         if amplitude < LINEAR_FRACTION * y_nl and abs(level) < LINEAR_FRACTION * y_nl:
-            return _linear(t, m_y, early, amplitude, drift, p)
+            return _follow_theory(_linear(t, m_y, early, amplitude, drift, p), p, follow_branch)
     frequency = dominant_frequency(t, m_y)
 
     amps, centres = subwindow_amplitudes(t, m_y)
@@ -398,9 +446,9 @@ def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
                        frequency, drift, attractor="unsettled", settled=False)
     rate = float(np.polyfit(centres, np.log(amps), 1)[0]) if np.all(amps > 0) else math.nan
     if rate * (t[-1] - t[0]) < -DECAY_MIN and np.all(np.diff(amps) < 0):
-        return Summary("sliding", f"decaying at {rate:.2e}/t", amplitude, math.nan, 0, [],
-                       frequency, drift, attractor="fixed-point", settled=False,
-                       flags=("decaying",))
+        return _follow_theory(Summary("sliding", f"decaying at {rate:.2e}/t", amplitude, math.nan, 0,
+                                      [], frequency, drift, attractor="fixed-point", settled=False,
+                                      flags=("decaying",)), p, follow_branch)
 
     peak_t, peak_y = find_peaks(t, m_y)
     if len(peak_y) < 4:

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.classify import classify
+from core.classify import Summary, classify
 from core.model import coefficients
 from core.orbit import Grid, OrbitError
 from core.params import Params
@@ -155,21 +155,28 @@ def point(p: Params, g: Grid, state: np.ndarray, name: str, t_settle: float, win
     the module docstring). Returns the point and the state it hands over."""
     value = float(getattr(p, name))
     final, t, win, growth = settle(p, g, state, t_settle, window)
-    summary = classify(t, win, p=p)
+    summary = classify(t, win, p=p, follow_branch=False)
     jumped = False
     trigger = growth
-    if summary.regime == "sliding" and growth > 0.0:
+    if _leaving_rest(summary, growth):
         final = final.copy()
         final[1, -1] += KICK
         jumped = True
         for _ in range(JUMP_SPANS):  # until it lands: settled, and not still leaving rest
             final, t, win, growth = settle(p, g, final, t_settle, window)
-            summary = classify(t, win, p=p)
-            if summary.settled and not (summary.regime == "sliding" and growth > 0.0):
+            summary = classify(t, win, p=p, follow_branch=False)
+            if summary.settled and not _leaving_rest(summary, growth):
                 break
-    rest = summary.regime == "sliding"
+    rest = summary.regime == "sliding" or summary.attractor == "unstable-fixed-point"
     return WarmPoint(value, summary.regime, summary.detail, summary.amplitude,
                      trigger if jumped else growth if rest else math.nan, jumped), final
+
+
+def _leaving_rest(summary: Summary, growth: float) -> bool:
+    """Whether the point rests at a state that is unstable: by the growth measured along
+    the simulation, or by linear theory (core.classify's ``unstable-fixed-point``: the
+    window has not departed, whatever regime it is headed for)."""
+    return (summary.regime == "sliding" and growth > 0.0) or summary.attractor == "unstable-fixed-point"
 
 
 def branch(base: Params, name: str, values: Sequence[float], g: Grid, state: np.ndarray,

@@ -40,12 +40,13 @@ class ContinuousExponent:
 def continuous_exponent(p: Params, attractor: str) -> ContinuousExponent | None:
     """The exponent lambda_max estimates, in the continuous model, where theory gives it.
 
-    fixed-point: the leading nonzero root of the characteristic function
-    (core.stability.leading_exponent; 2 to 330 ms a point). periodic or torus: exactly 0,
+    fixed-point, and unstable-fixed-point (a window that has not departed yet): the leading
+    nonzero root of the characteristic function (core.stability.leading_exponent; 2 to
+    330 ms a point). periodic or torus: exactly 0,
     the perturbation along the flow neither grows nor decays on a stable orbit or torus.
     None elsewhere (chaotic, fast-branch, variance-state, divergent, unsettled).
     """
-    if attractor == "fixed-point":
+    if attractor in ("fixed-point", "unstable-fixed-point"):
         return ContinuousExponent(leading_exponent(p), "linear theory")
     if attractor in ("periodic", "torus"):
         return ContinuousExponent(0.0, "flow direction")

@@ -55,10 +55,21 @@ class ResultField:
         return self.label or self.name
 
 
+#: The attractor words a run can carry (core.classify); the store's column holds the
+#: longest (slopetui.store.models.Run.attractor).
+ATTRACTORS: tuple[str, ...] = ("fixed-point", "unstable-fixed-point", "fast-branch",
+                               "variance-state", "periodic", "torus", "chaotic", "divergent",
+                               "unsettled")
+#: The flags a run can carry (core.point, core.classify, core.closure); the store's
+#: column holds them all at once.
+FLAGS: tuple[str, ...] = ("stiff-fallback", "closure-breakdown", "uphill", "linear-transient",
+                          "not-departed", "slow-modulation", "decaying-alternation", "decaying")
+
 RESULT_FIELDS: tuple[ResultField, ...] = (
-    ResultField("regime", "text", "", "the regime of the analysis window (core.regimes)",
-                contract=True, detail=True),
-    ResultField("detail", "text", "", "why the classifier chose the regime"),
+    ResultField("regime", "text", "", "the regime of the analysis window (core.regimes); "
+                "at an unstable rest state, where the run is headed", contract=True, detail=True),
+    ResultField("detail", "text", "", "why the classifier chose the regime (and, at an "
+                "unstable rest state, where the run is headed or why that is not known)"),
     ResultField("lambda_max", "measure", "1/time", "the largest Lyapunov exponent",
                 contract=True, detail=True, label="λmax"),
     ResultField("lambda_err", "measure", "1/time", "the standard error of lambda_max",
@@ -71,13 +82,11 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
                 "period 2 pi / omega_H): 0 at rest, n for period-n, -1 for a continuum"),
     ResultField("maxima_per_period", "count", "", "maxima of m_y in one return", detail=True,
                 label="maxima"),
-    ResultField("attractor", "text", "", "fixed-point, fast-branch, variance-state, periodic, "
-                "torus, chaotic, divergent or unsettled (core.classify)", detail=True),
+    ResultField("attractor", "text", "", f"{', '.join(ATTRACTORS[:-1])} or {ATTRACTORS[-1]} "
+                "(core.classify)", detail=True),
     ResultField("settled", "flag", "", "the pattern was already there in the middle of the "
                 "run (false: a slow transient or modulation)", detail=True),
-    ResultField("flags", "text", "", "comma-separated: stiff-fallback, closure-breakdown, "
-                "uphill, linear-transient, slow-modulation, decaying-alternation, decaying",
-                detail=True),
+    ResultField("flags", "text", "", f"comma-separated: {', '.join(FLAGS)}", detail=True),
     ResultField("peaks", "list", "m_y", "the maxima of m_y in one return (a continuum: "
                 "sampled), in the window", contract=True, detail=True),
     ResultField("frequency", "measure", "1/time", "the dominant frequency of m_y (cycles per time)"),

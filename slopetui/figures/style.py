@@ -11,6 +11,9 @@ terminal colour (slopetui.plots.regime_colors), so the screen and the paper agre
   complex      #CC79A7  reddish purple  period-n, quasi-periodic or chaotic
   mixed        #E69F00  orange          switches between quiet and oscillating stretches
   unstable     #D55E00  vermillion      blew up: the alarm colour
+  undetermined #F0E442  yellow          where the run goes is not known: Okabe–Ito's last
+                                        colour, light on paper, which suits a rare cell
+                                        next to the Hopf curve that says "not decided"
   depends      #0072B2  blue            a cell whose initial conditions disagree: dark, so
                                         it stands out against sliding's light blue
   failed       #4D4D4D  dark grey       not a result: the worker gave up (run status
@@ -34,7 +37,7 @@ legend's counts and the data table's status column say which.
 
 Okabe–Ito's black is left for the curves drawn over the cells (the exact Hopf curve solid,
 the fold of cycles dashed: told apart by the dash, not by colour), and its yellow
-(#F0E442), too light on white paper, for nothing.
+(#F0E442), too light on white paper for a large region, for the rare undetermined cells.
 
 The regime keys, their legend order, ``regime_key`` and ``regime_counts`` are the
 terminal plots' (slopetui.plots.regime_colors), imported: figures sits in the layer above
@@ -57,6 +60,7 @@ REGIME_COLORS: Mapping[str, str] = MappingProxyType({
     "complex": "#CC79A7",
     "mixed": "#E69F00",
     "unstable": "#D55E00",
+    "undetermined": "#F0E442",
     DEPENDS: "#0072B2",
     FAILED: "#4D4D4D",
     CANCELLED: "#999999",

@@ -9,6 +9,10 @@ were picked to read on both dark and light backgrounds:
   complex      magenta  '*'   period-n, quasi-periodic or chaotic
   mixed        orange   '+'   switches between quiet and oscillating stretches
   unstable     red      'x'   the run blew up: crossed out
+  undetermined magenta+ '~'   the window still sits at an unstable rest state and where it
+                              goes is not known (core.heading): rare, next to the Hopf
+                              curve. Bright magenta, legible on both backgrounds; the
+                              marker tells it from complex's magenta
   depends      blue+    '#'   not a regime: a cell whose initial conditions end in different
                               regimes (slopetui.sweeps.initial_dependence): bright blue (ANSI
                               12, legible on black where plain blue is not) and a heavy mark
@@ -43,11 +47,12 @@ Half blocks: where the application draws two lattice rows per character (``▀``
 foreground the upper run's colour, its background the lower's: slopetui.plots.lattice_cells)
 a cell has no marker, only colours, so every key needs a colour of its own there:
 ``BLOCK_COLORS``, in ANSI's 16 names as Rich spells them. The regimes and depends keep
-their colours; failed takes bright red (an alarm, brighter than unstable's red: the
-foreground's colour cannot be a background), cancelled blue (it recedes, and differs from
-pending's dark grey). The overlays take what no key has: the Hopf curve bright white,
-the fold of cycles bright yellow, the cursor black (a hole in the colours). With colour
-off there are no half blocks: one marker per cell, as above.
+their colours (undetermined takes bright magenta, a free name); failed takes bright red
+(an alarm, brighter than unstable's red: the foreground's colour cannot be a background),
+cancelled blue (it recedes, and differs from pending's dark grey). The overlays take what
+no key has: the Hopf curve bright white, the fold of cycles bright yellow, the cursor
+black (a hole in the colours). With colour off there are no half blocks: one marker per
+cell, as above.
 
 Themes: plotext's "default" theme paints a white canvas, a bright box on dark terminals.
 "pro" keeps the terminal's own background and foreground and only colours the data;
@@ -104,6 +109,7 @@ REGIME_STYLES: Mapping[str, RegimeStyle] = MappingProxyType({
     "complex": RegimeStyle("magenta", "*"),
     "mixed": RegimeStyle("orange", "+"),
     "unstable": RegimeStyle("red", "x"),
+    "undetermined": RegimeStyle("magenta+", "~"),
     DEPENDS: RegimeStyle("blue+", "#"),
     FAILED: RegimeStyle("default", "!"),
     CANCELLED: RegimeStyle("gray", "/"),
@@ -114,8 +120,8 @@ REGIME_STYLES: Mapping[str, RegimeStyle] = MappingProxyType({
 #: The colour of each key in a half-block cell (module docstring), Rich's ANSI names.
 BLOCK_COLORS: Mapping[str, str] = MappingProxyType({
     "sliding": "cyan", "oscillatory": "green", "complex": "magenta", "mixed": "yellow",
-    "unstable": "red", DEPENDS: "bright_blue", FAILED: "bright_red", CANCELLED: "blue",
-    PENDING: "bright_black",
+    "unstable": "red", "undetermined": "bright_magenta", DEPENDS: "bright_blue",
+    FAILED: "bright_red", CANCELLED: "blue", PENDING: "bright_black",
 })
 #: The overlays of a half-block drawing: the Hopf curve, the fold of cycles, the cursor.
 BLOCK_HOPF = "bright_white"

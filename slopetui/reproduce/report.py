@@ -210,7 +210,8 @@ def write_report(db: Database, resolution: int, t_end: float | None, out: Path,
         "(the rest came from the store's cache). Verdicts: "
         + ", ".join(f"{v} {n}" for v, n in tally.items()) + ".",
         "",
-        "Diagram legend: `.` sliding, `o` oscillatory, `*` complex, `+` mixed, `x` unstable; "
+        "Diagram legend: `.` sliding, `o` oscillatory, `*` complex, `+` mixed, `x` unstable, "
+        "`~` undetermined; "
         "the braille line is the exact Hopf curve of the fixed point (linear stability, "
         "`core.stability`, without noise), and `•` over a (k, tau) plane the fold of cycles "
         "(continuation, last section). Sliding runs of a bifurcation diagram are drawn at "

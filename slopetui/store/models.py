@@ -148,14 +148,17 @@ class Run(Base):
 
     # The result (core.point.PointResult.as_record).
     regime: Mapped[str | None] = mapped_column(String(16))
-    detail: Mapped[str | None] = mapped_column(String(64))
+    #: Why the classifier chose the regime; where a run at an unstable rest state is
+    #: headed, or why that is not known (core.heading), can take ~200 characters.
+    detail: Mapped[str | None] = mapped_column(Text)
     lambda_max: Mapped[float | None] = mapped_column(Measure)
     lambda_err: Mapped[float | None] = mapped_column(Measure)
     amplitude: Mapped[float | None] = mapped_column(Measure)
     period: Mapped[float | None] = mapped_column(Measure)
     period_count: Mapped[int | None] = mapped_column(Integer)
     maxima_per_period: Mapped[int | None] = mapped_column(Integer)
-    attractor: Mapped[str | None] = mapped_column(String(16))
+    #: The longest word is unstable-fixed-point, 20 characters (core.result_fields.ATTRACTORS).
+    attractor: Mapped[str | None] = mapped_column(String(24))
     settled: Mapped[bool | None] = mapped_column(Boolean)
     #: Comma-separated words (core.result_fields): query them with LIKE '%uphill%'.
     flags: Mapped[str | None] = mapped_column(String(160))

@@ -128,8 +128,11 @@ def run_point(m: dict[str, Any], has_y: bool, *, measured: bool = True) -> RunPo
     regime, flags = m["regime"], m["flags"]
     # A sliding run has no peaks: it rests near the fixed point m_y = 0 (eqs. 14-17;
     # with noise d > 0 it drifts at a small constant m_y). It is drawn at its window
-    # mean of m_y (the drift), the flat lower branch of Fig. 4A.
-    shown = (([m["drift"]] if regime == "sliding" else list(m["peaks"] or []))
+    # mean of m_y (the drift), the flat lower branch of Fig. 4A. So is a run whose window
+    # still sits at an unstable rest state (core.classify: not departed), whatever regime
+    # it is headed for: the diagram shows what the window shows.
+    at_rest = regime == "sliding" or m["attractor"] == "unstable-fixed-point"
+    shown = (([m["drift"]] if at_rest else list(m["peaks"] or []))
              if done and measured else [])
     return RunPoint(m["id"], m["ix"], m["iy"], m["x"], m["y"] if has_y else None, m["status"],
                     regime if done else None, shown, m["error"],

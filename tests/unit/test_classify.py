@@ -101,19 +101,6 @@ def test_a_decaying_alternation_is_not_complex():
     assert s.regime == "complex" and s.period_count == 2 and s.settled, s
 
 
-def test_a_tiny_linear_oscillation_is_a_transient_not_complex():
-    # the echoes of the history's kink at tau = 60, k = 6, delta = 1e-6: a few pulses per
-    # delay of peak-to-peak ~5e-6 about the fixed point, fading slowly
-    rng = np.random.default_rng(1)
-    pulses = sum(a * np.exp(-((T % 60.0) - c) ** 2) for a, c in zip(rng.uniform(1e-6, 3e-6, 3),
-                                                                      (10.0, 25.0, 41.0), strict=True))
-    p = Params(k=6.0, tau=60.0, delta=1e-6)
-    s = classify(T + 9.9e4, window(pulses * 0.9), mid_t=T + 4.9e4, mid=window(pulses), p=p)
-    assert s.regime == "sliding" and s.attractor == "fixed-point", s
-    assert "linear-transient" in s.flags and not s.settled
-    assert s.detail.startswith("linear -")     # decaying at the measured rate
-
-
 def test_quasi_periodic_is_a_continuum_but_not_chaos():
     y = np.sin(2 * np.pi * T / 10.0) + 0.2 * np.sin(2 * np.pi * T / (10.0 * math.sqrt(2)))
     s = classify(T, window(y), lyap=LyapunovEstimate(1e-5, 2e-5, 5e4, 20))

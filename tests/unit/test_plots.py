@@ -61,6 +61,7 @@ def grid_sweep() -> tuple[np.ndarray, np.ndarray, list[str | None]]:
         kh = hopf_k(ti, F1)
         regimes.append("sliding" if ki < kh else "oscillatory" if ki < 2 * kh else "unstable")
     regimes[3], regimes[40], regimes[41], regimes[7] = "complex", "mixed", "mixed", None
+    regimes[42] = "undetermined"
     return k, tau, regimes
 
 
