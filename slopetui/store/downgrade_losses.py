@@ -39,6 +39,10 @@ def _values(what: str, table: str, where: str) -> Dropped:
 
 #: Each revision's downgrade (to the one before it): what it drops.
 DROPS: dict[str, tuple[Dropped, ...]] = {
+    # labels an older slopetui cannot hold: the runs stay, their label reads as pending
+    "0010": (_values("attractor unstable-fixed-point", "runs", "length(attractor) > 16"),
+             _values("regime undetermined", "runs", "regime = 'undetermined'"),
+             _values("detail beyond 64 characters", "runs", "length(detail) > 64")),
     # AUTOINCREMENT goes: nothing is dropped (an older slopetui reuses the largest ids)
     "0009": (),
     "0008": (),  # an index

@@ -150,7 +150,7 @@ def test_0009_keeps_every_row_and_then_no_id_comes_back(new_store_url, backend):
         assert _autoincrement(db) == set()
         assert set(pk_names.values()) == {f"pk_{t}" for t in ID_TABLES}
 
-    upgrade(db)
+    command.upgrade(alembic_config(db), "0009")
     assert current_revision(db) == "0009"
     assert _rows(db) == rows
     assert _schema(db) == schema
@@ -181,4 +181,29 @@ def test_0009_keeps_every_row_and_then_no_id_comes_back(new_store_url, backend):
     assert _pk_names(db) == pk_names
     if backend == "sqlite":
         assert _autoincrement(db) == set()
+    db.dispose()
+
+
+def test_later_migrations_keep_autoincrement_and_the_largest_id_ever_handed_out(
+        new_store_url, backend):
+    """A migration after 0009 that rebuilds a table on SQLite (0010 widens two columns of
+    runs) rebuilds it from its reflection, which knows no AUTOINCREMENT: 0010 dropped it
+    from runs, and the copy seeded sqlite_sequence with the largest id left, below the
+    newest runs deleted before. Found when 0010 was merged after 0009."""
+    db = Database(new_store_url)
+    command.upgrade(alembic_config(db), "0009")
+    populate(db)
+    last = populate(db)
+    control.delete(db, last["queued"])  # the newest runs, deleted at 0009
+    gone_run = max(_ids(db, "runs")) + 4
+    upgrade(db)  # to the head
+    if backend == "sqlite":
+        assert _autoincrement(db) == set(ID_TABLES)
+        assert _sequence(db)["runs"] >= gone_run
+    again = populate(db)
+    assert min(_ids(db, "runs", f"WHERE sweep_id = {again['done']}")) > gone_run
+    downgrade(db, "0009")
+    if backend == "sqlite":
+        assert _autoincrement(db) == set(ID_TABLES)
+        assert _sequence(db)["runs"] >= gone_run + 7
     db.dispose()
