@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 from slopetui.queue.pool import Pool
-from slopetui.queue.worker_process import WorkerOptions, worker_main
+from slopetui.queue.worker_process import WorkerOptions, configure_logging, worker_main
 from slopetui.store import open_store
 from tests.integration.pool_support import start_pool, wait_until
 from tests.integration.test_store_filesystems import tmpfs  # noqa: F401 (a fixture)
@@ -34,6 +34,10 @@ def test_a_refused_write_is_one_line_and_the_pool_stops(db_url, tmp_path, capfd,
     db.dispose()
     log = tmp_path / "pool.log"
     opts = WorkerOptions(db_url=db_url, log_path=str(log), exit_when_idle=True)
+    # this process's slopetui logger to the file alone, as run_pool sets it: an earlier test
+    # in the same process may have left a handler on a captured stderr since closed ("---
+    # Logging error ---", a traceback that is not the pool's)
+    configure_logging(str(log))
     t0 = time.monotonic()
     assert Pool(opts, 2, target=worker_on_a_read_only_store).run() == 1
     # before: tracebacks, and workers restarted into the same refusal until the pool

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import logging
 import re
+from collections.abc import Iterator
 from typing import Any
 
 import pytest
@@ -49,6 +50,23 @@ POISONS = [
 ]
 
 
+#: The PostgreSQL columns allow_null dropped the NOT NULL of, put back after each test: the
+#: `store` fixture's database is this process's shared one, emptied per test but not
+#: rebuilt, and a later test comparing the models with the schema saw the NOT NULLs gone.
+_MADE_NULLABLE: list[tuple[Any, str, str]] = []
+
+
+@pytest.fixture(autouse=True)
+def _not_null_again() -> Iterator[None]:
+    yield
+    while _MADE_NULLABLE:
+        db, table, col = _MADE_NULLABLE.pop()
+        with db.engine.begin() as conn:
+            # (a number: every column a test here empties is one; rows may be referenced)
+            conn.exec_driver_sql(f"UPDATE {table} SET {col} = 0 WHERE {col} IS NULL")
+            conn.exec_driver_sql(f"ALTER TABLE {table} ALTER COLUMN {col} SET NOT NULL")
+
+
 def allow_null(db: Any, table: str, column: str, sql_type: str) -> None:
     """Drop the NOT NULL of ``table.column``, keeping its values, as a hand-edited (or
     foreign) schema may have it: PostgreSQL drops the constraint; SQLite, which cannot,
@@ -57,6 +75,7 @@ def allow_null(db: Any, table: str, column: str, sql_type: str) -> None:
     with db.engine.begin() as conn:
         if conn.dialect.name == "postgresql":
             conn.exec_driver_sql(f"ALTER TABLE {table} ALTER COLUMN {col} DROP NOT NULL")
+            _MADE_NULLABLE.append((db, table, col))
             return
         kept = conn.exec_driver_sql(f"SELECT id, {col} FROM {table}").all()
         conn.exec_driver_sql(f"ALTER TABLE {table} DROP COLUMN {col}")
