@@ -46,7 +46,8 @@ def path_problem(path: Path) -> str | None:
     return None
 
 
-def _free_bytes(path: Path) -> int | None:
+def free_bytes(path: Path) -> int | None:
+    """The bytes free to this user on the file system of ``path``'s folder (None: unknown)."""
     try:
         st = os.statvfs(path.parent)
     except OSError:
@@ -64,7 +65,7 @@ def describe(path: Path | None, reason: str) -> str:
         return (f"the database file {path} is damaged ({reason}): `slopetui db check` "
                 f"tells what is broken; restore a backup ({path.name}.bak-* beside it) or "
                 "copy out what is readable with the sqlite3 shell's .recover")
-    free = _free_bytes(path)
+    free = free_bytes(path)
     if any(word in lowered for word in FULL_WORDS) or (
             "disk i/o error" in lowered and free is not None and free < 1 << 20):
         return f"cannot write {path}: the disk is full ({reason})"

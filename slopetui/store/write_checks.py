@@ -17,14 +17,11 @@ little free space beside the file.
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
-
 from sqlalchemy import update
 from sqlalchemy.exc import DBAPIError
 
 from slopetui.store.database import Database
-from slopetui.store.failures import FULL_WORDS, describe
+from slopetui.store.failures import FULL_WORDS, describe, free_bytes
 from slopetui.store.models import Run, Worker
 
 #: Less room than this beside a SQLite file is a full disk: a result is a few kB, a
@@ -35,14 +32,6 @@ REFUSAL_WORDS = ("readonly", "read-only", "disk i/o error", *FULL_WORDS)
 #: PostgreSQL's codes for the same (SQLSTATE): read_only_sql_transaction,
 #: insufficient_privilege, disk_full.
 REFUSAL_CODES = frozenset({"25006", "42501", "53100"})
-
-
-def _free_bytes(path: Path) -> int | None:
-    try:
-        st = os.statvfs(path.parent)
-    except OSError:
-        return None
-    return st.f_bavail * st.f_frsize
 
 
 def _reason(exc: DBAPIError) -> str:
@@ -68,7 +57,7 @@ def refuses_writes(db: Database) -> str | None:
     """Why the store cannot take a worker's writes (one line), or None if it can (see
     the module docstring)."""
     if db.path is not None:
-        free = _free_bytes(db.path)
+        free = free_bytes(db.path)
         if free is not None and free < MIN_FREE_BYTES:
             return (f"cannot write {db.path}: the disk is full ({free // 1024} kB free "
                     f"in {db.path.parent})")

@@ -67,7 +67,7 @@ def test_a_read_only_store_is_refused_in_one_line(store):
 
 
 def test_a_full_disk_beside_a_sqlite_file_is_refused(db, monkeypatch):
-    monkeypatch.setattr(write_checks, "_free_bytes", lambda _path: 4096)
+    monkeypatch.setattr(write_checks, "free_bytes", lambda _path: 4096)
     assert refuses_writes(db) == (f"cannot write {db.path}: the disk is full (4 kB free in "
                                   f"{db.path.parent})")
 
