@@ -87,8 +87,8 @@ def _number(flag: str, text: str, params: Params | None = None, name: str = "") 
 def _checked(args: argparse.Namespace
              ) -> tuple[Params, float, float, float, float, float, float]:
     from core.hysteresis import T_SETTLE, TOL, WINDOW
-    from slopetui.queue.hysteresis_jobs import TOL_MAX
     from core.solve import MAX_RUN_BYTES, MAX_STEPS
+    from slopetui.queue.hysteresis_jobs import TOL_MAX
     params, dt = point_of(args)
     start = _number("from", args.start, params, args.param)
     stop = _number("to", args.stop, params, args.param)

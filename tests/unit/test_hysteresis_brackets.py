@@ -140,7 +140,7 @@ def test_0011_keeps_the_sweeps_and_gives_them_no_bracket(new_store_url, backend)
     with db.engine.begin() as conn:
         conn.exec_driver_sql(
             "INSERT INTO hysteresis_sweeps (param, start, stop, n_points, a, b, c, d, k, v, tau, "
-            "delta, dt, t_settle, window, engine, status, onset_up, offset_down, n_done, "
+            "delta, dt, t_settle, \"window\", engine, status, onset_up, offset_down, n_done, "
             "runtime_s, attempts) VALUES ('k', 0.5, 8, 40, 0.035, 0.7, 6.8, 1e-4, 6, 1, 10, "
             "0.1, 0.01, 6000, 1000, 'x', 'done', 6.269, 1.077, 80, 1.0, 1)")
     upgrade(db)
