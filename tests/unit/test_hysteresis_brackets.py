@@ -161,3 +161,14 @@ def test_0011_keeps_the_sweeps_and_gives_them_no_bracket(new_store_url, backend)
 def test_the_spec_default_is_the_engines():
     """The queue's spec names core.hysteresis.TOL's value without importing it (numpy)."""
     assert hysteresis_jobs.HysteresisSpec.tol == TOL
+
+
+@pytest.mark.parametrize("tol", [0.0, 0.5])
+def test_a_stored_tol_out_of_range_fails_the_sweep_at_its_claim(store, tol):
+    """A hand-edited tol is refused with its name and range, not bisected forever."""
+    sid = hysteresis_jobs.submit(store, SPEC)
+    with store.engine.begin() as conn:
+        conn.exec_driver_sql(f"UPDATE hysteresis_sweeps SET tol = {tol}")
+    assert hysteresis_jobs.claim(store, "w1") is None
+    row = hysteresis_rows.hysteresis_sweep(store, sid)
+    assert row is not None and row["status"] == "failed" and "tol = " in row["error"]
