@@ -21,11 +21,33 @@ tau = 10): the point is integrated again from the state kicked by KICK in m_y, s
 t_settle until it lands on another attractor, and the branch goes on from there
 ("jumped"). Nothing else perturbs the handover.
 
-Where a branch changes regime: ``onset_up`` is the first value of the up branch whose
-state is not a stable rest while the first point's was (or, generally, whose regime
-differs from the first point's); ``offset_down`` likewise on the down branch. Between
-them lies, by simulation alone, the band where the outcome depends on the initial state;
-continuation (core.continuation) finds its ends as the Hopf point and the fold of cycles.
+Where a branch changes regime: the grid gives a bracket, the last value of the branch
+still on its first point's kind of state (a stable rest, or the first point's regime) and
+the first value past it (``Transition.before`` and ``.after``). The transition is then
+refined inside that bracket by bisection (``refine``), each middle value settled for
+t_settle from the state carried from the last value found on the old attractor, as the
+sweep itself carries it (the bracket's old end first, then each middle found old), until
+half the bracket is at most ``tol`` times the value (TOL, relative). ``onset_up`` and
+``offset_down`` are the refined values. What "still on the old attractor" means:
+
+* Up from rest, the onset is where the rest state stops being the attractor reached: the
+  Hopf point. A middle value whose window has left rest is past it. One still at rest is
+  decided by linear theory, the sign of the leading root of the rest state it sits at
+  (core.rest_stability.rest_exponent, with the noise d): within ~0.1 % of k_H at tau = 10
+  the rates are ~1e-6 per unit time, below what the growth measured along the simulation
+  resolves (~4e-6, tests/unit/test_hysteresis.py), and a rest state that is unstable there
+  would take ~1e5 units to leave. Only where the root cannot be computed does the measured
+  growth decide.
+* Down from the cycle, the offset is where the cycle is lost: the fold of cycles. A middle
+  value whose window still shows the first point's regime is on the cycle; any other
+  outcome (rest, another regime, a run leaving the finite range) is past it. Near the fold
+  the cycle's ghost slows the fall, but within the tolerance it is short: at tau = 10,
+  k = 1.2127 (0.1 % below the fold 1.2139) the run from the cycle at 1.3 is at rest well
+  inside the default 6000 units.
+
+Between onset and offset lies, by simulation alone, the band where the outcome depends on
+the initial state; continuation (core.continuation) finds its ends as the Hopf point and
+the fold of cycles independently (tests/unit/test_hysteresis_brackets.py compares them).
 """
 
 from __future__ import annotations
@@ -55,6 +77,16 @@ RENORM_SPAN = 50.0
 #: its exponent needs the tangent's other modes (decaying at >= 1e-2) gone, ~1000 units,
 #: and its sign then holds over 5000 more (tests/unit/test_hysteresis.py).
 T_SETTLE, WINDOW = 6000.0, 1000.0
+#: Default tolerance of a refined transition, relative to its value: the bisection stops
+#: when half its bracket is at most this times the middle. Its cost, measured at tau = 10, k
+#: from 0.5 to 8 in 40 points (the sweep itself: 7.0 s CPU for its 80 points): the onset
+#: 4 extra settle runs and 6.2 s (most of it the rest state's root with noise,
+#: core.rest_stability, ~1.4 s each), the offset 7 settle runs and 0.3 s; at 1e-4, 8 runs
+#: and 11.7 s, 10 runs and 0.5 s. The results: 6.1430 and 1.21439 (Hopf point 6.1462 with
+#: the noise, fold 1.2139).
+TOL = 1e-3
+#: Bisection steps at most (a transition at a value 0 meets no relative tolerance).
+MAX_BISECTIONS = 60
 
 
 @dataclass(frozen=True)
@@ -77,12 +109,40 @@ class WarmPoint:
 
 
 @dataclass(frozen=True)
+class Transition:
+    """Where a branch leaves its attractor: the grid's bracket, ``before`` (the last value
+    on the old attractor) and ``after`` (the first on the new), and ``value``, the middle
+    of the bracket bisection left (within ``tol`` of the transition, relative); ``settles``
+    counts the bisection's settle runs, ``by_theory`` those at rest that linear theory
+    decided (the module docstring says why)."""
+
+    before: float
+    after: float
+    value: float
+    tol: float
+    settles: int = 0
+    by_theory: int = 0
+
+
+@dataclass(frozen=True)
 class Hysteresis:
+    """Both branches and where each leaves its attractor: ``onset_up`` and ``offset_down``
+    the refined values (None: the branch keeps its attractor), ``onset`` and ``offset``
+    with their brackets."""
+
     param: str
     up: list[WarmPoint]
     down: list[WarmPoint]
-    onset_up: float | None
-    offset_down: float | None
+    onset: Transition | None = None
+    offset: Transition | None = None
+
+    @property
+    def onset_up(self) -> float | None:
+        return None if self.onset is None else self.onset.value
+
+    @property
+    def offset_down(self) -> float | None:
+        return None if self.offset is None else self.offset.value
 
 
 def initial_state(p: Params, g: Grid) -> np.ndarray:
@@ -182,56 +242,123 @@ def _leaving_rest(summary: Summary, growth: float) -> bool:
 def branch(base: Params, name: str, values: Sequence[float], g: Grid, state: np.ndarray,
            t_settle: float, window: float,
            progress: Callable[[WarmPoint], None] | None = None
-           ) -> tuple[list[WarmPoint], np.ndarray, str]:
-    """Warm-started points along ``values`` from ``state``: the points, the last state, and
-    why the branch ended early ("" if it did not: a run that leaves the finite range ends
-    it, since there is no state to hand over)."""
+           ) -> tuple[list[WarmPoint], list[np.ndarray], str]:
+    """Warm-started points along ``values`` from ``state``: the points, the state each
+    handed over (none for a last point that left the finite range), and why the branch
+    ended early ("" if it did not: a run that leaves the finite range ends it, since there
+    is no state to hand over)."""
     points: list[WarmPoint] = []
+    states: list[np.ndarray] = []
     for value in values:
         try:
             pt, state = point(base.with_(**{name: value}), g, state, name, t_settle, window)
         except OrbitError as exc:
             points.append(WarmPoint(value, "unstable", str(exc), math.nan, math.nan))
-            return points, state, f"{name} = {value:g}: {exc}"
+            return points, states, f"{name} = {value:g}: {exc}"
         points.append(pt)
+        states.append(state)
         if progress is not None:
             progress(pt)
-    return points, state, ""
+    return points, states, ""
+
+
+def _same_kind(first: WarmPoint, pt: WarmPoint) -> bool:
+    """Whether ``pt`` is on the first point's kind of state: a stable rest, or (starting
+    away from rest) the first point's regime."""
+    return pt.stable_rest if first.stable_rest else pt.regime == first.regime
+
+
+def past(points: Sequence[WarmPoint]) -> int | None:
+    """The index of the first point that left the first point's kind of state (None: the
+    branch keeps it); the point before it is the last on the old attractor."""
+    for i, pt in enumerate(points[1:], 1):
+        if not _same_kind(points[0], pt):
+            return i
+    return None
 
 
 def change(points: Sequence[WarmPoint]) -> float | None:
-    """The first value where the branch leaves its first point's kind of state: a stable
-    rest, or (starting away from rest) the first point's regime."""
-    if not points:
+    """The first value where the branch leaves its first point's kind of state (the grid's
+    answer: the refined one is ``refine``'s)."""
+    i = past(points)
+    return None if i is None else points[i].value
+
+
+def _still_old(first: WarmPoint, p: Params, g: Grid, state: np.ndarray, t_settle: float,
+               window: float) -> tuple[bool, np.ndarray, bool]:
+    """Settle at p from ``state``: whether it is still on the first point's kind of state
+    (the module docstring says how each direction is decided), the final state, and
+    whether linear theory decided."""
+    from core.rest_stability import NEUTRAL_TOL, rest_exponent
+    try:
+        final, t, win, growth = settle(p, g, state, t_settle, window)
+    except OrbitError:
+        return False, state, False  # it left the finite range: not on the old attractor
+    summary = classify(t, win, p=p, follow_branch=False)
+    if not first.stable_rest:
+        return summary.regime == first.regime, final, False
+    if summary.regime != "sliding" and summary.attractor != "unstable-fixed-point":
+        return False, final, False  # it left rest
+    try:
+        root = rest_exponent(p)
+    except ArithmeticError:  # no root: the growth measured along the simulation decides
+        return not growth > 0.0, final, False
+    return root < NEUTRAL_TOL, final, True
+
+
+def refine(base: Params, name: str, points: Sequence[WarmPoint], states: Sequence[np.ndarray],
+           g: Grid, t_settle: float, window: float, tol: float = TOL) -> Transition | None:
+    """The branch's transition (``past``) refined by bisection inside its grid bracket, from
+    the state the last point on the old attractor handed over (``states[i]``: what point i
+    handed over); None when the branch keeps its attractor."""
+    i = past(points)
+    if i is None:
         return None
     first = points[0]
-    for pt in points[1:]:
-        if first.stable_rest:
-            if not pt.stable_rest:
-                return pt.value
-        elif pt.regime != first.regime:
-            return pt.value
-    return None
+    old, new = points[i - 1].value, points[i].value
+    state = states[i - 1]
+    settles = by_theory = 0
+    for _ in range(MAX_BISECTIONS):
+        middle = 0.5 * (old + new)
+        if abs(new - old) <= 2.0 * tol * abs(middle):
+            break
+        still, final, theory = _still_old(first, base.with_(**{name: middle}), g, state,
+                                          t_settle, window)
+        settles += 1
+        by_theory += theory
+        if still:
+            old, state = middle, final  # carried on, as the sweep carries it
+        else:
+            new = middle
+    return Transition(points[i - 1].value, points[i].value, 0.5 * (old + new), tol, settles,
+                      by_theory)
 
 
 def hysteresis(base: Params, name: str, start: float, stop: float, n_points: int,
                dt: float = 0.01, t_settle: float = T_SETTLE, window: float = WINDOW,
-               progress: Callable[[str, WarmPoint], None] | None = None) -> Hysteresis:
+               progress: Callable[[str, WarmPoint], None] | None = None,
+               tol: float = TOL) -> Hysteresis:
     """Up from ``start`` to ``stop`` in n_points equal steps, then back down, each point
-    warm-started from the previous one's final state (the module docstring says how)."""
+    warm-started from the previous one's final state, and each branch's transition refined
+    to ``tol`` (relative; the module docstring says how)."""
     if name == "tau":
         raise OrbitError("a hysteresis sweep cannot follow tau: the state's history is one "
                          "delay long, so it changes size along the sweep")
     values = np.linspace(start, stop, n_points)
     g = Grid.of(base, dt)
     first = base.with_(**{name: float(values[0])})
-    up, state, end = branch(base, name, values, g, initial_state(first, g), t_settle, window,
-                            None if progress is None else lambda pt: progress("up", pt))
+    up, up_states, end = branch(base, name, values, g, initial_state(first, g), t_settle,
+                                window, None if progress is None else lambda pt: progress("up", pt))
     down: list[WarmPoint] = []
+    down_states: list[np.ndarray] = []
     if not end:
-        down, _, _ = branch(base, name, values[::-1], g, state, t_settle, window,
-                            None if progress is None else lambda pt: progress("down", pt))
-    return Hysteresis(name, up, down, change(up), change(down))
+        down, down_states, _ = branch(base, name, values[::-1], g, up_states[-1], t_settle,
+                                      window, None if progress is None
+                                      else lambda pt: progress("down", pt))
+    return Hysteresis(name, up, down,
+                      refine(base, name, up, up_states, g, t_settle, window, tol),
+                      refine(base, name, down, down_states, g, t_settle, window, tol))
 
 
-__all__ = ["Hysteresis", "WarmPoint", "hysteresis", "initial_state", "settle"]
+__all__ = ["Hysteresis", "Transition", "WarmPoint", "change", "hysteresis", "initial_state",
+           "past", "refine", "settle"]

@@ -19,7 +19,7 @@ from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
-    from core.hysteresis import WarmPoint
+    from core.hysteresis import Transition, WarmPoint
     from slopetui.sweeps.hysteresis_runs import StoredHysteresis
 
 #: Parameters a warm-started sweep can follow: not tau (the state's history is one delay
@@ -53,6 +53,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="time integrated at each point (default 6000)")
     p.add_argument("--window", default=None, metavar="T",
                    help="analysis window at the end of each point (default 1000)")
+    p.add_argument("--tol", default=None, metavar="R",
+                   help="each branch's transition is refined by bisection inside its grid "
+                        "bracket to this tolerance, relative (default 1e-3; above 0, below "
+                        "0.5; ~10 more settle runs at the default)")
     p.add_argument("--submit", action="store_true",
                    help="queue the sweep for the workers (`slopetui worker`, the application's "
                         "pool) instead of computing it here; it is stored point by point, "
@@ -80,9 +84,11 @@ def _number(flag: str, text: str, params: Params | None = None, name: str = "") 
     return value
 
 
-def _checked(args: argparse.Namespace) -> tuple[Params, float, float, float, float, float]:
-    from core.hysteresis import T_SETTLE, WINDOW
+def _checked(args: argparse.Namespace
+             ) -> tuple[Params, float, float, float, float, float, float]:
+    from core.hysteresis import T_SETTLE, TOL, WINDOW
     from core.solve import MAX_RUN_BYTES, MAX_STEPS
+    from slopetui.queue.hysteresis_jobs import TOL_MAX
     params, dt = point_of(args)
     start = _number("from", args.start, params, args.param)
     stop = _number("to", args.stop, params, args.param)
@@ -103,7 +109,10 @@ def _checked(args: argparse.Namespace) -> tuple[Params, float, float, float, flo
         high = MAX_RUN_BYTES / WINDOW_STEP_BYTES * dt
         raise ParameterError("window", window, f"at most {high:g} ({MAX_RUN_BYTES / 1024**3:g} "
                                                f"GiB of samples at dt = {dt:g})")
-    return params, dt, start, stop, t_settle, window
+    tol = TOL if args.tol is None else _number("tol", args.tol)
+    if not 0.0 < tol < TOL_MAX:
+        raise ParameterError("tol", tol, f"a number above 0 and below {TOL_MAX:g}")
+    return params, dt, start, stop, t_settle, window, tol
 
 
 def fields(pt: WarmPoint) -> dict[str, Any]:
@@ -130,14 +139,30 @@ def _line(direction: str, param: str, pt: Mapping[str, Any]) -> str:
             f"amplitude {pt['amplitude']:<10.4g} {terminal_safe(pt['detail'])}{note}")
 
 
+def transition_fields(prefix: str, found: Transition | None) -> dict[str, float | None]:
+    """A computed transition as the stored ones are read back: ``prefix`` (onset_up or
+    offset_down) refined, ``prefix_before``/``prefix_after`` its grid bracket."""
+    return {prefix: None if found is None else found.value,
+            f"{prefix}_before": None if found is None else found.before,
+            f"{prefix}_after": None if found is None else found.after}
+
+
 def _changes(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping[str, Any]],
-             onset_up: float | None, offset_down: float | None, step: float) -> None:
-    """Where each branch changes regime, and which branch ended early (a run that left the
-    finite range)."""
-    for name, value in (("up branch changes regime at", onset_up),
-                        ("down branch changes regime at", offset_down)):
-        print(f"{name} {param} = {value:.6g} (grid step {step:.3g})" if value is not None
-              else f"{name.split(' changes')[0]} keeps its regime throughout")
+             found: Mapping[str, Any], tol: float | None, step: float) -> None:
+    """Where each branch changes regime: refined, with its grid bracket (the last value on
+    the old attractor, the first on the new); a sweep stored before brackets were kept has
+    the grid's value alone. Then which branch ended early (a run that left the finite
+    range)."""
+    for name, key in (("up branch changes regime at", "onset_up"),
+                      ("down branch changes regime at", "offset_down")):
+        value, before, after = found[key], found.get(f"{key}_before"), found.get(f"{key}_after")
+        if value is None:
+            print(f"{name.split(' changes')[0]} keeps its regime throughout")
+        elif before is None or after is None:
+            print(f"{name} {param} = {value:.6g} (grid step {step:.3g})")
+        else:
+            print(f"{name} {param} = {value:.6g} (refined to {tol:.2g} relative; bracket: last "
+                  f"on the old attractor {before:.6g}, first on the new {after:.6g})")
     if up and not down:
         print("the up branch ended early: " + terminal_safe(up[-1]["detail"]))
     elif len(down) < len(up):
@@ -153,10 +178,10 @@ def _plot(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping[st
 
 
 def _submit(args: argparse.Namespace, params: Params, dt: float, start: float, stop: float,
-            t_settle: float, window: float) -> int:
+            t_settle: float, window: float, tol: float) -> int:
     from slopetui.sweeps.hysteresis_runs import HysteresisSpec, submit
     sid = submit(open_db(args), HysteresisSpec(params, args.param, start, stop, args.points,
-                                               dt, t_settle, window))
+                                               dt, t_settle, window, tol))
     return say_queued(args.json, "hysteresis sweep", sid, f"slopetui hysteresis --show {sid}")
 
 
@@ -188,7 +213,7 @@ def _status(sweep: StoredHysteresis) -> None:
     row = sweep.row
     if row["status"] == "done":
         step = abs(row["stop"] - row["start"]) / (row["n_points"] - 1)
-        _changes(terminal_safe(sweep.param), sweep.up, sweep.down, row["onset_up"], row["offset_down"], step)
+        _changes(terminal_safe(sweep.param), sweep.up, sweep.down, row, row["tol"], step)
     elif row["error"]:
         print(f"{terminal_safe(row['status'])}: "
               f"{terminal_safe(str(row['error']).strip().splitlines()[-1])}")
@@ -206,12 +231,12 @@ def handle(args: argparse.Namespace) -> int:
             raise UsageError(f"the following argument is required: {flag} (or --show ID to "
                              "print a stored sweep)")
     try:
-        params, dt, start, stop, t_settle, window = _checked(args)
+        params, dt, start, stop, t_settle, window, tol = _checked(args)
     except ParameterError as exc:
         print(f"slopetui hysteresis: error: {exc}", file=sys.stderr)
         return 2
     if args.submit:
-        return _submit(args, params, dt, start, stop, t_settle, window)
+        return _submit(args, params, dt, start, stop, t_settle, window, tol)
     from core.hysteresis import hysteresis
     t0 = time.process_time()
 
@@ -219,18 +244,19 @@ def handle(args: argparse.Namespace) -> int:
         if not args.json:
             print(_line(direction, args.param, fields(pt)), flush=True)
 
-    result = hysteresis(params, args.param, start, stop, args.points, dt, t_settle, window, say)
+    result = hysteresis(params, args.param, start, stop, args.points, dt, t_settle, window, say,
+                        tol)
     took = time.process_time() - t0
     up, down = [fields(p) for p in result.up], [fields(p) for p in result.down]
+    found = {**transition_fields("onset_up", result.onset),
+             **transition_fields("offset_down", result.offset)}
     if args.json:
         print(json_text({"param": args.param, "up": [record(p) for p in up],
-                         "down": [record(p) for p in down],
-                         "onset_up": result.onset_up, "offset_down": result.offset_down,
-                         "dt": dt, "t_settle": t_settle, "window": window,
+                         "down": [record(p) for p in down], **found,
+                         "dt": dt, "t_settle": t_settle, "window": window, "tol": tol,
                          "runtime_s": took}))
         return 0
-    _changes(args.param, up, down, result.onset_up, result.offset_down,
-             abs(stop - start) / (args.points - 1))
+    _changes(args.param, up, down, found, tol, abs(stop - start) / (args.points - 1))
     print(f"{len(up) + len(down)} points, {took:.1f} s")
     if args.plot:
         _plot(args.param, up, down, f"hysteresis in {args.param}")

@@ -6,6 +6,10 @@ over, finished with where each branch changes regime.
 The policy is the continuations' (slopetui.queue.branch_jobs; the steps' share in
 slopetui.queue.thread_steps):
 
+* Once every point is saved, each branch's transition is refined inside its grid bracket
+  (core.hysteresis.refine, from the saved state of the bracket's old end) to the sweep's
+  ``tol``, as one more step, and the sweep finished with the refined values and brackets;
+  a sweep stopped there refines again when resumed.
 * A worker claims a hysteresis sweep after continuations and before runs
   (slopetui.queue.worker_process): it is asked for interactively.
 * The points are numbered along the whole sweep: idx 0 to n - 1 are the up branch at
@@ -51,13 +55,17 @@ if TYPE_CHECKING:  # numpy and numba's kernels: loaded by the worker that comput
 
 log = logging.getLogger("slopetui.worker")
 
+#: A relative tolerance at or above this would let a refined transition leave its bracket's
+#: scale: the stored tol and ``--tol`` are below it.
+TOL_MAX = 0.5
+
 
 @dataclass(frozen=True)
 class HysteresisSpec:
     """What a hysteresis sweep computes (core.hysteresis.hysteresis's arguments): ``name``
     from ``start`` to ``stop`` in ``n_points`` values and back, from ``params``; RK4 step
     ``dt``, ``t_settle`` integrated at each point and its last ``window`` classified
-    (model time units)."""
+    (model time units); each transition refined to ``tol`` (relative)."""
 
     params: Params
     name: str
@@ -67,6 +75,8 @@ class HysteresisSpec:
     dt: float
     t_settle: float
     window: float
+    #: core.hysteresis.TOL, the default (not imported: it brings numpy to the faces).
+    tol: float = 1e-3
 
     def values(self) -> np.ndarray:
         """The up branch's values (the down branch's reversed)."""
@@ -93,7 +103,7 @@ def fields_of(spec: HysteresisSpec) -> dict[str, Any]:
     """The hysteresis_sweeps row of a spec (queued, with the engine's digest)."""
     return {"param": spec.name, "start": spec.start, "stop": spec.stop,
             "n_points": spec.n_points, **{n: getattr(spec.params, n) for n in PARAM_NAMES},
-            "dt": spec.dt, "t_settle": spec.t_settle, "window": spec.window,
+            "dt": spec.dt, "t_settle": spec.t_settle, "window": spec.window, "tol": spec.tol,
             "engine": source_digest(), "status": "queued"}
 
 
@@ -107,7 +117,7 @@ def spec_of(row: Any) -> HysteresisSpec:
     stored_inputs.INPUT_ERRORS (ParameterError naming the column) for values it cannot be
     computed from (a sweep along tau is refused later, as an answer: compute)."""
     stored_inputs.present(row, (*PARAM_NAMES, "param", "start", "stop", "n_points", "dt",
-                                "t_settle", "window"))
+                                "t_settle", "window", "tol"))
     params = Params(**{n: row[n] for n in PARAM_NAMES})
     name = row["param"]
     if name not in PARAM_NAMES:
@@ -119,9 +129,12 @@ def spec_of(row: Any) -> HysteresisSpec:
     window = check_positive("window", row["window"])
     if window > t_settle:
         raise ParameterError("window", window, f"0 < window <= t_settle = {t_settle:g}")
+    tol = check_positive("tol", row["tol"])
+    if tol >= TOL_MAX:
+        raise ParameterError("tol", tol, f"0 < tol < {TOL_MAX:g}")
     return HysteresisSpec(params, name, ends[0], ends[1],
                           stored_inputs.whole("n_points", row["n_points"], 2),
-                          stored_inputs.orbit_step(params, row["dt"]), t_settle, window)
+                          stored_inputs.orbit_step(params, row["dt"]), t_settle, window, tol)
 
 
 def claim(db: Database, worker_id: str) -> HysteresisJob | None:
@@ -162,11 +175,29 @@ def warm_point(row: Any) -> WarmPoint:
 
 
 def changes(rows: Sequence[Any]) -> tuple[float | None, float | None]:
-    """onset_up and offset_down of the saved points (core.hysteresis.change)."""
+    """Where each branch of the saved points changes regime on the grid (the first value
+    past: core.hysteresis.change), before refinement."""
     from core.hysteresis import change
     up = [warm_point(r) for r in rows if r["direction"] == "up"]
     down = [warm_point(r) for r in rows if r["direction"] == "down"]
     return change(up), change(down)
+
+
+def transitions(spec: HysteresisSpec, g: Grid, rows: Sequence[Any]) -> dict[str, float | None]:
+    """Each branch's transition refined from the saved points and the states they handed
+    over (core.hysteresis.refine), as hysteresis_rows.TRANSITION_COLUMNS."""
+    from core.hysteresis import refine
+    out: dict[str, float | None] = {}
+    for direction, name in (("up", "onset_up"), ("down", "offset_down")):
+        mine = [r for r in rows if r["direction"] == direction]
+        points = [warm_point(r) for r in mine]
+        states = [state_of(r, g) for r in mine if r["state"] is not None]
+        found = refine(spec.params, spec.name, points, states, g, spec.t_settle, spec.window,
+                       spec.tol)
+        out[name] = None if found is None else found.value
+        out[f"{name}_before"] = None if found is None else found.before
+        out[f"{name}_after"] = None if found is None else found.after
+    return out
 
 
 def _one(spec: HysteresisSpec, g: Grid, idx: int, state: np.ndarray
@@ -183,12 +214,17 @@ def _one(spec: HysteresisSpec, g: Grid, idx: int, state: np.ndarray
         return WarmPoint(value, "unstable", str(exc), math.nan, math.nan), None
 
 
-def _finish(db: Database, wid: str, job: HysteresisJob, spent: float) -> None:
+def _finish(db: Database, wid: str, job: HysteresisJob, held: HeldJob, g: Grid,
+            spent: float) -> None:
+    """Refine both transitions (one step: a stop or an abort gives the sweep back) and
+    finish the sweep with them."""
     rows = hysteresis_rows.saved_points(db, job.id)
-    onset, offset = changes(rows)
-    if hysteresis_rows.finish(db, job.id, wid, onset, offset, spent):
+    if (stepped := held.step(partial(transitions, job.spec, g, rows))) is None:
+        return
+    found, took = stepped
+    if hysteresis_rows.finish(db, job.id, wid, found, spent + took):
         log.info("hysteresis sweep %d done: %d points, up changes at %s, down at %s", job.id,
-                 len(rows), onset, offset)
+                 len(rows), found["onset_up"], found["offset_down"])
     else:
         log.warning("hysteresis sweep %d finished after its lease was lost; discarded", job.id)
 
@@ -239,4 +275,6 @@ def compute(db: Database, wid: str, job: HysteresisJob, run: Runner, control: St
             return
         spent = 0.0
         idx += 1
-    _finish(db, wid, job, spent)
+    if held.stopped():
+        return None
+    _finish(db, wid, job, held, g, spent)

@@ -39,6 +39,11 @@ def _values(what: str, table: str, where: str) -> Dropped:
 
 #: Each revision's downgrade (to the one before it): what it drops.
 DROPS: dict[str, tuple[Dropped, ...]] = {
+    # the refined values stay in onset_up and offset_down; their brackets and tolerance go
+    "0011": (Dropped("the transition brackets of {n} hysteresis sweep",
+                     "the transition brackets of {n} hysteresis sweeps",
+                     "SELECT count(*) FROM hysteresis_sweeps WHERE onset_up_before IS NOT NULL "
+                     "OR offset_down_before IS NOT NULL", rows=False),),
     # labels an older slopetui cannot hold: the runs stay, their label reads as pending
     "0010": (_values("attractor unstable-fixed-point", "runs", "length(attractor) > 16"),
              _values("regime undetermined", "runs", "regime = 'undetermined'"),

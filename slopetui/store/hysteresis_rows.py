@@ -10,6 +10,8 @@ branch changes regime.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from sqlalchemy import RowMapping
 
 from slopetui.store.database import Database
@@ -44,13 +46,18 @@ hysteresis_sweeps = _JOBS.newest_first
 hysteresis_sweep = _JOBS.row
 
 
-def finish(db: Database, sid: int, worker_id: str, onset_up: float | None,
-           offset_down: float | None, spent_s: float) -> bool:
-    """Mark a held sweep done, with where each branch changes regime. False if the lease
-    was lost (nothing is written)."""
+#: A finished sweep's results: where each branch changes regime, refined, and its bracket.
+TRANSITION_COLUMNS = ("onset_up", "onset_up_before", "onset_up_after", "offset_down",
+                      "offset_down_before", "offset_down_after")
+
+
+def finish(db: Database, sid: int, worker_id: str, transitions: Mapping[str, float | None],
+           spent_s: float) -> bool:
+    """Mark a held sweep done, with where each branch changes regime (TRANSITION_COLUMNS,
+    each given). False if the lease was lost (nothing is written)."""
     with db.transaction() as s:
-        return _JOBS.mark_done(s, sid, worker_id, spent_s, onset_up=onset_up,
-                               offset_down=offset_down)
+        return _JOBS.mark_done(s, sid, worker_id, spent_s,
+                               **{name: transitions[name] for name in TRANSITION_COLUMNS})
 
 
 # -- the faces' reads --

@@ -359,14 +359,23 @@ class HysteresisSweep(LeasedJob, Base):
     dt: Mapped[float] = mapped_column(Double)
     t_settle: Mapped[float] = mapped_column(Double)
     window: Mapped[float] = mapped_column(Double)
+    #: The relative tolerance each transition is refined to (core.hysteresis.refine).
+    tol: Mapped[float] = mapped_column(Double, default=1e-3, server_default="0.001")
     engine: Mapped[str] = mapped_column(String(16))
 
     # The queue: status, worker_id, attempts and the times from LeasedJob.
 
     # The result: where each branch changes regime (NULL: it keeps it, or not done yet),
-    # points saved so far, compute time over every attempt (s).
+    # refined to tol, with the grid's bracket (the last value on the old attractor, the
+    # first on the new; NULL also for a sweep stored before migration 0011, whose onset_up
+    # and offset_down are the grid's values), points saved so far, compute time over
+    # every attempt (s).
     onset_up: Mapped[float | None] = mapped_column(Double)
     offset_down: Mapped[float | None] = mapped_column(Double)
+    onset_up_before: Mapped[float | None] = mapped_column(Double)
+    onset_up_after: Mapped[float | None] = mapped_column(Double)
+    offset_down_before: Mapped[float | None] = mapped_column(Double)
+    offset_down_after: Mapped[float | None] = mapped_column(Double)
     n_done: Mapped[int] = mapped_column(default=0, server_default="0")
     runtime_s: Mapped[float] = mapped_column(Double, default=0.0, server_default="0")
 

@@ -24,7 +24,9 @@ class StoredHysteresis(StoredJob):
     changes regime) and its points so far, in sweep order (up, then down)."""
 
     SUMMARY_KEYS = ("id", "param", "status", "start", "stop", "n_points", "n_done", "dt",
-                    "t_settle", "window", "onset_up", "offset_down", "runtime_s", "error",
+                    "t_settle", "window", "tol", "onset_up", "onset_up_before",
+                    "onset_up_after", "offset_down", "offset_down_before",
+                    "offset_down_after", "runtime_s", "error",
                     "attempts", "a", "b", "c", "d", "k", "v", "tau", "delta")
 
     points: list[WarmRecord]

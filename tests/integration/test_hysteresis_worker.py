@@ -36,7 +36,9 @@ def test_a_sweep_survives_kill_9_and_a_stop_and_finishes_once(tmp_path, db, db_u
     values = SPEC.values()
     assert [p["direction"] for p in points] == ["up"] * SPEC.n_points + ["down"] * SPEC.n_points
     assert [p["value"] for p in points] == [*values, *values[::-1]]
-    assert done["onset_up"] is not None and np.isin(done["onset_up"], values)
+    # refined inside the grid's bracket, whose ends are grid values
+    assert np.isin([done["onset_up_before"], done["onset_up_after"]], values).all()
+    assert done["onset_up_before"] < done["onset_up"] < done["onset_up_after"]
     text = log.read_text()
     assert text.count(f"hysteresis sweep {sid} done") == 1
     assert "died (exit code -9): 1 jobs requeued" in text

@@ -37,7 +37,9 @@ def sweep(db: Database, n: int = len(SHAPE), *, finish: bool = True) -> int:
             "amplitude": amplitude, "growth": growth, "jumped": jumped,
             "state": np.zeros(3).tobytes()}, 0.1)
     if finish:
-        assert hysteresis_rows.finish(db, sid, "w1", 8.0, 0.5, 0.0)
+        assert hysteresis_rows.finish(db, sid, "w1", {
+            "onset_up": 6.1431, "onset_up_before": 4.25, "onset_up_after": 8.0,
+            "offset_down": 1.2144, "offset_down_before": 4.25, "offset_down_after": 0.5}, 0.0)
     return sid
 
 
@@ -56,14 +58,16 @@ def test_a_finished_sweep_is_listed_and_drawn_with_its_changes(db):
             await _open(pilot, app)
             table = app.screen.query_one("#hyst-table")
             await wait_until(pilot, lambda: table.row_count == 1)
-            assert cells(table, 0) == [str(sid), "k", "0.5→8 τ=10", "done", "6/6", "8", "0.5"]
+            assert cells(table, 0) == [str(sid), "k", "0.5→8 τ=10", "done", "6/6", "6.1431",
+                                       "1.2144"]
             assert not app.screen.query_one("#branch-table").display  # no continuations
             plot = app.screen.query_one(PlotView)
             await wait_until(pilot, lambda: "m_y amplitude" in str(plot.render()))
             drawn = str(plot.render())
             assert f"hysteresis {sid} in k" in drawn and "up 3" in drawn and "down 3" in drawn
             detail = str(app.screen.query_one("#branch-detail").render())
-            assert "up leaves rest at k = 8, down leaves the cycle at k = 0.5" in detail
+            assert ("up leaves rest at k = 6.1431 [4.25, 8], down leaves the cycle at "
+                    "k = 1.2144 [4.25, 0.5]") in detail
 
     run(scenario)
 

@@ -30,11 +30,17 @@ def test_submit_queues_and_show_prints_it_queued_then_done(db, db_url, capsys):
     assert out["status"] == "done" and out["n_done"] == 8 and out["param"] == "k"
     assert [p["value"] for p in out["up"]] == [8.0, 8 + 4 / 3, 8 + 8 / 3, 12.0]
     assert set(out["up"][0]) == {"value", "regime", "amplitude", "detail", "growth", "jumped"}
-    assert out["onset_up"] == out["up"][1]["value"] and out["offset_down"] is None
+    # refined inside the grid's bracket: the last point at rest, the first kicked off it
+    assert (out["onset_up_before"], out["onset_up_after"]) == \
+        (out["up"][0]["value"], out["up"][1]["value"])
+    assert out["up"][0]["value"] < out["onset_up"] < out["up"][1]["value"]
+    assert out["offset_down"] is None and out["offset_down_before"] is None
+    assert out["tol"] == 1e-3
     assert main(["hysteresis", "--show", "1", "--plot", "--db", db_url]) == 0
     text = capsys.readouterr().out
     assert "up   k = 8 " in text and "kicked" in text
-    assert "up branch changes regime at k = 9.33333 (grid step 1.33)" in text
+    assert f"up branch changes regime at k = {out['onset_up']:.6g} (refined to 0.001 relative; " \
+        "bracket: last on the old attractor 8, first on the new 9.33333)" in text
     assert "down branch keeps its regime throughout" in text
     assert "m_y amplitude" in text and "up 4" in text and "down 4" in text
 
@@ -49,7 +55,9 @@ def test_the_foreground_and_the_stored_sweep_print_the_same_points(db, db_url, c
     _compute(db, "w1")
     assert main(["hysteresis", "--show", "1", "--db", db_url, "--json"]) == 0
     stored = json.loads(capsys.readouterr().out)
-    for key in ("up", "down", "onset_up", "offset_down", "param", "dt", "t_settle", "window"):
+    for key in ("up", "down", "onset_up", "offset_down", "param", "dt", "t_settle", "window",
+                "tol", "onset_up_before", "onset_up_after", "offset_down_before",
+                "offset_down_after"):
         assert stored[key] == here[key], key
     # and the lines: the foreground's point lines are the stored sweep's
     assert main(SWEEP) == 0

@@ -54,12 +54,14 @@ def test_the_branches_end_at_the_hopf_point_and_at_the_fold():
     h = hysteresis(Params(tau=10.0), "k", 1.0, 6.6, 15)
     step = 0.4
     k_h = hopf_k(10.0, Params().F1)
-    assert h.onset_up is not None and h.onset_up - step < k_h <= h.onset_up
-    assert h.offset_down is not None and h.offset_down < FOLD_TAU10 <= h.offset_down + step
-    assert all(p.stable_rest for p in h.up if p.value < h.onset_up)
+    assert h.onset is not None and h.offset is not None  # the grid's brackets
+    onset, offset = h.onset.after, h.offset.after
+    assert onset - step < k_h <= onset and h.onset.before == pytest.approx(onset - step)
+    assert offset < FOLD_TAU10 <= offset + step and h.offset.before == pytest.approx(offset + step)
+    assert all(p.stable_rest for p in h.up if p.value < onset)
     kicked = [p for p in h.up if p.jumped]
-    assert [p.value for p in kicked] == [h.onset_up] and kicked[0].growth > 0
-    assert all(p.regime == "oscillatory" for p in h.down if p.value > h.offset_down)
+    assert [p.value for p in kicked] == [onset] and kicked[0].growth > 0
+    assert all(p.regime == "oscillatory" for p in h.down if p.value > offset)
     assert h.down[-1].stable_rest
     # between them both outcomes: the bistable band, by simulation alone
     both = [(u, d) for u, d in zip(h.up, h.down[::-1], strict=True) if u.value == d.value

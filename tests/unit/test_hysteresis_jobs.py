@@ -86,7 +86,8 @@ def test_points_are_saved_by_the_lease_holder_only_and_in_order(store):
     assert row["runtime_s"] == pytest.approx(0.3)
     # a shutdown gives it back with its attempt; the points stay
     assert hysteresis_rows.release(store, sid, "w1")
-    assert not hysteresis_rows.finish(store, sid, "w1", None, None, 0.0)  # no longer held
+    none = dict.fromkeys(hysteresis_rows.TRANSITION_COLUMNS)
+    assert not hysteresis_rows.finish(store, sid, "w1", none, 0.0)  # no longer held
     row = hysteresis_rows.hysteresis_sweep(store, sid)
     assert (row["status"], row["attempts"], row["n_done"]) == ("queued", 0, 2)
     points = hysteresis_rows.points(store, sid)
@@ -132,6 +133,9 @@ def test_a_stopped_sweep_resumes_and_ends_as_an_uninterrupted_one(store, stops):
         [p.detail for p in reference.up + reference.down]
     assert (stored.row["onset_up"], stored.row["offset_down"]) == \
         (reference.onset_up, reference.offset_down)
+    assert reference.onset is not None and stored.row["tol"] == reference.onset.tol
+    assert (stored.row["onset_up_before"], stored.row["onset_up_after"]) == \
+        (reference.onset.before, reference.onset.after)
     assert backlog(store).drained
 
 
@@ -154,13 +158,17 @@ def test_a_run_leaving_the_finite_range_ends_the_sweep_as_it_ends_a_branch(store
     assert stored is not None and stored.row["status"] == "done" and stored.row["error"] is None
     assert _stored_keys(stored.up) == _keys(reference.up) and stored.down == []
     assert stored.up[-1]["detail"] == "the run left the finite range at t = 12.5"
-    assert stored.row["onset_up"] == reference.onset_up == 10.0
+    # the bracket is the grid's; the refined value lies in it (the state of k = 8 carried)
+    assert reference.onset is not None and (reference.onset.before, reference.onset.after) == \
+        (stored.row["onset_up_before"], stored.row["onset_up_after"]) == (8.0, 10.0)
+    assert stored.row["onset_up"] == reference.onset_up and 8.0 < reference.onset.value < 10.0
     assert hysteresis_rows.saved_points(store, sid)[-1]["state"] is None  # nothing handed over
 
 
 def test_a_sweep_killed_after_its_last_point_is_only_finished(store, monkeypatch):
     """The worker died between saving the point that ended the sweep and finishing it:
-    the next one computes nothing more."""
+    the next one computes no point more, only the refinement inside the bracket (8, 10),
+    from the saved state of k = 8."""
     monkeypatch.setattr(core.hysteresis, "point", fake_point)
     spec = HysteresisSpec(Params(tau=2.0), "k", 8.0, 12.0, 3, 0.01, 300.0, 100.0)
     sid = hysteresis_jobs.submit(store, spec)
@@ -175,7 +183,9 @@ def test_a_sweep_killed_after_its_last_point_is_only_finished(store, monkeypatch
     monkeypatch.setattr(core.hysteresis, "point", None)  # computing anything would raise
     _compute(store, "w2")
     row = hysteresis_rows.hysteresis_sweep(store, sid)
-    assert (row["status"], row["n_done"], row["onset_up"]) == ("done", 2, 10.0)
+    assert (row["status"], row["n_done"]) == ("done", 2)
+    assert (row["onset_up_before"], row["onset_up_after"]) == (8.0, 10.0)
+    assert 8.0 < row["onset_up"] < 10.0
 
 
 def test_errors_are_retried_and_tau_fails_at_once(store, monkeypatch):

@@ -5,6 +5,7 @@ constraint of a store at 0008, there and back."""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import pytest
@@ -12,7 +13,7 @@ from alembic import command
 from sqlalchemy import inspect, text
 
 from slopetui.queue import branch_jobs, hysteresis_jobs
-from slopetui.store import Database, branch_rows, hysteresis_rows
+from slopetui.store import Database, branch_rows
 from slopetui.store.integrity import integrity_problems
 from slopetui.store.migrate import alembic_config, current_revision, downgrade, upgrade
 from slopetui.store.models import Base
@@ -38,6 +39,28 @@ def _delete(db: Database, table: str, row_id: int) -> None:
         s.execute(text(f"DELETE FROM {table} WHERE id = :id"), {"id": row_id})
 
 
+def _running_hysteresis_sweep(db: Database) -> int:
+    """A hysteresis sweep running on w1 with three points saved, in plain SQL on the
+    columns 0005 made: the models' statements name every column of the newest schema
+    (0011 added some), which a store populated at an older revision does not have."""
+    fields = {k: v for k, v in hysteresis_jobs.fields_of(HYSTERESIS).items() if k != "tol"}
+    fields.update(status="running", worker_id="w1", attempts=1, n_done=3, runtime_s=0.3)
+    names = ", ".join(f'"{n}"' for n in fields)  # quoted: window is a keyword on PostgreSQL
+    with db.transaction() as s:
+        sid = s.scalar(text(f"INSERT INTO hysteresis_sweeps ({names}, started_at, heartbeat_at) "
+                            f"VALUES ({', '.join(':' + n for n in fields)}, CURRENT_TIMESTAMP, "
+                            "CURRENT_TIMESTAMP) RETURNING id"), fields)
+        for idx in range(3):
+            # NaN as NULL, as the store's Measure columns write it (migration 0007)
+            point = {k: None if isinstance(v, float) and math.isnan(v) else v
+                     for k, v in hysteresis_point(idx).items()}
+            s.execute(text(f"INSERT INTO hysteresis_points (sweep_id, {', '.join(point)}) "
+                           f"VALUES (:sweep_id, {', '.join(':' + n for n in point)})"),
+                      {"sweep_id": sid, **point})
+    assert isinstance(sid, int)
+    return sid
+
+
 def populate(db: Database) -> dict[str, int]:
     """A row in every table but workers: a computed sweep, a queued one, a continuation
     with two points, a hysteresis sweep with three; returns the jobs' ids."""
@@ -48,10 +71,7 @@ def populate(db: Database) -> dict[str, int]:
     branch_rows.claim(db, "w1")
     for idx in range(2):
         assert branch_rows.save_point(db, cid, "w1", branch_point(idx), 0.1)
-    sid = hysteresis_jobs.submit(db, HYSTERESIS)
-    hysteresis_rows.claim(db, "w1")
-    for idx in range(3):
-        assert hysteresis_rows.save_point(db, sid, "w1", hysteresis_point(idx), 0.1)
+    sid = _running_hysteresis_sweep(db)
     return {"done": done.sweep_id, "queued": queued.sweep_id, "continuation": cid,
             "hysteresis": sid}
 

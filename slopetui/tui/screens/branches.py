@@ -107,14 +107,19 @@ def _kind_of(first: WarmRecord) -> str:
     return "the cycle" if first["regime"] == "oscillatory" else terminal_safe(str(first["regime"]))
 
 
-def change_text(param: str, name: str, points: Sequence[WarmRecord], value: float | None) -> str:
-    """e.g. "up leaves rest at k = 6.2" or "down keeps the cycle throughout"."""
+def change_text(param: str, name: str, points: Sequence[WarmRecord], value: float | None,
+                bracket: tuple[float | None, float | None] = (None, None)) -> str:
+    """e.g. "up leaves rest at k = 6.143 [6.077, 6.269]" (refined, inside its grid bracket:
+    the last value on the old attractor, the first on the new; a sweep stored before
+    brackets were kept shows the grid's value alone) or "down keeps the cycle throughout"."""
     if not points:
         return f"{name}: no points"
     what = _kind_of(points[0])
     if value is None:
         return f"{name} keeps {what} throughout"
-    return f"{name} leaves {what} at {axis_label(param)} = {value:.6g}"
+    before, after = bracket
+    within = "" if before is None or after is None else f" [{before:.5g}, {after:.5g}]"
+    return f"{name} leaves {what} at {axis_label(param)} = {value:.5g}{within}"
 
 
 def hysteresis_detail(sweep: StoredHysteresis) -> Text:
@@ -123,8 +128,10 @@ def hysteresis_detail(sweep: StoredHysteresis) -> Text:
     row, param = sweep.row, sweep.param
     status = str(row["status"])
     if status == "done":
-        found = (change_text(param, "up", sweep.up, row["onset_up"]) + ", "
-                 + change_text(param, "down", sweep.down, row["offset_down"]))
+        found = (change_text(param, "up", sweep.up, row["onset_up"],
+                             (row["onset_up_before"], row["onset_up_after"])) + ", "
+                 + change_text(param, "down", sweep.down, row["offset_down"],
+                               (row["offset_down_before"], row["offset_down_after"])))
     else:
         found = (f"{terminal_safe(status)}: {row['n_done']} of {2 * row['n_points']} points "
                  "so far")
