@@ -277,13 +277,6 @@ def past(points: Sequence[WarmPoint]) -> int | None:
     return None
 
 
-def change(points: Sequence[WarmPoint]) -> float | None:
-    """The first value where the branch leaves its first point's kind of state (the grid's
-    answer: the refined one is ``refine``'s)."""
-    i = past(points)
-    return None if i is None else points[i].value
-
-
 def _still_old(first: WarmPoint, p: Params, g: Grid, state: np.ndarray, t_settle: float,
                window: float) -> tuple[bool, np.ndarray, bool]:
     """Settle at p from ``state``: whether it is still on the first point's kind of state
@@ -360,5 +353,5 @@ def hysteresis(base: Params, name: str, start: float, stop: float, n_points: int
                       refine(base, name, down, down_states, g, t_settle, window, tol))
 
 
-__all__ = ["Hysteresis", "Transition", "WarmPoint", "change", "hysteresis", "initial_state",
+__all__ = ["Hysteresis", "Transition", "WarmPoint", "hysteresis", "initial_state",
            "past", "refine", "settle"]

@@ -83,12 +83,9 @@ def claim(db: Database, worker_id: str) -> BranchJob | None:
     """Claim the oldest queued continuation (one attempt charged), or None; one whose
     stored inputs cannot be computed fails at once with the reason, and the next one is
     claimed."""
-    while (row := branch_rows.claim(db, worker_id)) is not None:
-        try:
-            return BranchJob(row["id"], row["attempts"], spec_of(row))
-        except stored_inputs.INPUT_ERRORS as exc:
-            stored_inputs.refuse(branch_rows, "continuation", db, worker_id, row["id"], exc)
-    return None
+    return stored_inputs.claim_computable(
+        branch_rows, "continuation", db, worker_id,
+        lambda row: BranchJob(row["id"], row["attempts"], spec_of(row)))
 
 
 def point_fields(branch: Branch) -> dict[str, Any]:

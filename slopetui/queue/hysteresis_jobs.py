@@ -141,13 +141,9 @@ def claim(db: Database, worker_id: str) -> HysteresisJob | None:
     """Claim the oldest queued hysteresis sweep (one attempt charged), or None; one whose
     stored inputs cannot be computed fails at once with the reason, and the next one is
     claimed."""
-    while (row := hysteresis_rows.claim(db, worker_id)) is not None:
-        try:
-            return HysteresisJob(row["id"], row["attempts"], spec_of(row))
-        except stored_inputs.INPUT_ERRORS as exc:
-            stored_inputs.refuse(hysteresis_rows, "hysteresis sweep", db, worker_id,
-                                 row["id"], exc)
-    return None
+    return stored_inputs.claim_computable(
+        hysteresis_rows, "hysteresis sweep", db, worker_id,
+        lambda row: HysteresisJob(row["id"], row["attempts"], spec_of(row)))
 
 
 def point_fields(idx: int, direction: str, pt: WarmPoint, state: np.ndarray | None
@@ -172,15 +168,6 @@ def warm_point(row: Any) -> WarmPoint:
     from core.hysteresis import WarmPoint
     return WarmPoint(row["value"], row["regime"], row["detail"], row["amplitude"],
                      row["growth"], bool(row["jumped"]))
-
-
-def changes(rows: Sequence[Any]) -> tuple[float | None, float | None]:
-    """Where each branch of the saved points changes regime on the grid (the first value
-    past: core.hysteresis.change), before refinement."""
-    from core.hysteresis import change
-    up = [warm_point(r) for r in rows if r["direction"] == "up"]
-    down = [warm_point(r) for r in rows if r["direction"] == "down"]
-    return change(up), change(down)
 
 
 def transitions(spec: HysteresisSpec, g: Grid, rows: Sequence[Any]) -> dict[str, float | None]:

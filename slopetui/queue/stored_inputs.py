@@ -15,14 +15,24 @@ traceback, and goes on with the other rows.
 from __future__ import annotations
 
 import logging
-from collections.abc import Iterable, Mapping
-from typing import Any
+from collections.abc import Callable, Iterable, Mapping
+from typing import Any, Protocol, TypeVar
 
 from core.params import ParameterError, Params
 from slopetui.queue.thread_steps import LeaseRows
 from slopetui.store.database import Database
 
 log = logging.getLogger("slopetui.worker")
+
+J = TypeVar("J")
+
+
+class ClaimRows(LeaseRows, Protocol):
+    """The statements of a job kind computed point by point (slopetui.store.branch_rows,
+    hysteresis_rows) that claiming it needs: claim the oldest queued one, fail it."""
+
+    def claim(self, db: Database, worker_id: str, /) -> Mapping[Any, Any] | None: ...
+
 
 #: What building a job from a row's values raises for values it cannot use: ParameterError
 #: (a ValueError) for a value out of range, TypeError and ArithmeticError for a value of
@@ -84,3 +94,17 @@ def refuse(rows: LeaseRows, what: str, db: Database, worker_id: str, job_id: int
     text = reason(error)
     rows.fail(db, job_id, worker_id, text, give_up=True)
     log_refused(what, job_id, text)
+
+
+def claim_computable(rows: ClaimRows, what: str, db: Database, worker_id: str,
+                     build: Callable[[Mapping[Any, Any]], J]) -> J | None:
+    """The job ``build`` makes of the oldest queued row of ``rows`` (one attempt charged),
+    or None when nothing is queued; a row whose stored inputs ``build`` refuses
+    (INPUT_ERRORS) fails at once with the reason (``refuse``), and the next one is claimed.
+    Each round fails one row for good, so this ends."""
+    while (row := rows.claim(db, worker_id)) is not None:
+        try:
+            return build(row)
+        except INPUT_ERRORS as exc:
+            refuse(rows, what, db, worker_id, row["id"], exc)
+    return None

@@ -100,7 +100,7 @@ def branch_renderer(branch: StoredBranch) -> Renderer:
 
 
 def _kind_of(first: WarmRecord) -> str:
-    """The kind of state a branch starts in, as core.hysteresis.change reads it."""
+    """The kind of state a branch starts in, as core.hysteresis.past reads it."""
     growth = first["growth"]
     if first["regime"] == "sliding" and not first["jumped"] and not growth > 0.0:
         return "rest"
