@@ -162,7 +162,7 @@ def server_database(url: str | None) -> ServerDatabase:
                                f"between nodes): {where}")
     # here, not at the top: the store imports SQLAlchemy, which `slopetui --help` must not
     from slopetui.store.database import parse_url
-    from slopetui.store.url_text import password_hidden
+    from slopetui.store.url_text import holds_password, password_hidden
     parsed = parse_url(url)
     display = password_hidden(parsed.render_as_string(hide_password=True))
     if parsed.get_backend_name() == "sqlite":
@@ -172,8 +172,7 @@ def server_database(url: str | None) -> ServerDatabase:
     socket_dir = parsed.query.get("host")
     if not isinstance(socket_dir, str):  # several hosts (a tuple): the first decides
         socket_dir = socket_dir[0] if socket_dir else None
-    has_password = parsed.password is not None or "password" in {k.lower() for k in parsed.query}
-    return ServerDatabase(url=url, display=display, has_password=has_password,
+    return ServerDatabase(url=url, display=display, has_password=holds_password(url),
                           local_only=_local_only(parsed.host, socket_dir))
 
 
