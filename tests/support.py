@@ -82,7 +82,7 @@ def finish_all(db: Database, worker: str = "test") -> int:
 
     n = 0
     while (job := jobs.claim(db, worker)) is not None:
-        record = run_point(job.params, job.settings, jobs.carried_state(db, job)).as_record()
+        record = run_point(job.params, job.settings, job.carried).as_record()
         jobs.complete(db, job, worker, record)
         n += 1
     return n

@@ -148,20 +148,6 @@ def begin(db: Database, batch: list[Job], worker_id: str) -> list[Job]:
             for job in batch if job.started or job.run_id in attempts]
 
 
-def carried_state(db: Database, job: Job) -> CarriedState | None:
-    """The final state the job's history names (kept by submission in the store, read at
-    the claim), or None for a named history. A state missing from the store is a
-    ValueError."""
-    from core.history import STATE_PREFIX, CarriedState
-    history = job.settings.history
-    if job.carried is not None or not history.startswith(STATE_PREFIX):
-        return job.carried
-    blob = initial_states.load_state(db, history)
-    if blob is None:
-        raise ValueError(f"run {job.run_id}: its history {history} is not in the store")
-    return CarriedState.from_bytes(blob)
-
-
 def claim(db: Database, worker_id: str) -> Job | None:
     """Claim the oldest queued run of an active sweep, or None if there is none; a run
     whose inputs cannot be computed fails at once, and the next one is claimed."""
