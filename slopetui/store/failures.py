@@ -21,6 +21,9 @@ class StoreError(Exception):
 DAMAGE_WORDS = ("malformed", "file is not a database", "database disk image")
 #: Words of SQLite's messages for a write that found no room.
 FULL_WORDS = ("database or disk is full", "no space left")
+#: Less room than this beside a SQLite file is a full disk: a result is a few kB, a
+#: checkpoint of the write-ahead log copies up to 4 MB (SQLite's default 1000 pages).
+MIN_FREE_BYTES = 1 << 20
 
 
 def path_problem(path: Path) -> str | None:
@@ -67,7 +70,7 @@ def describe(path: Path | None, reason: str) -> str:
                 "copy out what is readable with the sqlite3 shell's .recover")
     free = free_bytes(path)
     if any(word in lowered for word in FULL_WORDS) or (
-            "disk i/o error" in lowered and free is not None and free < 1 << 20):
+            "disk i/o error" in lowered and free is not None and free < MIN_FREE_BYTES):
         return f"cannot write {path}: the disk is full ({reason})"
     problem = path_problem(path)
     if problem is not None:

@@ -21,12 +21,9 @@ from sqlalchemy import update
 from sqlalchemy.exc import DBAPIError
 
 from slopetui.store.database import Database
-from slopetui.store.failures import FULL_WORDS, describe, free_bytes
+from slopetui.store.failures import FULL_WORDS, MIN_FREE_BYTES, describe, free_bytes
 from slopetui.store.models import Run, Worker
 
-#: Less room than this beside a SQLite file is a full disk: a result is a few kB, a
-#: checkpoint of the write-ahead log copies up to 4 MB (SQLite's default 1000 pages).
-MIN_FREE_BYTES = 1 << 20
 #: Words of the databases' messages for a write they refuse, whatever is retried.
 REFUSAL_WORDS = ("readonly", "read-only", "disk i/o error", *FULL_WORDS)
 #: PostgreSQL's codes for the same (SQLSTATE): read_only_sql_transaction,
