@@ -22,14 +22,14 @@ import math
 import numpy as np
 
 from core.params import Params
-from core.stability import hopf_k, leading_root, roots, variance_roots
+from core.stability import hopf_k, leading_exponent, roots, variance_roots
 
 #: A leading root whose real part lies within this of 0 decides nothing: the rest state's
 #: stability is then below what the root computation resolves. Measured: at the exact Hopf
 #: point k_H(tau) (core.stability.hopf_k) the noise-free root's real part is at most
 #: 3.8e-15 over tau = 0.1-200 (3.8e-15 at tau = 0.1, where |lam| = 33; 4e-18 at tau = 10);
 #: at the noisy Hopf point of core.hopf_start (found to |det| < 1e-13) this module's root
-#: is at most ~1e-12 (tests/unit/test_rest_stability.py). The margin of 100 covers the
+#: is at most ~1e-12 (tests/unit/test_unstable_rest.py). The margin of 100 covers the
 #: Hopf point's own tolerance. A root of 1e-10 at tau = 60 is k - k_H ~ 2e-5.
 NEUTRAL_TOL = 1e-10
 #: Below this fraction of k_H(tau) (noise-free) the rest state counts as stable without a
@@ -77,7 +77,7 @@ def rest_exponent(p: Params) -> float:
     if p.F1 > 0.0 and p.tau > 0.0 and p.d <= GATE_MAX_D and p.k < STABLE_GATE * hopf_k(p.tau, p.F1):
         return -math.inf
     if p.d == 0.0:
-        return float(max([leading_root(p).real, *_nonzero(variance_roots(p)).real.tolist()]))
+        return leading_exponent(p)
     # imported here, past the gate: core.hopf_start brings the orbit kernels (core.orbit)
     from core.hopf_start import jacobians, steady_state
     from core.orbit import OrbitError
