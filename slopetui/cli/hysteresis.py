@@ -19,7 +19,7 @@ from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
-    from core.hysteresis import Transition, WarmPoint
+    from core.hysteresis import WarmPoint
     from slopetui.sweeps.hysteresis_runs import StoredHysteresis
 
 #: Parameters a warm-started sweep can follow: not tau (the state's history is one delay
@@ -139,14 +139,6 @@ def _line(direction: str, param: str, pt: Mapping[str, Any]) -> str:
             f"amplitude {pt['amplitude']:<10.4g} {terminal_safe(pt['detail'])}{note}")
 
 
-def transition_fields(prefix: str, found: Transition | None) -> dict[str, float | None]:
-    """A computed transition as the stored ones are read back: ``prefix`` (onset_up or
-    offset_down) refined, ``prefix_before``/``prefix_after`` its grid bracket."""
-    return {prefix: None if found is None else found.value,
-            f"{prefix}_before": None if found is None else found.before,
-            f"{prefix}_after": None if found is None else found.after}
-
-
 def _changes(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping[str, Any]],
              found: Mapping[str, Any], tol: float | None, step: float) -> None:
     """Where each branch changes regime: refined, with its grid bracket (the last value on
@@ -248,6 +240,7 @@ def handle(args: argparse.Namespace) -> int:
                         tol)
     took = time.process_time() - t0
     up, down = [fields(p) for p in result.up], [fields(p) for p in result.down]
+    from slopetui.queue.hysteresis_jobs import transition_fields
     found = {**transition_fields("onset_up", result.onset),
              **transition_fields("offset_down", result.offset)}
     if args.json:

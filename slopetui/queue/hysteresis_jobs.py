@@ -50,7 +50,7 @@ from slopetui.store.database import Database
 if TYPE_CHECKING:  # numpy and numba's kernels: loaded by the worker that computes a sweep
     import numpy as np
 
-    from core.hysteresis import WarmPoint
+    from core.hysteresis import Transition, WarmPoint
     from core.orbit import Grid
 
 log = logging.getLogger("slopetui.worker")
@@ -170,6 +170,15 @@ def warm_point(row: Any) -> WarmPoint:
                      row["growth"], bool(row["jumped"]))
 
 
+def transition_fields(prefix: str, found: Transition | None) -> dict[str, float | None]:
+    """A transition as stored (hysteresis_rows.TRANSITION_COLUMNS) and read back: ``prefix``
+    (onset_up or offset_down) refined, ``prefix_before``/``prefix_after`` its grid bracket;
+    all None where the branch keeps its attractor."""
+    return {prefix: None if found is None else found.value,
+            f"{prefix}_before": None if found is None else found.before,
+            f"{prefix}_after": None if found is None else found.after}
+
+
 def transitions(spec: HysteresisSpec, g: Grid, rows: Sequence[Any]) -> dict[str, float | None]:
     """Each branch's transition refined from the saved points and the states they handed
     over (core.hysteresis.refine), as hysteresis_rows.TRANSITION_COLUMNS."""
@@ -179,11 +188,8 @@ def transitions(spec: HysteresisSpec, g: Grid, rows: Sequence[Any]) -> dict[str,
         mine = [r for r in rows if r["direction"] == direction]
         points = [warm_point(r) for r in mine]
         states = [state_of(r, g) for r in mine if r["state"] is not None]
-        found = refine(spec.params, spec.name, points, states, g, spec.t_settle, spec.window,
-                       spec.tol)
-        out[name] = None if found is None else found.value
-        out[f"{name}_before"] = None if found is None else found.before
-        out[f"{name}_after"] = None if found is None else found.after
+        out.update(transition_fields(name, refine(spec.params, spec.name, points, states, g,
+                                                  spec.t_settle, spec.window, spec.tol)))
     return out
 
 
