@@ -346,7 +346,7 @@ class SlopeApp(App[None], inherit_bindings=False):
     @on(SweepControlFailed)
     def _sweep_control_failed(self, message: SweepControlFailed) -> None:
         self.notify_text(f"{message.action} sweep {message.sweep_id}: {message.cause}",
-                    severity="error", timeout=8)
+                         severity="error", timeout=8)
 
     async def action_new_sweep(self) -> None:
         await self.new_sweep()

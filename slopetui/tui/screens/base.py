@@ -27,7 +27,6 @@ from textual import events, on
 from textual.screen import Screen
 from textual.timer import Timer
 
-from slopetui.display_text import terminal_safe_lines
 from slopetui.tui import garbage
 from slopetui.tui.messages import StoreFailed
 
@@ -93,5 +92,5 @@ class SlopeScreen(Screen[ResultT]):
         (every screen shows it the same way)."""
         failed.stop()  # shown here; the app need not show it again
         # the error may quote stored text: escaped, and never read as markup
-        self.notify(terminal_safe_lines(f"could not {failed.action}: {failed.error}"),
-                    severity="error", timeout=8, markup=False)
+        self.app.notify_text(f"could not {failed.action}: {failed.error}", severity="error",
+                             timeout=8)
