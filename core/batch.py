@@ -42,6 +42,12 @@ into its column so that the loop stays dense, and simulate_batch computes it aga
 the single kernel, which gives its exact step and results (runs that blow up are rare:
 none in the (k, tau) plane; Fig. 7's low a).
 
+**Realisability** (core.closure.Realisability): each lane keeps the running minima of s_x,
+s_y and s_x s_y - u^2 in three rows of ``st``, updated by selects on the state each step
+starts from (lowest_lane). The first violating step is found without a row of its own:
+after each chunk a lane whose minima first crossed the tolerance records the chunk's end
+(crossed), and _integrate runs the single kernel up to it for the exact step.
+
 Each lane performs the same operations in the same order as the single kernel (core.euler,
 core.rk4) on its run. Euler without lambda_max: its window, trace and blow-up step equal the
 single kernel's bit for bit. RK4: LLVM fuses the multiply-adds of the vectorised loop (and of

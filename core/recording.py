@@ -7,7 +7,8 @@ Two samplers write the five variables into preallocated (5, n) arrays:
     (to tell a settled attractor from a slow transient, core.classify);
   - the trace: every ``stride`` steps from t = 0, a few thousand points for plots.
 The tangent-linear renormalisation (for lambda_max) also lives here, because both
-schemes share it.
+schemes share it, and so do the running minima of the covariance over every step
+(lowest: whether the run stayed realisable, core.closure).
 """
 
 from __future__ import annotations
