@@ -22,20 +22,20 @@ CLOSURE_TOL = 1e-9
 
 
 #: A state along the trajectory violates realisability when s_x, s_y or s_x s_y - u^2 is
-#: below -REALISABLE_TOL (absolute: the variances are O(delta) and below 1 wherever the
-#: run is bounded, so this is CLOSURE_TOL at its scale 1, and any sample closure_flags
-#: rejects is a violation here too). The kernels test every step against it (core.euler,
-#: core.rk4, core.stiff, core.batch). Round-off alone stays far below it: eq. 19 starts
-#: at s_x s_y - u^2 = delta^2 - delta^2 = 0 exactly, and the stiff scheme, which keeps
-#: the covariance positive semidefinite in exact arithmetic, had running minima of 0 and
-#: above (1e-279 to 1e-300) for s_x, s_y and s_x s_y - u^2 over every step of k = 12,
-#: tau = 10 / k = 5, tau = 2 / k = 12, tau = 0.2 at d = 0 (t <= 200), where the exact
-#: covariance stays singular; the one negative value round-off gave was s_x s_y - u^2 =
-#: -8.3e-19 at t = 0 (delta = 0.1: delta^2 less its rounding, in the fused multiply-add),
-#: which scales as delta^2 (a delta beyond ~1e3 would need a relative test). What exceeds it is the scheme's: RK4 at dt = 1e-2 left
-#: s_x s_y - u^2 = -3.7e-8 on those d = 0 runs (its truncation error), and Euler at dt = 1e-3 drives s_y to -1.1e-3 at t = 0.07 at the
-#: defaults (eq. 6 keeps the covariance exactly positive semidefinite: 6c-6e are the
-#: Lyapunov equation dS/dt = A S + S A^T + D of core.stiff, whatever G(t) does).
+#: below -REALISABLE_TOL: CLOSURE_TOL at its smallest scale (1), absolute, so that any
+#: sample closure_flags rejects is a violation here too, and a kernel tests a step with
+#: three comparisons (core.recording.lowest). Round-off stays far below it: eq. 19 starts
+#: at s_x s_y - u^2 = delta^2 - delta^2 = 0, and the stiff scheme, which keeps the
+#: covariance positive semidefinite in exact arithmetic, had running minima of 0 and above
+#: (1e-279 to 1e-300) for s_x, s_y and s_x s_y - u^2 over every step at d = 0 (k = 12,
+#: tau = 10; k = 5, tau = 2; k = 12, tau = 0.2; t <= 200), where the exact covariance stays
+#: singular. The one negative value round-off gave was s_x s_y - u^2 = -8.3e-19 at t = 0
+#: (delta = 0.1: delta^2 less its rounding in the fused multiply-add); it scales as
+#: delta^2, so a delta beyond ~1e3 would need a relative test. What exceeds it is the
+#: scheme's: eqs. 6c-6e are the Lyapunov equation dS/dt = A S + S A^T + D (core.stiff),
+#: which keeps the exact covariance positive semidefinite whatever G(t) does. RK4 at
+#: dt = 1e-2 left s_x s_y - u^2 = -3.7e-8 on those d = 0 runs (its truncation error);
+#: Euler at dt = 1e-3 drives s_y to -1.1e-3 at t = 0.07 at the defaults.
 REALISABLE_TOL = 1e-9
 
 
@@ -73,7 +73,18 @@ class Realisability:
                 f"s_x s_y - u^2 {_g(self.min_det)}")
         if self.t_first is None:
             return f"realisable at every step ({lows})"
-        return f"unrealisable from t = {self.t_first:.6g} ({lows})"
+        return f"{UNREALISABLE_FROM}{self.t_first:.6g} ({lows})"
+
+
+#: How the detail of an unrealisable run (core.point) appends its text, after "; ".
+UNREALISABLE_FROM = "unrealisable from t = "
+
+
+def classifier_detail(detail: str) -> str:
+    """A run's detail without the realisability clause core.point appends: the
+    classifier's words alone, which the report counts by kind (its minima differ from
+    run to run)."""
+    return detail.split(f"; {UNREALISABLE_FROM}", 1)[0]
 
 
 def _g(x: float) -> str:

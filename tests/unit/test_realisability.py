@@ -109,3 +109,13 @@ def test_batched_and_single_kernels_agree(method: str, lyap: bool) -> None:
         for a, b in ((batched.min_s_x, single.min_s_x), (batched.min_s_y, single.min_s_y),
                      (batched.min_det, single.min_det)):
             assert a == pytest.approx(b, rel=1e-12, abs=1e-18), p
+
+
+def test_the_report_counts_the_classifiers_words() -> None:
+    """The detail of an unrealisable run ends in its own minima; the report's count of
+    kinds (reproduce.measures.details) takes the classifier's words before them."""
+    from core.closure import Realisability, classifier_detail
+    a = Realisability(-1e-5, -1e-3, -2e-4, 0.001).text()
+    b = Realisability(-2e-5, -3e-3, -5e-4, 0.001).text()
+    assert classifier_detail(f"period-2; {a}") == classifier_detail(f"period-2; {b}") == "period-2"
+    assert classifier_detail("8 switches") == "8 switches"
