@@ -146,8 +146,8 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False) -> Po
 
 def _negative_variance(tr: Trajectory) -> bool:
     """s_y < 0 beyond round-off in a sample: an explicit step overshot the variance's decay
-    (the model's own excursions below 0, where the closure breaks down, the stiff scheme
-    keeps and flags). Round-off is core.closure's CLOSURE_TOL, so that a run is not
+    (the exact covariance never leaves the positive semidefinite ones: core.closure; a
+    violation at any step is flagged ``unrealisable``). Round-off is core.closure's CLOSURE_TOL, so that a run is not
     re-integrated for a sample the closure check accepts (d = 0 keeps eq. 19's singular
     covariance: samples at -4.7e-13). Only samples are seen, the trace's ~2000 points and
     the windows: an excursion between them that leaves the attractor unchanged goes
