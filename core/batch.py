@@ -42,6 +42,12 @@ into its column so that the loop stays dense, and simulate_batch computes it aga
 the single kernel, which gives its exact step and results (runs that blow up are rare:
 none in the (k, tau) plane; Fig. 7's low a).
 
+**Realisability** (core.closure.Realisability): each lane keeps the running minima of s_x,
+s_y and s_x s_y - u^2 in three rows of ``st``, updated by selects on the state each step
+starts from (lowest_lane). The first violating step is found without a row of its own:
+after each chunk a lane whose minima first crossed the tolerance records the chunk's end
+(crossed), and _integrate runs the single kernel up to it for the exact step.
+
 Each lane performs the same operations in the same order as the single kernel (core.euler,
 core.rk4) on its run. Euler without lambda_max: its window, trace and blow-up step equal the
 single kernel's bit for bit. RK4: LLVM fuses the multiply-adds of the vectorised loop (and of
@@ -66,10 +72,12 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 from numba import njit, uint64
 
+from core.closure import REALISABLE_TOL, Realisability
 from core.model import JIT, coefficients, rhs, rhs_tangent
 from core.params import Params
 from core.recording import blown_up
@@ -100,9 +108,10 @@ MAX_CHUNK = 1024
 AGAIN = -1
 
 # Rows of the flat state ``st`` (row r of lane j is st[r * LANES + j]): the five variables,
-# their tangents and the coefficients (a, q, F1, k, d).
-(M_X, M_Y, S_X, S_Y, U, E_X, E_Y, E_SX, E_SY, E_U, CA, CQ, CF1, CK, CD) = range(15)
-N_ROWS = 15
+# their tangents, the coefficients (a, q, F1, k, d) and the running minima of s_x, s_y and
+# s_x s_y - u^2 (lowest_lane).
+(M_X, M_Y, S_X, S_Y, U, E_X, E_Y, E_SX, E_SY, E_U, CA, CQ, CF1, CK, CD, LO_X, LO_Y, LO_D) = range(18)
+N_ROWS = 18
 
 
 @njit(**BATCH_JIT)
@@ -117,6 +126,8 @@ def start_lanes(n_lanes, coef, st):
             st[r * LANES + j] = 1.0
         for r in range(5):
             st[(CA + r) * LANES + j] = coef[j, r]
+        for r in range(LO_X, LO_D + 1):
+            st[r * LANES + j] = np.inf
 
 
 @njit(**BATCH_JIT)
@@ -163,14 +174,16 @@ def euler_steps(m, n, n_a, width, st, ring, e_ring, pos, size, n_delay, dt, lyap
             m_y, s_y = st[M_Y * LANES + j], st[S_Y * LANES + j]
             m_x_tau = ring_x if delayed else m_x
             ring[row + uint64(j)] = m_x
-            f = rhs(m_x, m_y, st[S_X * LANES + j], s_y, st[U * LANES + j], m_x_tau,
+            s_x, u = st[S_X * LANES + j], st[U * LANES + j]
+            lowest_lane(st, j, s_x, s_y, u)
+            f = rhs(m_x, m_y, s_x, s_y, u, m_x_tau,
                     st[CA * LANES + j], st[CQ * LANES + j], st[CF1 * LANES + j],
                     st[CK * LANES + j], st[CD * LANES + j])
             st[M_X * LANES + j] = m_x + dt * f[0]
             st[M_Y * LANES + j] = np.nan if blown_up(m_y, s_y) else m_y + dt * f[1]
-            st[S_X * LANES + j] += dt * f[2]
+            st[S_X * LANES + j] = s_x + dt * f[2]
             st[S_Y * LANES + j] = s_y + dt * f[3]
-            st[U * LANES + j] += dt * f[4]
+            st[U * LANES + j] = u + dt * f[4]
         pos += 1
         if pos == size:
             pos = 0
@@ -227,6 +240,7 @@ def rk4_steps(m, n, n_a, width, st, ring, e_ring, pos, size, n_delay, dt, lyap, 
         if not lyap:
             for j in range(n_a):
                 y, c = state(st, j, M_X), coefs(st, j)
+                lowest_lane(st, j, y[2], y[3], y[4])
                 x = delayed_values(ring, b_old, b_nxt, width, j, dt)
                 k1 = field(y, x[0] if delayed else y[0], c)
                 y2 = stage(y, h, k1)
@@ -239,6 +253,7 @@ def rk4_steps(m, n, n_a, width, st, ring, e_ring, pos, size, n_delay, dt, lyap, 
         else:
             for j in range(n_a):  # the state's and the tangent's stages side by side
                 y, c, e = state(st, j, M_X), coefs(st, j), state(st, j, E_X)
+                lowest_lane(st, j, y[2], y[3], y[4])
                 x = delayed_values(ring, b_old, b_nxt, width, j, dt)
                 ex = delayed_values(e_ring, b_old, b_nxt, width, j, dt)
                 k1 = field(y, x[0] if delayed else y[0], c)
@@ -255,6 +270,36 @@ def rk4_steps(m, n, n_a, width, st, ring, e_ring, pos, size, n_delay, dt, lyap, 
                 put(st, M_X, j, marked(y, combine(y, w, k1, k2, k3, k4)))
                 put(st, E_X, j, combine(e, w, t1, t2, t3, t4))
     return pos, due
+
+
+@njit(**BATCH_JIT)
+def lowest_lane(st, j, s_x, s_y, u):
+    """core.recording.lowest for lane j, in its rows LO_X, LO_Y, LO_D: the running minima
+    of s_x, s_y and s_x s_y - u^2 with the state a step starts from (its values are loaded
+    anyway), as selects that keep the loop vectorised. The first violating step is not
+    kept here (a row of first steps is the select per step that cost Euler's loop 15%,
+    see the module docstring): crossed marks the chunk after which a lane's minima first
+    fall below the tolerance, and _integrate finds the step by the single kernel up to
+    that chunk's end."""
+    det = s_x * s_y - u * u
+    lo = st[LO_X * LANES + j]
+    st[LO_X * LANES + j] = s_x if s_x < lo else lo
+    lo = st[LO_Y * LANES + j]
+    st[LO_Y * LANES + j] = s_y if s_y < lo else lo
+    lo = st[LO_D * LANES + j]
+    st[LO_D * LANES + j] = det if det < lo else lo
+
+
+@njit(**BATCH_JIT)
+def crossed(n_a, st, lane_of, cross, n):
+    """cross[lane] = n for every active lane whose minima fell below -REALISABLE_TOL for
+    the first time in the steps before n (the first chunk that ends after its first
+    violating step)."""
+    for j in range(n_a):
+        if cross[lane_of[j]] < 0 and (st[LO_X * LANES + j] < -REALISABLE_TOL
+                                      or st[LO_Y * LANES + j] < -REALISABLE_TOL
+                                      or st[LO_D * LANES + j] < -REALISABLE_TOL):
+            cross[lane_of[j]] = n
 
 
 @njit(**BATCH_JIT)
@@ -472,9 +517,13 @@ def skewed_buffers(n_ring, n_e_ring):
 
 @njit(**BATCH_JIT)
 def batch(rk4, coef, dt, n_delay, n_steps, sampler, trace_stride, lyap, renorm, win, trace,
-          logs, done):
+          logs, done, lows, cross):
     """Integrate every lane (row of coef, at most LANES) on one grid to its end or blow-up;
     done[lane] gets its number of steps, as the single kernels return.
+
+    lows (lanes, 3): the minima of s_x, s_y and s_x s_y - u^2 over every step of a lane
+    that reached its end (lowest_lane); cross (lanes, -1 filled): the end of the chunk in
+    which they first fell below -REALISABLE_TOL (crossed), -1 if never.
 
     sampler: the window's (first step, stride, jump, resume) (core.solve.Grid: sample_start,
     win_stride, sample_jump, win_start). win, trace: (lanes, columns, 5). logs: (lanes,
@@ -516,8 +565,13 @@ def batch(rk4, coef, dt, n_delay, n_steps, sampler, trace_stride, lyap, renorm, 
         if n == n_steps:
             if due == n:
                 take_samples(n, n_a, st, smp, win, trace, lane_of)
+            for j in range(n_a):  # the final state, as the single kernels count it
+                lowest_lane(st, j, st[S_X * LANES + j], st[S_Y * LANES + j], st[U * LANES + j])
+            crossed(n_a, st, lane_of, cross, n_steps)
             for j in range(n_a):
                 done[lane_of[j]] = n_steps
+                for v in range(3):
+                    lows[lane_of[j], v] = st[(LO_X + v) * LANES + j]
             break
         end = min(n_steps, n + MAX_CHUNK)
         if lyap:
@@ -529,6 +583,7 @@ def batch(rk4, coef, dt, n_delay, n_steps, sampler, trace_stride, lyap, renorm, 
             pos, due = euler_steps(end - n, n, n_a, width, st, ring, e_ring, pos, size,
                                    n_delay, dt, lyap, due, smp, win, trace, lane_of)
         n_a = drop_blown(n_a, width, st, ring, e_ring, lane_of, done)
+        crossed(n_a, st, lane_of, cross, end)
         n = end
 
 
@@ -583,10 +638,13 @@ def _integrate(g: Grid, points: list[Params], s: SolverSettings) -> list[Traject
     n_logs = g.n_steps // g.renorm_steps if s.lyap else 0
     logs = np.zeros((n_lanes, n_logs))
     done = np.zeros(n_lanes, dtype=np.int64)
+    lows = np.zeros((n_lanes, 3))
+    cross = np.full(n_lanes, -1, dtype=np.int64)
     sampler = np.array([g.sample_start, g.win_stride, g.sample_jump, g.win_start], dtype=np.int64)
     t0 = time.perf_counter()
     batch(s.method == "rk4", np.stack([coefficients(p) for p in points]), g.dt, g.n_delay,
-          g.n_steps, sampler, g.trace_stride, s.lyap, g.renorm_steps, win, trace, logs, done)
+          g.n_steps, sampler, g.trace_stride, s.lyap, g.renorm_steps, win, trace, logs, done,
+          lows, cross)
     runtime = time.perf_counter() - t0
     share = np.maximum(done, 0) / max(1, int(np.maximum(done, 0).sum()))
     # A lane that blew up is computed again by the single kernel for its exact step
@@ -596,5 +654,22 @@ def _integrate(g: Grid, points: list[Params], s: SolverSettings) -> list[Traject
     return [moved_into(simulate(p, s), (win[j].T, trace[j].T, logs[j, :n_logs]))
             if done[j] == AGAIN else
             trajectory_of(p, s, g, int(done[j]), win[j].T, trace[j].T, logs[j, :n_logs],
-                          runtime * share[j] * n_lanes / n_real)
+                          runtime * share[j] * n_lanes / n_real,
+                          _realisability(p, s, g, lows[j], int(cross[j])))
             for j, p in enumerate(points[:n_real])]
+
+
+def _realisability(p: Params, s: SolverSettings, g: Grid, lows: np.ndarray,
+                   cross: int) -> Realisability:
+    """A lane's minima, and its first violation: the single kernel's, run without
+    lambda_max (which leaves the state alone) up to the end of the chunk in which the
+    lane's minima first fell below the tolerance (batch: cross). Euler's lanes cross in
+    their first chunk (at t = 0.001 at the defaults), so this costs at most MAX_CHUNK
+    steps there; a lane that crosses late costs as many steps again, once."""
+    t_first = None
+    if cross >= 0:
+        head = simulate(p, replace(s, t_end=cross * g.dt, window=None, lyap=False, trace_points=2))
+        t_first = head.realisability.t_first if head.realisability is not None else None
+        if t_first is None:  # RK4 rounds a little differently (module docstring): a bound
+            t_first = cross * g.dt
+    return Realisability(float(lows[0]), float(lows[1]), float(lows[2]), t_first)

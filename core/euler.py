@@ -14,12 +14,12 @@ import numpy as np
 from numba import njit
 
 from core.model import JIT, rhs, rhs_tangent
-from core.recording import blown_up, hand_over, renormalise, sample
+from core.recording import blown_up, hand_over, keep_lowest, lowest, renormalise, sample
 
 
 @njit(**JIT)
 def euler(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_resume, trace, trace_stride,
-          lyap, renorm_steps, logs, init, hx, final):
+          lyap, renorm_steps, logs, init, hx, final, real):
     """Integrate n_steps Euler steps; return the number of steps done (< n_steps on blow-up).
 
     coef: [a, q, F1, k, d, delta] (core.model.coefficients). n_delay = tau/dt (0: no delay).
@@ -27,7 +27,10 @@ def euler(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_
     renormalisation (every renorm_steps steps), filled only if lyap. init: the five
     variables at t = 0; hx: m_x before it at t = -tau + j dt / 2, j = 0..2N (core.history;
     Euler reads the even j). final (5 + N): written at the end, the five variables and
-    m_x at t_end - tau + j dt, j = 0..N-1 (what a warm start hands over).
+    m_x at t_end - tau + j dt, j = 0..N-1 (what a warm start hands over). real (4): written
+    at the end or blow-up, the minima of s_x, s_y and s_x s_y - u^2 over the states of every
+    step (0 to the last, the initial and final included) and the first step at which one
+    fell below -core.closure.REALISABLE_TOL, -1 if none (core.recording.lowest).
     """
     a, q, f1, k, d = coef[0], coef[1], coef[2], coef[3], coef[4]
     m_x, m_y, s_x, s_y, u = init[0], init[1], init[2], init[3], init[4]  # (19)
@@ -39,7 +42,10 @@ def euler(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_
     pos = 0
     next_w, i_w, next_t, i_t = win_start, 0, 0, 0
     next_r, i_r = renorm_steps, 0
+    lo_x = lo_y = lo_d = np.inf         # realisability: running minima (lowest)
+    first = -1
     for n in range(n_steps):
+        lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, n, s_x, s_y, u)
         next_w, i_w = sample(n, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
         next_t, i_t = sample(n, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
         if n_delay > 0:
@@ -67,6 +73,7 @@ def euler(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_
         s_y += dt * f[3]
         u += dt * f[4]
         if blown_up(m_y, s_y):
+            keep_lowest(real, lo_x, lo_y, lo_d, first)
             return n + 1
         if lyap and n + 1 == next_r:
             logs[i_r], e_x, e_y, e_sx, e_sy, e_u = renormalise(e_x, e_y, e_sx, e_sy, e_u, e_hist,
@@ -75,5 +82,7 @@ def euler(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_
             next_r += renorm_steps
     sample(n_steps, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
     sample(n_steps, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
+    lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, n_steps, s_x, s_y, u)
+    keep_lowest(real, lo_x, lo_y, lo_d, first)
     hand_over(final, m_x, m_y, s_x, s_y, u, hist, pos)
     return n_steps

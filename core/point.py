@@ -7,6 +7,15 @@ covariance. When they blow up, or drive s_y below 0, ``analyse`` integrates the 
 again with the stiff-safe scheme (core.stiff) at the same step and classifies that run,
 with the flag ``stiff-fallback``; a run that diverges there too is a divergence of the
 equations (``unstable``, attractor ``divergent``).
+
+**Realisability along the whole run.** The kernels keep the running minima of s_x, s_y
+and s_x s_y - u^2 over every step (core.closure.Realisability); a run whose covariance
+left the positive semidefinite ones at some step carries the flag ``unrealisable``, and
+its detail says from when and how far. eqs. 6c-6e keep the exact covariance positive
+semidefinite, so a violation is the scheme's: Euler at dt = 1e-3 leaves it at its first
+step from eq. 19's singular covariance, at every point we tried; RK4 at dt = 1e-2 where
+the start is violent (a large delta). ``closure-breakdown`` says the same of a sample the
+labels rest on; the stiff fallback still follows the samples (``_negative_variance``).
 """
 
 from __future__ import annotations
@@ -126,6 +135,10 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False) -> Po
     lyap = estimate(tr.lyap_logs, tr.grid.renorm_interval) if s.lyap and not tr.blew_up else None
     summary = classify(tr.window_t, tr.window, tr.blew_up, lyap, tr.mid_t, tr.mid, tr.params)
     flags += summary.flags + _sample_flags(tr)
+    real = tr.realisability
+    if real is not None and not real.realisable:
+        summary = replace(summary, detail=f"{summary.detail}; {real.text()}")
+        flags += real.flags()
     summary = replace(summary, flags=flags)
     return PointResult(tr.params, s, summary, lyap, t_blowup,
                        integration_s + time.perf_counter() - t0, tr)
@@ -133,8 +146,8 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False) -> Po
 
 def _negative_variance(tr: Trajectory) -> bool:
     """s_y < 0 beyond round-off in a sample: an explicit step overshot the variance's decay
-    (the model's own excursions below 0, where the closure breaks down, the stiff scheme
-    keeps and flags). Round-off is core.closure's CLOSURE_TOL, so that a run is not
+    (the exact covariance never leaves the positive semidefinite ones: core.closure; a
+    violation at any step is flagged ``unrealisable``). Round-off is core.closure's CLOSURE_TOL, so that a run is not
     re-integrated for a sample the closure check accepts (d = 0 keeps eq. 19's singular
     covariance: samples at -4.7e-13). Only samples are seen, the trace's ~2000 points and
     the windows: an excursion between them that leaves the attractor unchanged goes

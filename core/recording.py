@@ -7,7 +7,8 @@ Two samplers write the five variables into preallocated (5, n) arrays:
     (to tell a settled attractor from a slow transient, core.classify);
   - the trace: every ``stride`` steps from t = 0, a few thousand points for plots.
 The tangent-linear renormalisation (for lambda_max) also lives here, because both
-schemes share it.
+schemes share it, and so do the running minima of the covariance over every step
+(lowest: whether the run stayed realisable, core.closure).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import math
 
 from numba import njit
 
+from core.closure import REALISABLE_TOL
 from core.model import JIT
 
 #: A run is "unstable" once |m_y| or |s_y| exceeds this bound, or a value is not finite.
@@ -58,6 +60,32 @@ def hand_over(final, m_x, m_y, s_x, s_y, u, ring, oldest):
     for j in range(final.shape[0] - 5):
         i = oldest + j
         final[5 + j] = ring[i - size if i >= size else i]
+
+
+@njit(**JIT)
+def lowest(lo_x, lo_y, lo_d, first, n, s_x, s_y, u):
+    """The running minima of s_x, s_y and s_x s_y - u^2 with the state of step n, and the
+    first step at which one fell below -REALISABLE_TOL (-1: none yet; core.closure).
+
+    Kept in the kernels' registers, step by step: the comparisons sit beside the step's
+    dependency chain, not on it, and the branch is almost never taken. A NaN (blow-up)
+    compares false and leaves the minima alone."""
+    det = s_x * s_y - u * u
+    if s_x < lo_x:
+        lo_x = s_x
+    if s_y < lo_y:
+        lo_y = s_y
+    if det < lo_d:
+        lo_d = det
+    if first < 0 and (lo_x < -REALISABLE_TOL or lo_y < -REALISABLE_TOL or lo_d < -REALISABLE_TOL):
+        first = n
+    return lo_x, lo_y, lo_d, first
+
+
+@njit(**JIT)
+def keep_lowest(real, lo_x, lo_y, lo_d, first):
+    """The kernel's ``real`` output: the minima of lowest, then its first step."""
+    real[0], real[1], real[2], real[3] = lo_x, lo_y, lo_d, first
 
 
 @njit(**JIT)

@@ -61,9 +61,11 @@ ATTRACTORS: tuple[str, ...] = ("fixed-point", "unstable-fixed-point", "fast-bran
                                "variance-state", "periodic", "torus", "chaotic", "divergent",
                                "unsettled")
 #: The flags a run can carry (core.point, core.classify, core.closure); the store's
-#: column holds them all at once.
-FLAGS: tuple[str, ...] = ("stiff-fallback", "closure-breakdown", "uphill", "linear-transient",
-                          "not-departed", "slow-modulation", "decaying-alternation", "decaying")
+#: column holds them all at once. ``unrealisable``: some step of the run, not only a
+#: sample, left the possible covariances (core.closure.Realisability; the detail says when).
+FLAGS: tuple[str, ...] = ("stiff-fallback", "closure-breakdown", "unrealisable", "uphill",
+                          "linear-transient", "not-departed", "slow-modulation",
+                          "decaying-alternation", "decaying")
 
 RESULT_FIELDS: tuple[ResultField, ...] = (
     ResultField("regime", "text", "", "the regime of the analysis window (core.regimes); "

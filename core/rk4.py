@@ -21,7 +21,7 @@ import numpy as np
 from numba import njit
 
 from core.model import JIT, rhs, rhs_tangent
-from core.recording import blown_up, hand_over, renormalise, sample
+from core.recording import blown_up, hand_over, keep_lowest, lowest, renormalise, sample
 
 
 @njit(**JIT)
@@ -32,7 +32,7 @@ def hermite_mid(x0, x1, y0, y1, dt):
 
 @njit(**JIT)
 def rk4(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_resume, trace, trace_stride,
-        lyap, renorm_steps, logs, init, hx, final):
+        lyap, renorm_steps, logs, init, hx, final, real):
     """Integrate n_steps RK4 steps; return the number of steps done (< n_steps on blow-up).
 
     Arguments as core.euler.euler (RK4 reads every half step of hx). The ring buffers hold
@@ -48,7 +48,10 @@ def rk4(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_re
     pos = 0                            # where step n is written
     next_w, i_w, next_t, i_t = win_start, 0, 0, 0
     next_r, i_r = renorm_steps, 0
+    lo_x = lo_y = lo_d = np.inf         # realisability: running minima (lowest)
+    first = -1
     for n in range(n_steps):
+        lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, n, s_x, s_y, u)
         next_w, i_w = sample(n, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
         next_t, i_t = sample(n, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
         hist[0, pos] = m_x
@@ -104,6 +107,7 @@ def rk4(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_re
         s_y += w * (k1[3] + 2.0 * (k2[3] + k3[3]) + k4[3])
         u += w * (k1[4] + 2.0 * (k2[4] + k3[4]) + k4[4])
         if blown_up(m_y, s_y):
+            keep_lowest(real, lo_x, lo_y, lo_d, first)
             return n + 1
         if lyap and n + 1 == next_r:
             # the slot at pos (step n - N) is stale: make it vanish from the norm
@@ -115,6 +119,8 @@ def rk4(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_re
             next_r += renorm_steps
     sample(n_steps, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
     sample(n_steps, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
+    lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, n_steps, s_x, s_y, u)
+    keep_lowest(real, lo_x, lo_y, lo_d, first)
     # pos is the slot of step n_steps - 1 - N: steps n_steps - N.. follow it
     hand_over(final, m_x, m_y, s_x, s_y, u, hist[0], pos + 1 if pos + 1 < size else 0)
     return n_steps

@@ -28,6 +28,7 @@ from typing import Literal
 import numpy as np
 
 from core.classify import N_SUBWINDOWS
+from core.closure import Realisability
 from core.history import CarriedState, check_history
 from core.history import start as history_start
 from core.methods import METHODS
@@ -394,6 +395,9 @@ class Trajectory:
     #: re-integration there, so that a batch holds each lane's samples once.
     buffers: tuple[np.ndarray, np.ndarray, np.ndarray] | None = field(default=None, repr=False,
                                                                      compare=False)
+    #: The running minima of s_x, s_y and s_x s_y - u^2 over every step, and the first
+    #: violation (core.closure.Realisability); None where no kernel kept them.
+    realisability: Realisability | None = None
 
     @property
     def blew_up(self) -> bool:
@@ -423,20 +427,24 @@ def simulate(p: Params, s: SolverSettings | None = None,
     logs = np.zeros(g.n_steps // g.renorm_steps if s.lyap else 0)
     init, hx = history_start(p, g.dt, g.n_delay, s.history, carried)
     final = np.full(5 + g.n_delay, np.nan)
+    real = np.empty(4)
     t0 = time.perf_counter()
     done = {"euler": euler, "rk4": rk4, "stiff": stiff}[s.method](
         coefficients(p), g.dt, g.n_delay, g.n_steps,
         win, g.sample_start, g.win_stride, g.sample_jump, g.win_start, trace, g.trace_stride,
-        s.lyap, g.renorm_steps, logs, init, hx, final,
+        s.lyap, g.renorm_steps, logs, init, hx, final, real,
     )
-    tr = trajectory_of(p, s, g, int(done), win, trace, logs, time.perf_counter() - t0)
+    tr = trajectory_of(p, s, g, int(done), win, trace, logs, time.perf_counter() - t0,
+                       Realisability.of_kernel(real, g.dt))
     end = CarriedState(p.tau, g.dt, final[:5], final[5:]) if not tr.blew_up else None
     return replace(tr, final=end, carried=carried)
 
 
 def trajectory_of(p: Params, s: SolverSettings, g: Grid, done: int, win: np.ndarray,
-                  trace: np.ndarray, logs: np.ndarray, runtime: float) -> Trajectory:
-    """Wrap a kernel's outputs (done steps, samplers, tangent logs) as a Trajectory."""
+                  trace: np.ndarray, logs: np.ndarray, runtime: float,
+                  realisability: Realisability | None = None) -> Trajectory:
+    """Wrap a kernel's outputs (done steps, samplers, tangent logs, the running minima of
+    the covariance) as a Trajectory."""
     trace_n = g.trace_stride * np.arange(g.n_trace)
     # after a blow-up at step `done`, only the states before it were sampled
     last = g.n_steps if done == g.n_steps else done - 1
@@ -448,7 +456,7 @@ def trajectory_of(p: Params, s: SolverSettings, g: Grid, done: int, win: np.ndar
     times = _sample_times(g)
     return Trajectory(p, s, g, done, times[n_m:n_w], win[:, n_m:n_w], trace_n[:n_t] * g.dt,
                       trace[:, :n_t], logs[:n_r], runtime, times[:n_m], win[:, :n_m],
-                      buffers=(win, trace, logs))
+                      buffers=(win, trace, logs), realisability=realisability)
 
 
 def _sampled(start: int, stride: int, n: int, last: int) -> int:

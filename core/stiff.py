@@ -87,7 +87,7 @@ import numpy as np
 from numba import njit
 
 from core.model import JIT, damping, rhs, rhs_tangent
-from core.recording import blown_up, hand_over, renormalise, sample
+from core.recording import blown_up, hand_over, keep_lowest, lowest, renormalise, sample
 
 #: Largest -G h of a W-step. Where G < 0 the frozen covariance grows at up to -2G; the step
 #: is split so that -G h <= 1/4, which keeps the step positive (module docstring).
@@ -124,7 +124,7 @@ def w_solve(f_x, f_y, f_sx, f_sy, f_u, g, dt, k):
 
 @njit(**JIT)
 def stiff(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_resume, trace, trace_stride,
-          lyap, renorm_steps, logs, init, hx, final):
+          lyap, renorm_steps, logs, init, hx, final, real):
     """Integrate n_steps W-steps; return the number of steps done (< n_steps on blow-up).
 
     Arguments as core.euler.euler: coef [a, q, F1, k, d, delta], n_delay = tau/dt (0: no
@@ -142,7 +142,10 @@ def stiff(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_
     pos = 0
     next_w, i_w, next_t, i_t = win_start, 0, 0, 0
     next_r, i_r = renorm_steps, 0
+    lo_x = lo_y = lo_d = np.inf         # realisability: running minima (lowest)
+    first = -1
     for n in range(n_steps):
+        lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, n, s_x, s_y, u)
         next_w, i_w = sample(n, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
         next_t, i_t = sample(n, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
         if n_delay > 0:
@@ -176,6 +179,7 @@ def stiff(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_
             s_y += w[3]
             u += w[4]
             if blown_up(m_y, s_y) or split == MAX_SPLIT:
+                keep_lowest(real, lo_x, lo_y, lo_d, first)
                 return n + 1
             if h >= left:
                 break
@@ -188,5 +192,7 @@ def stiff(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_
             next_r += renorm_steps
     sample(n_steps, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
     sample(n_steps, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
+    lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, n_steps, s_x, s_y, u)
+    keep_lowest(real, lo_x, lo_y, lo_d, first)
     hand_over(final, m_x, m_y, s_x, s_y, u, hist, pos)
     return n_steps

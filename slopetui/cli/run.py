@@ -134,6 +134,9 @@ def render_text(r: PointResult) -> str:
         f"frequency  {s.frequency:.6g}",
         f"drift      {s.drift:.6g}  (mean dm_x/dt over the window)",
     ]
+    real = r.trajectory.realisability  # every step's covariance (core.closure)
+    if real is not None:
+        lines.append(f"covariance {real.text()}")
     if r.t_blowup is not None:
         lines.append(f"blow-up    at t = {r.t_blowup:.6g}")
     lines.append(f"runtime    {r.runtime_s:.3f} s")

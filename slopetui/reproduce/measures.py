@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from core import Params
+from core.closure import classifier_detail
 from core.params import sliding_branches
 from core.stability import hopf_k
 from slopetui.sweeps.diagram import RunPoint, SweepDiagram
@@ -145,6 +146,7 @@ def linear_agreement(d: SweepDiagram) -> LinearAgreement:
 
 
 def details(d: SweepDiagram, regime: str) -> Counter[str]:
-    """The classifier's detail labels (period-2, chaotic, ...) of one regime's runs."""
-    return Counter(r.detail or "" for r in done(d) if r.regime == regime)
+    """The classifier's detail labels (period-2, chaotic, ...) of one regime's runs
+    (without the realisability clause, whose minima differ from run to run)."""
+    return Counter(classifier_detail(r.detail or "") for r in done(d) if r.regime == regime)
 
