@@ -79,6 +79,13 @@ class PointResult:
             "zero_one_k": s.zero_one_k,
             "t_blowup": self.t_blowup,
             "runtime_s": self.runtime_s,
+            "certified": False,
+            "certificate": "not attempted",
+            "multipliers": [],
+            "slips": 0,
+            "dt_error": math.nan,
+            "spectrum": [],
+            "spectrum_err": [],
             "dt": self.trajectory.grid.dt,
             "t_end": self.trajectory.grid.t_end,
         }

@@ -29,8 +29,9 @@ from typing import Literal
 #: ``count``     an integer;
 #: ``list``      a list of floats (a JSON column);
 #: ``optional``  a float that may not exist (None, SQL NULL: e.g. no blow-up);
-#: ``flag``      a boolean.
-Kind = Literal["text", "measure", "count", "list", "optional", "flag"]
+#: ``flag``      a boolean;
+#: ``pairs``     a list of [re, im] pairs (a JSON column): complex numbers.
+Kind = Literal["text", "measure", "count", "list", "optional", "flag", "pairs"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -99,6 +100,23 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
                 contract=True, detail=True),
     ResultField("runtime_s", "optional", "s", "wall time of the run (integration and "
                 "analysis)", contract=True),
+    ResultField("certified", "flag", "", "the attractor was certified from the run's own "
+                "final state (a fixed point by linear theory and the measured decay, an orbit "
+                "by Newton-Krylov shooting): the label is a claim about the model, not the "
+                "window", contract=True, detail=True),
+    ResultField("certificate", "text", "", "how the attractor was certified, or why it was "
+                "not", contract=True, detail=True),
+    ResultField("multipliers", "pairs", "", "the certified orbit's Floquet multipliers "
+                "[re, im], the translation multiplier (1) apart, largest modulus first",
+                contract=True, detail=True),
+    ResultField("slips", "count", "", "slips (maxima of m_y) in one period of the "
+                "certified orbit; 0 when nothing was certified or at rest", detail=True),
+    ResultField("dt_error", "measure", "", "the estimated relative error of amplitude and "
+                "period of the run's scheme at its dt (NaN: not estimated)", detail=True,
+                label="dt error"),
+    ResultField("spectrum", "list", "1/time", "the top Lyapunov exponents, the m_x shift "
+                "quotiented out (run --spectrum N; empty: not computed)"),
+    ResultField("spectrum_err", "list", "1/time", "the standard errors of spectrum"),
 )
 
 #: The names of the result fields, in order: the result columns of ``runs``.

@@ -39,6 +39,9 @@ def _values(what: str, table: str, where: str) -> Dropped:
 
 #: Each revision's downgrade (to the one before it): what it drops.
 DROPS: dict[str, tuple[Dropped, ...]] = {
+    # the runs stay, with the labels they were given; what certified them goes
+    "0012": (_values("certificates, accuracy estimates and Lyapunov spectra", "runs",
+                     "certified IS NOT NULL"),),
     # the refined values stay in onset_up and offset_down; their brackets and tolerance go
     "0011": (Dropped("the transition brackets of {n} hysteresis sweep",
                      "the transition brackets of {n} hysteresis sweeps",

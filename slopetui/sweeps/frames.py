@@ -69,12 +69,13 @@ __all__ = ["COLUMNS", "SWEEP_COLUMNS", "json_rows", "measured_mask", "runs_frame
 
 #: How a column becomes a pandas column: int (int64), int? (Int64), float (float64), bool,
 #: bool? (boolean), text, time (datetime64[us, UTC]), list (object of lists).
-Kind = Literal["int", "int?", "float", "bool", "bool?", "text", "time", "list"]
+Kind = Literal["int", "int?", "float", "bool", "bool?", "text", "time", "list", "pairs"]
 
 #: The result kinds of core.result_fields as frame kinds: counts and flags may be missing
 #: (a run that is not done), so they are nullable.
 _RESULT_KINDS: dict[str, Kind] = {"text": "text", "measure": "float", "count": "int?",
-                                  "list": "list", "optional": "float", "flag": "bool?"}
+                                  "list": "list", "optional": "float", "flag": "bool?",
+                                  "pairs": "pairs"}
 
 #: The kind of every column of COLUMNS (the inputs and queue columns as the models declare
 #: them: nullable where the column is).
@@ -233,6 +234,8 @@ def _json_value(kind: Kind) -> Callable[[Any], Any]:
         return lambda v: None if v is pd.NaT else v.isoformat()
     if kind == "list":
         return lambda v: None if v is None else [float(x) for x in v]
+    if kind == "pairs":
+        return lambda v: None if v is None else [[float(x), float(y)] for x, y in v]
     return lambda v: v if isinstance(v, str) else None  # text: NaN / None missing
 
 

@@ -42,7 +42,8 @@ T = TypeVar("T")
 #: The Python type of a stored result field of each kind, as a Run attribute gives it.
 _ANNOTATIONS: dict[Kind, str] = {"text": "str | None", "measure": "float",
                                  "count": "int | None", "list": "list[float] | None",
-                                 "optional": "float | None", "flag": "bool | None"}
+                                 "optional": "float | None", "flag": "bool | None",
+                                 "pairs": "list[list[float]] | None"}
 
 
 @dataclass_transform(frozen_default=True)

@@ -11,11 +11,12 @@ import pytest
 from slopetui.cli import main
 from slopetui.store import Database
 from slopetui.store.downgrade_losses import DROPS
-from slopetui.store.migrate import current_revision, head_revision, plan_downgrade, revisions
+from slopetui.store.migrate import current_revision, downgrade, head_revision, plan_downgrade, revisions
 from tests.unit.test_ids_kept import _rows, populate
 
 #: What populate() twice leaves that 0005 -> 0003 drops.
-JOBS = "2 hysteresis sweeps (6 points) and 2 continuations (4 branch points)"
+JOBS = ("the certificates, accuracy estimates and Lyapunov spectra of 14 runs, "
+        "2 hysteresis sweeps (6 points) and 2 continuations (4 branch points)")
 
 
 class Terminal(io.StringIO):
@@ -65,6 +66,7 @@ def test_the_line_after_a_downgrade_says_what_went(db, db_url, capsys):
 
 def test_a_downgrade_that_drops_nothing_says_so(store):
     populate(store)
+    downgrade(store, "0011")  # what the runs computed at the head were given goes first
     assert plan_downgrade(store, "0006").dropped == "no stored data"
 
 

@@ -112,7 +112,8 @@ def bifurcation(n: int = 60, peaks_per_complex: int = 5, *, log: bool = False) -
     return SweepDiagram(3, spec.name, spec, runs)
 
 
-_RESULT_DEFAULTS = {"text": "", "measure": math.nan, "count": None, "list": None, "optional": None, "flag": None}
+_RESULT_DEFAULTS = {"text": "", "measure": math.nan, "count": None, "list": None, "optional": None, "flag": None,
+                    "pairs": None}
 
 
 def stored_run(run_id: int, **changes: Any) -> StoredRun:

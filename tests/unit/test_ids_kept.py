@@ -160,11 +160,12 @@ def test_0009_keeps_every_row_and_then_no_id_comes_back(new_store_url, backend):
     deleted continuation): 0009 keeps every row and the schema, ids go on above the
     largest, and the downgrade gives back 0008's schema with every row."""
     db = Database(new_store_url)
-    command.upgrade(alembic_config(db), "0008")  # the scripts up to 0008, as a store was
-    first = populate(db)
+    upgrade(db)  # the models' statements name the newest columns: the rows are written
+    first = populate(db)  # at the head, then taken back to 0008
     populate(db)
     control.delete(db, first["queued"])  # a gap in sweeps and in runs
     _delete(db, "continuations", first["continuation"])
+    downgrade(db, "0008")
     rows, schema, pk_names = _rows(db), _schema(db), _pk_names(db)
     if backend == "sqlite":
         assert _autoincrement(db) == set()
@@ -182,6 +183,7 @@ def test_0009_keeps_every_row_and_then_no_id_comes_back(new_store_url, backend):
         assert _pk_names(db) == pk_names
 
     newest = {t: max(_ids(db, t)) for t in ID_TABLES}
+    upgrade(db)  # to the head, where the models' statements run
     last = populate(db)
     assert last["done"] > newest["sweeps"]
     control.delete(db, last["queued"])  # the newest of each, deleted
@@ -194,6 +196,7 @@ def test_0009_keeps_every_row_and_then_no_id_comes_back(new_store_url, backend):
     assert again["continuation"] > last["continuation"]
     assert again["hysteresis"] > last["hysteresis"]
 
+    downgrade(db, "0009")
     rows = _rows(db)
     downgrade(db, "0008")
     assert _rows(db) == rows
@@ -211,10 +214,11 @@ def test_later_migrations_keep_autoincrement_and_the_largest_id_ever_handed_out(
     from runs, and the copy seeded sqlite_sequence with the largest id left, below the
     newest runs deleted before. Found when 0010 was merged after 0009."""
     db = Database(new_store_url)
-    command.upgrade(alembic_config(db), "0009")
-    populate(db)
+    upgrade(db)  # written at the head (the models' statements name its columns), then
+    populate(db)  # taken back to 0009
     last = populate(db)
-    control.delete(db, last["queued"])  # the newest runs, deleted at 0009
+    control.delete(db, last["queued"])  # the newest runs, deleted
+    downgrade(db, "0009")
     gone_run = max(_ids(db, "runs")) + 4
     upgrade(db)  # to the head
     if backend == "sqlite":

@@ -29,7 +29,7 @@ NOT_RESULT = {"id", "sweep_id", "ix", "iy", "a", "b", "c", "d", "k", "v", "tau",
               "finished_at", "error", "cached_from", "level", "inferred", "history", "ic"}
 #: The SQL type of each kind of result field.
 KIND_TYPES = {"measure": Measure, "count": Integer, "text": String, "list": JSON,
-              "optional": Double, "flag": Boolean}
+              "optional": Double, "flag": Boolean, "pairs": JSON}
 
 
 def test_the_table_the_exporters_the_detail_view_and_the_engine_agree(db, capsys):

@@ -133,6 +133,15 @@ def _peaks_text(peaks: list[float] | None) -> str:
     return f"{len(values)}" + (f" ({shown}{more})" if values else "")
 
 
+def _multipliers_text(pairs: list[list[float]] | None) -> str:
+    """Complex numbers with their modulus: a multiplier's place against the unit circle."""
+    values = pairs or []
+    shown = ", ".join(f"{re:.3g}{im:+.3g}i (|{abs(complex(re, im)):.3g}|)"
+                      for re, im in values[:PEAKS_SHOWN])
+    more = f", … {len(values) - PEAKS_SHOWN} more" if len(values) > PEAKS_SHOWN else ""
+    return f"{len(values)}" + (f" ({shown}{more})" if values else "")
+
+
 def summary_text(run: StoredRun) -> str:
     """The header of the screen, five lines: who the run is, its parameters, its solver
     settings, and its stored result or, for a run not done, its status and the cause of
@@ -170,6 +179,8 @@ def result_item(run: StoredRun, field: ResultField) -> str:
         shown = lambda_text(value, run.lambda_err)
     elif field.kind == "list":
         shown = _peaks_text(value)
+    elif field.kind == "pairs":
+        shown = _multipliers_text(value)
     elif field.kind == "measure":
         shown = _num(value, ".3g")
     elif field.kind == "optional":
