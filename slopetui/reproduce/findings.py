@@ -242,17 +242,38 @@ def fig5(d: Diagrams) -> Finding:
     band_text = ""
     if o is not None and o.band is not None:
         lines += band_lines(o.band)
-        band_text = (" Where the initial state can matter is the bistable band between the fold "
-                     "of cycles and the Hopf curve (computed: the table at the end), "
-                     f"{o.band.band_cells} cells of this plane; the two panels differ in only "
-                     f"{o.band.disagree_in_band} of them: delta = 1e-6 and 0.1 both start in the "
-                     "fixed point's basin, and it takes delta ~ 1 to reach the cycle (Fig. 4A). "
-                     "The paper's two panels cannot show the band; a sweep of the offset can.")
+        band_text = " " + basin_sentence(o.band)
     return Finding(("fig5a", "fig5b"), verdict, lines,
                    ("Far initial conditions shrink the complex region and move it to higher k."
                     if pushed else "See the measured shares: the complex region does not "
                     "shrink and move to higher k and tau as the text says (with labels from "
                     "return times, hardly any run is complex).") + band_text)
+
+
+def basin_sentence(b: Band) -> str:
+    """Fig. 5's account of the band, from the counts: where each offset of eq. 19 starts.
+
+    Issue 32 found the sentence this replaces ("delta = 1e-6 and 0.1 both start in the
+    fixed point's basin") false near the Hopf curve: at a subcritical Hopf point the
+    unstable cycle that bounds the basin shrinks to zero amplitude, so close to it an
+    offset of 0.1 is already outside the basin (k = 6.05, tau = 10, delta = 0.1 lands on
+    the cycle; the Hopf point is k = 6.1462)."""
+    near, far = b.moving_in_band
+    text = ("Where the initial state can matter is the bistable band between the fold of "
+            "cycles and the Hopf curve (computed: the table at the end), "
+            f"{b.band_cells} cells of this plane; the two panels differ in "
+            f"{b.disagree_in_band} of them. In the band, delta = 1e-6 reaches the cycle in "
+            f"{near} cells and delta = 0.1 in {far}")
+    if far > near and b.far_moves:
+        shown = "; ".join(f"k = {k:.3g}, tau = {t:.3g}" for k, t in b.far_moves[:3])
+        text += (f": delta = 0.1 is outside the fixed point's basin where the basin is "
+                 f"narrow, next to the Hopf curve (the unstable cycle bounding it shrinks to "
+                 f"zero at a subcritical Hopf point), e.g. {shown}")
+    elif far == near == 0:
+        text += ": both offsets start in the fixed point's basin everywhere in the band"
+    return text + (". Deeper in the band the basin is wider, and it takes a larger offset to "
+                   "reach the cycle (Fig. 4A). "
+                   "The paper's two panels cannot show the band; a sweep of the offset can.")
 
 
 def band_lines(b: Band) -> list[str]:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -186,6 +186,15 @@ class Band:
     band_cells: int
     band_disagree_share: float
     outside: list[tuple[float, float, str, str]]  # (k, tau, regime 5A, regime 5B)
+    #: Band cells whose run moves (not at rest), in 5A (delta = 1e-6) and in 5B (0.1).
+    moving_in_band: tuple[int, int] = (0, 0)
+    #: 5B's band cells that move while 5A's rest: (k, tau), the largest k first.
+    far_moves: list[tuple[float, float]] = field(default_factory=list)
+
+
+#: The regimes of a run at rest. Inside the band the fixed point is linearly stable, so a
+#: run there either rests on it (sliding) or moves.
+AT_REST = ("sliding",)
 
 
 def band_comparison(near: SweepDiagram, far: SweepDiagram, folds: list[FoldPoint]) -> Band:
@@ -198,9 +207,15 @@ def band_comparison(near: SweepDiagram, far: SweepDiagram, folds: list[FoldPoint
     test = band_test(folds)
     agree = (against_band(both, test) if test is not None else
              BandAgreement(dep.depends, 0, 0, [c for c in both if c.verdict == DEPENDS]))
+    inside = [c for c in both if c.finished and c.y is not None and test is not None
+              and test(c.x, c.y)]
+    moving = tuple(sum(c.regimes[i] not in AT_REST for c in inside) for i in (0, 1))
+    far_moves = sorted(((c.x, float(c.y or 0.0)) for c in inside
+                        if c.regimes[0] in AT_REST and c.regimes[1] not in AT_REST),
+                       key=lambda kt: -kt[0])
     return Band(dep.depends, agree.depends_in_band, dep.cells, agree.band_cells,
                 agree.band_share, [(c.x, float(c.y or 0.0), str(c.regimes[0]), str(c.regimes[1]))
-                                   for c in agree.outside])
+                                   for c in agree.outside], (moving[0], moving[1]), far_moves)
 
 
 @dataclass

@@ -8,6 +8,7 @@ from types import SimpleNamespace
 import pytest
 
 from core.fold_curve import FoldPoint
+from slopetui.reproduce.findings import basin_sentence
 from slopetui.reproduce.orbit_analysis import OrbitAnalysis, Tau10, band_comparison, tau10
 from slopetui.reproduce.report import orbit_section
 
@@ -88,3 +89,40 @@ def test_the_fold_curve_says_each_tau_as_it_goes():
     folds = folds_over_tau(Params(delta=0.1), [10.0, 5.0], said.append)
     assert [f.second for f in folds] == [5.0, 10.0]
     assert said == [f"fold of cycles at tau = {f.second:.4g}: k = {f.fold:.5g}" for f in folds]
+
+
+def test_the_band_counts_where_each_offset_reaches_the_cycle():
+    """Issue 32: Fig. 5's "both delta start in the rest basin" was false next to the Hopf
+    curve; the sentence now follows the counts of each panel's moving band cells."""
+    near = _panel([(3.0, 10.0, "sliding"), (5.0, 10.0, "sliding"), (6.0, 10.0, "sliding"),
+                   (8.0, 10.0, "oscillatory")])
+    far = _panel([(3.0, 10.0, "sliding"), (5.0, 10.0, "oscillatory"), (6.0, 10.0, "oscillatory"),
+                  (8.0, 10.0, "oscillatory")])
+    b = band_comparison(near, far, FOLDS)
+    assert b.band_cells == 3 and b.moving_in_band == (0, 2)
+    assert b.far_moves == [(6.0, 10.0), (5.0, 10.0)]
+    text = basin_sentence(b)
+    assert "delta = 1e-6 reaches the cycle in 0 cells and delta = 0.1 in 2" in text
+    assert "outside the fixed point's basin" in text and "e.g. k = 6, tau = 10; k = 5" in text
+    assert "both offsets start in the fixed point's basin" not in text
+    resting = band_comparison(near, _panel([(3.0, 10.0, "sliding"), (5.0, 10.0, "sliding"),
+                                            (6.0, 10.0, "sliding"), (8.0, 10.0, "sliding")]),
+                              FOLDS)
+    assert "both offsets start in the fixed point's basin everywhere" in basin_sentence(resting)
+
+
+@pytest.mark.slow
+def test_next_to_the_hopf_point_delta_01_lands_on_the_cycle():
+    """The case issue 32 named, against linear theory and a finer scheme than the paper's:
+    k = 6.05 < k_H(10) = 6.1462 (the fixed point is linearly stable), yet delta = 0.1 of
+    eq. 19 ends on the cycle, while delta = 1e-6 decays to rest (RK4, dt 0.01; the growth
+    away from rest is slow: at t = 4000 the run still spirals out, at 2e4 it is there)."""
+    from core import Params
+    from core.point import run_point
+    from core.solve import SolverSettings
+    from core.stability import leading_exponent
+
+    s = SolverSettings(method="rk4", dt=0.01, t_end=20000.0, window=1000.0, lyap=False)
+    assert leading_exponent(Params(k=6.05, tau=10.0)) < 0
+    assert run_point(Params(k=6.05, tau=10.0, delta=0.1), s).summary.regime == "oscillatory"
+    assert run_point(Params(k=6.05, tau=10.0, delta=1e-6), s).summary.regime == "sliding"
