@@ -1,5 +1,5 @@
 """Attractors, not windows: each run's certificate, its orbit's multipliers and slips, the
-accuracy of its scheme at its step, and its Lyapunov spectrum (issue 32).
+accuracy of its scheme at its step, and its Lyapunov spectrum.
 
 Revision ID: 0012
 Revises: 0011

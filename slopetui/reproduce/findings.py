@@ -253,8 +253,8 @@ def fig5(d: Diagrams) -> Finding:
 def basin_sentence(b: Band) -> str:
     """Fig. 5's account of the band, from the counts: where each offset of eq. 19 starts.
 
-    Issue 32 found the sentence this replaces ("delta = 1e-6 and 0.1 both start in the
-    fixed point's basin") false near the Hopf curve: at a subcritical Hopf point the
+    The sentence this replaces ("delta = 1e-6 and 0.1 both start in the fixed point's
+    basin") was false near the Hopf curve: at a subcritical Hopf point the
     unstable cycle that bounds the basin shrinks to zero amplitude, so close to it an
     offset of 0.1 is already outside the basin (k = 6.05, tau = 10, delta = 0.1 lands on
     the cycle; the Hopf point is k = 6.1462)."""

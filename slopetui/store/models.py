@@ -169,7 +169,7 @@ class Run(Base):
     zero_one_k: Mapped[float | None] = mapped_column(Measure)
     t_blowup: Mapped[float | None] = mapped_column(Double)
     runtime_s: Mapped[float | None] = mapped_column(Double)
-    #: Issue 32 (migration 0012): NULL for runs computed before, which were never tried.
+    #: Migration 0012: NULL for runs computed before it, which were never tried.
     certified: Mapped[bool | None] = mapped_column(Boolean)
     certificate: Mapped[str | None] = mapped_column(Text)
     #: The certified orbit's Floquet multipliers, a JSON list of [re, im].

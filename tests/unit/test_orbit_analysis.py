@@ -92,8 +92,8 @@ def test_the_fold_curve_says_each_tau_as_it_goes():
 
 
 def test_the_band_counts_where_each_offset_reaches_the_cycle():
-    """Issue 32: Fig. 5's "both delta start in the rest basin" was false next to the Hopf
-    curve; the sentence now follows the counts of each panel's moving band cells."""
+    """Fig. 5's "both delta start in the rest basin" was false next to the Hopf curve; the
+    sentence follows the counts of each panel's moving band cells."""
     near = _panel([(3.0, 10.0, "sliding"), (5.0, 10.0, "sliding"), (6.0, 10.0, "sliding"),
                    (8.0, 10.0, "oscillatory")])
     far = _panel([(3.0, 10.0, "sliding"), (5.0, 10.0, "oscillatory"), (6.0, 10.0, "oscillatory"),
@@ -113,7 +113,7 @@ def test_the_band_counts_where_each_offset_reaches_the_cycle():
 
 @pytest.mark.slow
 def test_next_to_the_hopf_point_delta_01_lands_on_the_cycle():
-    """The case issue 32 named, against linear theory and a finer scheme than the paper's:
+    """The case a referee named, against linear theory and a finer scheme than the paper's:
     k = 6.05 < k_H(10) = 6.1462 (the fixed point is linearly stable), yet delta = 0.1 of
     eq. 19 ends on the cycle, while delta = 1e-6 decays to rest (RK4, dt 0.01; the growth
     away from rest is slow: at t = 4000 the run still spirals out, at 2e4 it is there)."""
