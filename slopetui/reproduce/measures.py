@@ -78,6 +78,26 @@ def counts_text(d: SweepDiagram) -> str:
     return ", ".join(parts) or "no runs"
 
 
+def certified_text(d: SweepDiagram) -> str:
+    """What the panel's labels claim: how many of its computed runs certified their
+    attractor (a fixed point by linear theory and the measured decay, an orbit by Newton
+    from the run's final state), by attractor; the others' labels describe their window."""
+    runs = [r for r in done(d) if not r.inferred]
+    if not runs:
+        return "no computed runs"
+    tried = [r for r in runs if r.certified is not None]
+    if not tried:
+        return (f"certified attractors: none of {len(runs)} runs was tried (computed before "
+                "certification): every label describes its run's window")
+    by: Counter[str] = Counter(r.attractor or "?" for r in tried if r.certified)
+    n = sum(by.values())
+    kinds = ", ".join(f"{v} {k}" for k, v in by.most_common())
+    return (f"certified attractors: {n} of {len(runs)} runs ({100 * n / len(runs):.0f}%)"
+            + (f": {kinds}" if kinds else "")
+            + (f"; the other {len(runs) - n} labels describe their window only"
+               if n < len(runs) else ""))
+
+
 def first_x(d: SweepDiagram, regime: str) -> float | None:
     """The smallest x of a run with this regime (1-D sweeps)."""
     xs = [r.x for r in done(d) if r.regime == regime]

@@ -11,6 +11,7 @@ from pathlib import Path
 from slopetui.plots import render_sweep
 from slopetui.queue.pool import default_jobs, run_pool
 from slopetui.queue.worker_process import WorkerOptions
+from slopetui.reproduce import measures as m
 from slopetui.reproduce.delta_maps import MAP_FIGURES, DeltaMap, delta_map, friction_folds, maps_section
 from slopetui.reproduce.findings import FINDINGS, Diagrams, Finding
 from slopetui.reproduce.orbit_analysis import OrbitAnalysis, Say, analyse
@@ -65,7 +66,9 @@ def section(f: Finding, diagrams: Diagrams) -> str:
         if p.note not in notes:
             notes.append(p.note)
     out += ["**Ranges and points:** " + " ".join(notes), ""]
-    out += ["**slopetui measured:**", ""] + [f"- {line}" for line in f.measured] + [""]
+    out += ["**slopetui measured:**", ""] + [f"- {line}" for line in f.measured]
+    # what the window shows is the measured lines; what is certified about the attractor
+    out += [f"- {BY_KEY[k].figure}: {m.certified_text(diagrams[k])}" for k in f.keys] + [""]
     single = all(len(diagrams[k].runs) == 1 for k in f.keys)
     if not single:
         for k in f.keys:

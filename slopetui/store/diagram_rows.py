@@ -21,7 +21,7 @@ DRAWN = ("id", "ix", "iy", "status", "regime", "inferred", "ic", "delta", "histo
 #: The rest of a run's diagram fields: the bifurcation diagram's peaks and drift, the
 #: figures' and the report's measurements.
 MEASURED = ("peaks", "drift", "error", "detail", "period_count", "lambda_max", "lambda_err",
-            "attractor", "flags", "maxima_per_period", "settled")
+            "attractor", "flags", "maxima_per_period", "settled", "certified", "certificate")
 
 
 def run_columns(y_param: str | None, drawn_only: bool) -> tuple[str, ...]:

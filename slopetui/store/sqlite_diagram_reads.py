@@ -55,6 +55,7 @@ TIMEOUT_S = 5.0
 DECODE: dict[str, Callable[[Any], Any]] = {
     "inferred": lambda v: None if v is None else bool(v),          # Boolean: 0 or 1
     "settled": lambda v: None if v is None else bool(v),
+    "certified": lambda v: None if v is None else bool(v),
     "peaks": lambda v: None if v is None else json.loads(v),       # JSON, as text
     "drift": lambda v: math.nan if v is None else float(v),       # Measure: NULL is NaN
     "lambda_max": lambda v: math.nan if v is None else float(v),

@@ -44,6 +44,10 @@ class RunPoint:
     ic: int = 0  # which of the sweep's initial conditions (spec [[initial]])
     delta: float = float("nan")
     history: str = "constant"
+    #: The attractor was certified (core.point: None before migration 0012 or not done),
+    #: and how, or why not.
+    certified: bool | None = None
+    certificate: str | None = None
 
 
 @dataclass(frozen=True)
@@ -103,7 +107,8 @@ def read_spec(stored: dict[str, Any]) -> tuple[SweepSpec, str, str | None]:
 UNMEASURED: dict[str, Any] = {"peaks": None, "drift": math.nan, "error": None, "detail": None,
                               "period_count": None, "lambda_max": math.nan,
                               "lambda_err": math.nan, "attractor": None, "flags": None,
-                              "maxima_per_period": None, "settled": None}
+                              "maxima_per_period": None, "settled": None, "certified": None,
+                              "certificate": None}
 
 
 def run_points(columns: Sequence[str], rows: Iterable[Sequence[Any]],
@@ -141,7 +146,8 @@ def run_point(m: dict[str, Any], has_y: bool, *, measured: bool = True) -> RunPo
                     m["attractor"] if done else None,
                     tuple(flags.split(",")) if done and flags else (),
                     m["maxima_per_period"] if done else None,
-                    m["settled"] if done else None, m["ic"], m["delta"], m["history"])
+                    m["settled"] if done else None, m["ic"], m["delta"], m["history"],
+                    m["certified"] if done else None, m["certificate"] if done else None)
 
 
 def load_diagram(db: Database, sweep_id: int, *, drawn_only: bool = False) -> SweepDiagram:
