@@ -22,7 +22,9 @@ import argparse
 from typing import TYPE_CHECKING
 
 from slopetui.cli.options import add_db_option, open_db, sweep_arg
+from slopetui.cli.worker_lines import worker_line
 from slopetui.display_text import terminal_safe
+from slopetui.duration_text import duration_text
 from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
@@ -45,7 +47,7 @@ def handle(args: argparse.Namespace) -> int:
     from slopetui.sweeps import branches as branch_service
     from slopetui.sweeps import hysteresis_runs
     from slopetui.sweeps.control import UnknownSweep
-    from slopetui.sweeps.progress import format_eta, sweep_progress
+    from slopetui.sweeps.progress import sweep_progress
 
     ids = [sweep_arg(text) for text in args.sweeps]  # before the database opens
     db = open_db(args)
@@ -88,7 +90,7 @@ def handle(args: argparse.Namespace) -> int:
             print(f"{p.id:>4}  {terminal_safe(p.status):9} {terminal_safe(p.axes):9} "
                   f"{p.done:>6}/{p.total:<6} {pct:>4} {p.running:>3} {p.failed:>4} "
                   f"{p.cancelled:>4} {p.runs_per_min:>8.1f} "
-                  f"{format_eta(p.eta_s if workers else None):>7}  {adaptive_stage(p)}"
+                  f"{duration_text(p.eta_s if workers else None):>7}  {adaptive_stage(p)}"
                   f"{terminal_safe(p.name)}")
     for what, counts, where in (("continuations", branches, "slopetui branch"),
                                 ("hysteresis sweeps", sweeps_h, "slopetui hysteresis --show ID")):
@@ -98,17 +100,13 @@ def handle(args: argparse.Namespace) -> int:
                   + f" ({where})")
     print()
     for pool in starting:
-        up = "" if pool.uptime_s is None else f", up {format_eta(max(pool.uptime_s, 0.0))}"
+        up = "" if pool.uptime_s is None else f", up {duration_text(pool.uptime_s)}"
         print(f"pool {pool.pid} on this host: starting{up} (it loads the numba kernels, or "
               "compiles them after an install, ~20-45 s; then its workers register)")
     if not workers and not starting:
         print("no live workers: start a pool with `slopetui worker --detach`")
     for w in workers:
-        doing = (f"run {w.run_id}" if w.run_id else
-                 f"branch {computing[w.id]}" if w.id in computing else
-                 f"hysteresis {computing_h[w.id]}" if w.id in computing_h else "idle")
-        print(f"worker {terminal_safe(w.id):28} {doing:12} {w.jobs_done:>6} done  "
-              f"heartbeat {w.heartbeat_age_s:.0f} s ago")
+        print(worker_line(w, computing, computing_h))
     return 0
 
 

@@ -21,7 +21,9 @@ import time
 from typing import TYPE_CHECKING
 
 from slopetui.cli.options import add_db_option, open_db
+from slopetui.cli.worker_lines import worker_line
 from slopetui.display_text import terminal_safe
+from slopetui.duration_text import duration_text
 from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
@@ -45,17 +47,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(handler=handle)
 
 
-def _age(seconds: float | None) -> str:
-    from slopetui.sweeps.progress import format_eta
-    return "?" if seconds is None else format_eta(max(seconds, 0.0))
-
-
-def _worker_line(w: WorkerInfo) -> str:
-    doing = f"run {w.run_id}" if w.run_id else "idle"
-    return (f"  worker {terminal_safe(w.id):24} {doing:12} {w.jobs_done:>6} done  "
-            f"heartbeat {w.heartbeat_age_s:.0f} s ago")
-
-
 def _remote(db: Database) -> dict[str, list[WorkerInfo]]:
     """Live workers of other hosts, by host."""
     from slopetui.queue.workers_table import live_workers
@@ -75,7 +66,11 @@ def _worker_json(w: WorkerInfo) -> dict[str, object]:
 def handle(args: argparse.Namespace) -> int:
     from slopetui.queue.local_pool import local_pools
     from slopetui.store.queries import database_now
+    from slopetui.sweeps import branches as branch_service
+    from slopetui.sweeps import hysteresis_runs
     db = open_db(args)
+    computing = branch_service.activity(db)[1]
+    computing_h = hysteresis_runs.activity(db)[1]
     pools, orphans = local_pools(db)
     remote = _remote(db)
     now = database_now(db)
@@ -97,15 +92,15 @@ def handle(args: argparse.Namespace) -> int:
     for p in pools:
         state = f"{len(p.workers)} workers" if p.workers else "starting (no worker yet)"
         log = f"; log {p.log}" if p.log else ""
-        print(f"pool {p.pid} on {here} (this host), up {_age(p.uptime_s)}, {state}{log}")
+        print(f"pool {p.pid} on {here} (this host), up {duration_text(p.uptime_s)}, {state}{log}")
         for w in p.workers:
-            print(_worker_line(w))
+            print(f"  {worker_line(w, computing, computing_h)}")
     for host, ws in sorted(remote.items()):
         up = max((now - w.started_at).total_seconds() for w in ws)
         print(f"workers on {terminal_safe(host)} (another host: their pool's pid is not known here), up "
-              f"{_age(up)}, {len(ws)} workers")
+              f"{duration_text(up)}, {len(ws)} workers")
         for w in ws:
-            print(_worker_line(w))
+            print(f"  {worker_line(w, computing, computing_h)}")
     for w in orphans:
         print(f"orphan worker {terminal_safe(w.id)} (its pool is gone; `slopetui worker --stop` stops it)")
     return 0

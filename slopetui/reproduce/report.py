@@ -8,6 +8,7 @@ import time
 from datetime import date
 from pathlib import Path
 
+from slopetui.duration_text import duration_text
 from slopetui.plots import render_sweep
 from slopetui.queue.pool import default_jobs, run_pool
 from slopetui.queue.worker_process import WorkerOptions
@@ -121,10 +122,6 @@ def unfinished_section(missing: Unfinished, diagrams: Diagrams) -> str:
                       "command again to finish it (done runs come from the store).", ""])
 
 
-def _duration(seconds: float) -> str:
-    return f"{seconds:.0f} s" if seconds < 120 else f"{seconds / 60:.0f} min"
-
-
 def orbit_analysis(diagrams: Diagrams, say: Say = None) -> OrbitAnalysis:
     """Continuation at tau = 10 and the fold of cycles at the taus of Fig. 5's axis (and
     beyond it), held against Figs. 5A/5B when they are complete."""
@@ -209,7 +206,7 @@ def write_report(db: Database, resolution: int, t_end: float | None, out: Path,
         + (f", t_end = {t_end:g}" if t_end else ", t_end = 1e5, window [99000, 100000]")
         + f"). The runs took {core_s / 60:.0f} core-minutes (the sum of their runtimes), "
         f"about {core_s / 60 / max(jobs or default_jobs(), 1):.0f} min on this machine's "
-        f"{jobs or default_jobs()} cores; this generation computed for {_duration(wall)} "
+        f"{jobs or default_jobs()} cores; this generation computed for {duration_text(wall)} "
         "(the rest came from the store's cache). Verdicts: "
         + ", ".join(f"{v} {n}" for v, n in tally.items()) + ".",
         "",

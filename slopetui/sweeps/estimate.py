@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
+from slopetui.duration_text import duration_text
 from slopetui.sweeps.spec import SweepSpec
 
 if TYPE_CHECKING:
@@ -71,14 +72,8 @@ def describe(spec: SweepSpec, workers: int, speeds: Speeds | None = None) -> str
     if spec.adaptive_levels is not None:
         first = spec.first_runs * per_run / max(workers, 1)
         return (f"{spec.first_runs} coarse runs x {per_run:.2f} s = about "
-                f"{_duration(first)} {on}, then refinement ({source})")
+                f"{duration_text(first)} {on}, then refinement ({source})")
     return (f"{spec.n_runs} runs x {per_run:.2f} s = about "
-            f"{_duration(wall_seconds(spec, workers, speeds))} {on} ({source})")
+            f"{duration_text(wall_seconds(spec, workers, speeds))} {on} ({source})")
 
 
-def _duration(seconds: float) -> str:
-    if seconds < 120:
-        return f"{seconds:.0f} s"
-    if seconds < 7200:
-        return f"{seconds / 60:.0f} min"
-    return f"{seconds / 3600:.1f} h"

@@ -21,11 +21,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 
+from slopetui.duration_text import duration_text
 from slopetui.queue.workers_table import WorkerInfo, live_workers
 from slopetui.store.database import Database
 from slopetui.store.sweep_reads import active_sweep_ids, sweep_tallies
 
-__all__ = ["RATE_WINDOW_MIN", "PoolProgress", "SweepProgress", "WorkerInfo", "format_eta",
+__all__ = ["RATE_WINDOW_MIN", "PoolProgress", "SweepProgress", "WorkerInfo",
            "live_workers", "sweep_progress"]
 
 #: Runs per minute are measured over the runs finished in this trailing window (minutes).
@@ -84,15 +85,6 @@ class SweepProgress:
         return "refined" if self.refined else f"level {self.level}/{self.adaptive_levels}"
 
 
-def format_eta(seconds: float | None) -> str:
-    """"1h05m", "3m07s", or "-" when unknown."""
-    if seconds is None:
-        return "-"
-    m, s = divmod(round(seconds), 60)
-    h, m = divmod(m, 60)
-    return f"{h}h{m:02d}m" if h else f"{m}m{s:02d}s"
-
-
 def sweep_progress(db: Database, sweep_ids: list[int] | None = None) -> list[SweepProgress]:
     """Progress of the given sweeps (default: all), newest first."""
     t = sweep_tallies(db, sweep_ids, timedelta(minutes=RATE_WINDOW_MIN))
@@ -145,4 +137,4 @@ class PoolProgress:
         if not left:
             return text + "; nothing queued"
         eta = left / rate * 60.0 if rate > 0 else None
-        return f"{text}, {rate:.1f} runs/min, ETA {format_eta(eta)}"
+        return f"{text}, {rate:.1f} runs/min, ETA {duration_text(eta)}"

@@ -69,7 +69,7 @@ def test_new_sweep_screen(snap_compare, finished_plane, size):
 def test_sql_screen(snap_compare, finished_plane, tmp_path, monkeypatch):
     monkeypatch.setattr(SqlScreen, "HISTORY_PATH", tmp_path / "history")
     # the status line reports the query's time, which differs from run to run
-    monkeypatch.setattr(sql_screen, "format_elapsed", lambda seconds: "(time)")
+    monkeypatch.setattr(sql_screen, "duration_text", lambda seconds, fine: "(time)")
     # the editor stays plain text: with tree-sitter's SQL grammar installed (textual[syntax])
     # the console would highlight the query, and the snapshot would depend on the machine
     monkeypatch.setattr(TextArea, "validate_language", lambda self, language: None,

@@ -42,6 +42,7 @@ from textual.worker import get_current_worker
 
 from slopetui import sql_history
 from slopetui.display_text import terminal_safe, terminal_safe_lines
+from slopetui.duration_text import duration_text
 from slopetui.sql_history import History
 from slopetui.sql_results import (
     QueryDone,
@@ -95,10 +96,6 @@ def format_cell(value: object) -> Text:
     if len(text) > CELL_CHARS:
         text = text[:CELL_CHARS - 1] + "…"
     return Text(text)
-
-
-def format_elapsed(seconds: float) -> str:
-    return f"{seconds * 1000:.0f} ms" if seconds < 1 else f"{seconds:.2f} s"
 
 
 def one_line(sql: str, width: int = 80) -> str:
@@ -295,7 +292,7 @@ class SqlScreen(SlopeScreen[None]):
             self.set_status(outcome.reason, "-info")
 
     def show_results(self, done: QueryDone, cells: list[tuple[Text, ...]]) -> None:
-        elapsed = format_elapsed(done.elapsed_s)
+        elapsed = duration_text(done.elapsed_s, fine=True)
         if not done.returns_rows:
             self.set_status(f"the statement returns no rows ({elapsed})", "-done")
             return

@@ -36,13 +36,14 @@ from textual.widgets import ContentSwitcher, DataTable, Header, Static
 from textual.worker import get_current_worker
 
 from slopetui.display_text import terminal_safe
+from slopetui.duration_text import duration_text
 from slopetui.sweeps import fold_overlay
 from slopetui.sweeps.control import EXPLAINED, UnknownSweep
 from slopetui.sweeps.diagram import RunPoint, SweepDiagram, plane_hopf
 from slopetui.sweeps.hopf_plane import Curve
 from slopetui.sweeps.initial_dependence import condition_notes, drawn
 from slopetui.sweeps.live_diagram import LiveDiagram
-from slopetui.sweeps.progress import SweepProgress, format_eta, sweep_progress
+from slopetui.sweeps.progress import SweepProgress, sweep_progress
 from slopetui.sweeps.spec import SweepSpec
 from slopetui.tui import garbage
 from slopetui.tui.messages import RunChosen, RunMarked, StoreFailed
@@ -289,7 +290,7 @@ class SweepsScreen(SlopeScreen[None]):
         return [Text(str(p.id)), Text(terminal_safe(p.name)),
                 progress_bar(p.done, p.total, p.failed, p.cancelled),
                 Text(f"{p.done}/{p.total}"), Text(f"{p.runs_per_min:.0f}"),
-                Text(format_eta(p.eta_s)), Text(status)]
+                Text(duration_text(p.eta_s)), Text(status)]
 
     def _fill_table(self) -> None:
         table = self.query_one("#sweep-table", DataTable)
