@@ -27,10 +27,6 @@ jit_cache.configure()
 #: the blow-up test relies on NaN comparing false.
 JIT = dict(cache=True, nogil=True, fastmath={"contract"})
 
-# Indices into the coefficient vector handed to the kernels.
-A, Q, F1, K, D, DELTA = range(6)
-
-
 def coefficients(p: Params) -> np.ndarray:
     """The constants the kernels need, as a float64 vector [a, q, F1, k, d, delta]."""
     return np.array([p.a, p.q, p.F1, p.k, p.d, p.delta], dtype=np.float64)
