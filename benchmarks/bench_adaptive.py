@@ -11,7 +11,7 @@ force sweep's cache): once brute force, every point computed, once adaptive, lev
 level (``slopetui.sweeps.adaptive.advance`` after each level, as idle workers do).
 Prints per plane: runs computed by each, their ratio, the share of lattice points where
 the adaptive label (computed or inferred) equals the brute-force label, which labels
-differ, and the wall times. Target (issue 6): >= 99% agreement with >= 5x fewer runs. The
+differ, and the wall times. Target: >= 99% agreement with >= 5x fewer runs. The
 saving grows with the lattice (the refined bands grow with its side, the lattice with its
 square): (k, tau) meets it at 128 x 128 (the default), (c, tau), whose complex strip is two
 boundaries close together, at 256 x 256 (--num 256 --levels 4); neither at 64 x 64 (~3x).
@@ -22,8 +22,8 @@ geometry (``refine_in_memory``) on the brute-force labels must give the store's 
 exactly; the same replay at other ``levels`` shows what they would have cost and missed.
 
 ``--adaptive-only`` computes the adaptive sweep alone (runs per level, wall time): a lattice
-whose brute force would take too long, checked against brute force on a smaller one (issue
-17's end-to-end diagram: 100 x 100 at the paper's settings, Euler dt 1e-3 to t = 1e5, with
+whose brute force would take too long, checked against brute force on a smaller one (the
+end-to-end diagram: 100 x 100 at the paper's settings, Euler dt 1e-3 to t = 1e5, with
 lambda_max; docs/speed.md).
 
 Runs are computed in this process (one core) unless ``--workers N``, which starts

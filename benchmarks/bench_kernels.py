@@ -16,7 +16,7 @@ machine slows all of them alike:
 
 Printed: the median ns per point-step of each, the median of the rounds' batched /
 yardstick ratios, and the batched speed-up over the single kernel with the same lambda
-setting. Issue 17's targets: Euler and Euler + lambda_max batched within 1.25x of the
+setting. The targets: Euler and Euler + lambda_max batched within 1.25x of the
 yardstick; RK4 and RK4 + lambda_max batched >= 4x faster than the single RK4.
 Kernels are compiled (or loaded from numba's cache) before timing.
 

@@ -1,5 +1,5 @@
 """Pools on one PostgreSQL, as on several hosts: throughput and the queue's cost per run
-with 1, 2 and 4 pools (issue 18).
+with 1, 2 and 4 pools.
 
 Run:  SLOPETUI_TEST_PG=postgresql+psycopg://postgres@127.0.0.1:PORT/postgres \\
           python benchmarks/bench_pools.py [--runs 2000] [--pools 1 2 4] [--connections 1]

@@ -5,7 +5,7 @@ Run:  python benchmarks/bench_queue.py [--jobs N] [--runs M] [--t-end T]
 1. Overhead: N jobs on a SQLite file (WAL), one process doing what a worker does per job
    besides computing: claim (UPDATE ... RETURNING in BEGIN IMMEDIATE), look up the cache,
    write the result (guarded UPDATE). Prints mean, median and p95 ms per job. Then the
-   same with two processes contending for the same file. Target (issue 3): <= 5 ms.
+   same with two processes contending for the same file. Target: <= 5 ms.
 2. Scaling: the same compute-bound sweep (M Euler runs with lambda_max to t_end = T, on
    fresh databases so nothing is cached) through `slopetui worker -j 1` and `-j 2`.
    Throughput is runs / (last result - first claim), from the workers' log, so pool

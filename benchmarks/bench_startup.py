@@ -1,4 +1,4 @@
-"""Start-up of the commands that compute nothing (issue 17, "Start-up"): the wall and CPU
+"""Start-up of the commands that compute nothing: the wall and CPU
 time of `slopetui --help`, `status`, `runs` and `sql "select 1"`, and whether each loaded
 numba (or numpy); and of `slopetui show` of a 100 x 100 sweep at 120 x 40, on a quiet
 machine (benchmarks/bench_tui.py times it with two workers busy, the issue's condition).
@@ -22,7 +22,7 @@ thrown away, as on an installed copy that has run once; $PYTHONDONTWRITEBYTECODE
 is ignored for the children (without bytecode, every module of slopetui and core is
 compiled at each start, ~0.1-0.2 s more). --no-bytecode-cache keeps the environment as it is.
 
-Targets (issue 17): `--help` <= 0.5 s and `status` <= 1 s of wall time on an idle machine;
+Targets: `--help` <= 0.5 s and `status` <= 1 s of wall time on an idle machine;
 `runs` and `sql` are held to status's second, `show` to its own (the issue's 1 s, there
 with two workers busy). The load average is printed before and
 after: on a busy machine the figures say little.
@@ -42,14 +42,14 @@ import tempfile
 import time
 from pathlib import Path
 
-#: The commands, and their wall-time target in seconds (issue 17; runs and sql: status's).
+#: The commands, and their wall-time target in seconds (runs and sql: status's).
 COMMANDS: list[tuple[str, list[str], float]] = [
     ("--help", ["--help"], 0.5),
     ("status", ["status"], 1.0),
     ("runs", ["runs"], 1.0),
     ("sql", ["sql", "select 1"], 1.0),
 ]
-#: `show`, on the store of the 100 x 100 sweep (``SHOW_DB``), and its target (issue 17).
+#: `show`, on the store of the 100 x 100 sweep (``SHOW_DB``), and its target.
 SHOW: tuple[str, list[str], float] = ("show", ["show", "1", "--width", "120", "--height", "40"],
                                       1.0)
 

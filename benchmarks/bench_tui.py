@@ -1,4 +1,4 @@
-"""The application at scale (issue 17): a 100 x 100 sweep open at 120 x 40 while both
+"""The application at scale: a 100 x 100 sweep open at 120 x 40 while both
 workers compute, measured from outside, as a user meets it.
 
     python benchmarks/bench_tui.py [--switches 40] [--idle 20] [--shows 5] [--queued 1000]

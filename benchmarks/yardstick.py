@@ -1,6 +1,6 @@
 """The yardstick: minimal structure-of-arrays kernels of each shape core.batch computes.
 
-Issue 17 sets the batched kernels' targets as ratios to a minimal kernel of the same shape
+The batched kernels' targets are set as ratios to a minimal kernel of the same shape
 measured in the same run (benchmarks/bench_kernels.py): Euler and Euler + lambda_max
 within 1.25x. These kernels do only what every step must: the equations (core.model, the
 same functions the engine inlines), the delay ring of lanes sharing tau (delay-major, one

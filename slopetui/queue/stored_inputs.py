@@ -5,7 +5,7 @@ Submission validates every input, but a store can be edited by hand (SQL, anothe
 an older slopetui): ``dt = 0``, a parameter out of range, a NULL where a number belongs, a
 history naming a state that is not kept. Built in the worker's main thread, such a row
 raised there and killed the worker before the run was charged an attempt, so every pool
-that claimed it died the same way, for ever (issue 31). Now each claimed row is built and
+that claimed it died the same way, for ever. Now each claimed row is built and
 checked at the claim (slopetui.queue.jobs, branch_jobs, hysteresis_jobs): a row that
 fails is marked failed at once with the reason, naming the field (the same values would
 fail in every worker: no retry, no attempt), the worker logs one line without a

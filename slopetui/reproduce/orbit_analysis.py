@@ -1,4 +1,4 @@
-"""The report's bifurcation analysis of the periodic orbits (issue: periodic orbits).
+"""The report's bifurcation analysis of the periodic orbits.
 
 What the paper could only see by simulating, computed: the cycle branch at tau = 10 from
 its Hopf point (criticality, fold of cycles, any period doubling or torus up to k = 25),

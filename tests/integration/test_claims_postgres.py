@@ -3,7 +3,7 @@ SQLite and on PostgreSQL.
 
 On PostgreSQL ``UPDATE ... WHERE id IN (SELECT ... LIMIT n FOR UPDATE SKIP LOCKED)`` may
 evaluate the sub-select again for each row it updates, and asking for 1 run returned 17
-to 43 (issue: PostgreSQL for real). The claim selects and locks first, in a CTE, and
+to 43. The claim selects and locks first, in a CTE, and
 updates what it picked. The PostgreSQL case is skipped unless $SLOPETUI_TEST_PG names a
 server (.ci/run starts one); it makes a database of its own and drops it afterwards.
 

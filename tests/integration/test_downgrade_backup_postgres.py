@@ -1,4 +1,4 @@
-"""A PostgreSQL downgrade is backed up first (issue 31, item 8): pg_dump writes the whole
+"""A PostgreSQL downgrade is backed up first: pg_dump writes the whole
 database into a file of mode 600 whose path is printed, and that file restores (psql -f
 into a new database); the password reaches pg_dump through its environment, never its
 command line; without pg_dump the downgrade is refused unless --no-backup, and a pg_dump

@@ -1,4 +1,4 @@
-"""Many hosts on one PostgreSQL, simulated (issue 18): pools started as separate processes,
+"""Many hosts on one PostgreSQL, simulated: pools started as separate processes,
 each with a --host-id of its own as if on its own node, reach one server over TCP; workers
 and whole pools are killed with SIGKILL at random while they compute; restarted pools
 carry on. Every run is done exactly once, every pool did work, no claim exceeded its

@@ -1,4 +1,4 @@
-"""Migrations of one PostgreSQL database from several hosts at once (issue 18, defect 2):
+"""Migrations of one PostgreSQL database from several hosts at once:
 the lock is the server's advisory lock, not a file on each host. Each process here gets
 a cache folder of its own, as on hosts that share no file system: with the old file
 lock, four simultaneous `slopetui db upgrade` on an empty database failed two times in

@@ -1,4 +1,4 @@
-"""Issue 31's reproduction of a poisoned queue, with a real `slopetui worker`: a run with
+"""The reproduction of a poisoned queue, with a real `slopetui worker`: a run with
 dt = 0 set by hand, and beside it a continuation and a hysteresis sweep with a parameter
 out of range. Until then the worker died in claim_batch at each claim (ParameterError in
 core.params, before the run was charged an attempt), the pool gave up after six

@@ -1,4 +1,4 @@
-"""The database's password never reaches a command line (issue 31, item 2).
+"""The database's password never reaches a command line.
 
 Every user of the machine reads every process's command line (/proc/PID/cmdline, ``ps -eo
 args``); a detached pool gets the store's URL in its environment instead

@@ -5,7 +5,7 @@ A one-second `slopetui run` took ~5 s of wall time, most of it imports: every su
 module loaded numba, Alembic, SQLAlchemy and the plots at the top. The rule now: a
 subcommand module imports what its parser needs at the top and the rest in its handler
 (slopetui.cli.options); the commands that compute nothing load neither numba nor numpy
-(issue 17, "Start-up": `--help` ≤ 0.5 s, `status` ≤ 1 s, `show` of a 100 x 100 sweep
+(the targets: `--help` ≤ 0.5 s, `status` ≤ 1 s, `show` of a 100 x 100 sweep
 ≤ 1 s; benchmarks/bench_startup.py times them), and `show` reads a SQLite store without
 SQLAlchemy. These tests keep it from drifting back: each command runs in a fresh
 process, which then names the heavy modules it loaded.

@@ -1,4 +1,4 @@
-"""The application with large sweeps (issue 17): the sweeps screen reads nothing while
+"""The application with large sweeps: the sweeps screen reads nothing while
 another screen covers it and only what changed while in view, and a 100 x 100 lattice
 is drawn at full resolution in half blocks, in markers without colour."""
 

@@ -1,4 +1,4 @@
-"""A screen switched back to is drawn before it catches up (issue 17, screen switches).
+"""A screen switched back to is drawn before it catches up.
 
 Its catch-up (a garbage collection and the reload of its data in a thread,
 SlopeScreen._back_in_view) ran before the drawing while Textual held updates for 50 ms

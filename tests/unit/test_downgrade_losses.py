@@ -1,4 +1,4 @@
-"""Downgrades that drop data say so (issue 31, item 8): the prompt of `slopetui db
+"""Downgrades that drop data say so: the prompt of `slopetui db
 downgrade` counts and names what goes, before anything changes; the line after it says
 what went. The PostgreSQL backup (pg_dump): tests/integration/test_downgrade_backup_postgres.py."""
 

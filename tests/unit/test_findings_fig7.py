@@ -1,5 +1,5 @@
-"""Fig. 7's verdict weighs the paper's dynamics, not only its region (issue 32: "Fig. 7's
-'agree' rests on the region alone"): the paper says the unstable runs go to "numerical
+"""Fig. 7's verdict weighs the paper's dynamics, not only its region (a verdict "agree"
+once rested on the region alone): the paper says the unstable runs go to "numerical
 infinity"; a runaway that rests on the bounded fast sliding branch contradicts that, so
 the verdict is "partly" even where the regions match. The panels here are the presets'
 own lattices with labels set by hand: the rule is under test, not the integration

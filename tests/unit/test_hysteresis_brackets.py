@@ -1,4 +1,4 @@
-"""Hysteresis transitions as brackets, then refined (issue 32, item 6): each branch's
+"""Hysteresis transitions as brackets, then refined: each branch's
 transition comes with its grid bracket (the last value on the old attractor, the first on
 the new) and is bisected inside it, from the carried state, to a relative tolerance. Up
 from rest it lands on the Hopf point (the exact formula, core.stability.hopf_k); down from

@@ -1,4 +1,4 @@
-"""Ids keep their meaning (issue 31, item 5): a sweep, run, continuation or hysteresis
+"""Ids keep their meaning: a sweep, run, continuation or hysteresis
 sweep id is never handed out twice, on SQLite (AUTOINCREMENT, migration 0009) as on
 PostgreSQL (sequences); and migration 0009 keeps every row, index, foreign key and named
 constraint of a store at 0008, there and back."""

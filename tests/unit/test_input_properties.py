@@ -1,4 +1,4 @@
-"""Property-based tests of the command line (issue 31, item 6), with hypothesis:
+"""Property-based tests of the command line, with hypothesis:
 
 - random valid points and options for every ``--json`` command that computes (run, orbit,
   continue, hysteresis) give strict JSON: parseable with NaN, Infinity and -Infinity

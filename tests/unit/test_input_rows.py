@@ -1,4 +1,4 @@
-"""Bad input that ended in a traceback or exited 0 (issue 31, item 6), row by row: each is
+"""Bad input that ended in a traceback or exited 0, row by row: each is
 now one line on stderr naming the field and what is allowed, exit status 2, and nothing
 written (no store created, no default store, no figure). The numpy bool of `run --json`
 is tests/unit/test_json_text.py's."""

@@ -1,4 +1,4 @@
-"""The store holds what the labels of issue 32 write: the attractor unstable-fixed-point
+"""The store holds what the labels that follow linear theory write: the attractor unstable-fixed-point
 (20 characters, where the column held 16: PostgreSQL enforces VARCHAR lengths), a regime
 undetermined with its reason in a detail longer than the 64 characters the column held,
 and every flag at once (migration 0010)."""

@@ -1,4 +1,4 @@
-"""Cluster home directories (issue 18, defect 4): the kernel cache moves off a network
+"""Cluster home directories: the kernel cache moves off a network
 file system to node-local storage, and a SQLite store on one is refused, pointing to
 PostgreSQL. The mount table is the kernel's (core.mounts.MOUNTINFO); here a file of the
 test's own says which folder is NFS, as on a cluster."""

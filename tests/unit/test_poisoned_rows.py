@@ -1,6 +1,6 @@
 """A queued row whose stored inputs cannot be computed (a hand-edited store) fails at its
 claim with the reason naming the field, in one log line without a traceback, and the
-claim goes on with the other rows (slopetui.queue.stored_inputs; issue 31, item 3). Until
+claim goes on with the other rows (slopetui.queue.stored_inputs). Until
 then such a row raised in the worker's main thread before it was charged an attempt,
 killed every worker that claimed it, and stopped the queue for every pool; a NULL in the
 batch's settings stalled the claim for ever. On SQLite and PostgreSQL (``store``)."""

@@ -1,4 +1,4 @@
-"""Realisability along the whole trajectory (issue 32, item 2): the kernels' running minima
+"""Realisability along the whole trajectory: the kernels' running minima
 of s_x, s_y and s_x s_y - u^2, the first violation, and the flag ``unrealisable``.
 
 The point: k = 2, tau = 10 (the bistable band below the Hopf point 6.146), delta = 2. RK4

@@ -1,4 +1,4 @@
-"""A 100 x 100 lattice at full resolution in a 120 x 40 terminal (issue 17): two lattice
+"""A 100 x 100 lattice at full resolution in a 120 x 40 terminal: two lattice
 rows per character in half blocks (slopetui.plots.lattice_cells), blocks of runs where
 the room is smaller, and where each block goes on screen (tui.widgets.grid_view)."""
 

@@ -1,4 +1,4 @@
-"""A live diagram reads only what changed (issue 17: the sweeps screen re-read all of a
+"""A live diagram reads only what changed (the sweeps screen once re-read all of a
 sweep's runs every 2 s): runs finished or inserted since the last read, and the whole
 sweep again only when the runs counted per status show that something else changed."""
 

@@ -1,6 +1,6 @@
 """`slopetui status` right after `slopetui worker --detach`: the pool warms up (loads or
 compiles the kernels) before any worker registers, and `--detach` returns at once, so
-`status` names it as starting instead of saying "no live workers" (issue 31, item 11a).
+`status` names it as starting instead of saying "no live workers".
 The pool here is a process recorded in a pool file, as start_detached_pool records one
 before it returns; the real detached pool is tests/integration/test_pool_secrets.py's."""
 

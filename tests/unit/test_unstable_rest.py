@@ -1,4 +1,4 @@
-"""Labels follow linear theory (issue 32, item 1): a window that still sits at a rest state
+"""Labels follow linear theory: a window that still sits at a rest state
 whose leading root is positive is not sliding at a fixed point. Checked against theory (the
 exact Hopf formula, roots found here by scipy on the characteristic function), never
 against the tool's earlier labels.

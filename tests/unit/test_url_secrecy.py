@@ -1,4 +1,4 @@
-"""A URL's password is hidden wherever slopetui shows the URL (issue 31, item 2): here the
+"""A URL's password is hidden wherever slopetui shows the URL: here the
 message that refuses a URL SQLAlchemy cannot parse, which quotes it. The detached pool's
 command line and log are tests/integration/test_pool_secrets.py's; the Slurm script's exec
 line tests/unit/test_slurm_script.py's."""
