@@ -32,13 +32,13 @@ from slopetui.cli import (
     worker,
     workers,
 )
-from slopetui.store.failures import StoreError
+from slopetui.store.failures import DatabaseFailure, StoreError
 from slopetui.store.location import checked_url
 from slopetui.store.url_text import holds_password
 
 #: Errors that are the user's input or environment, not a bug: one line, no traceback,
 #: exit 2. Named by module rather than imported: a class whose module was never loaded
-#: cannot have raised, and importing them all (SQLAlchemy, numpy) would cost every
+#: cannot have raised, and importing them all (the store, numpy) would cost every
 #: command, `--help` included, the imports only some need (slopetui.cli.options).
 USER_ERRORS = (("core.params", "ParameterError"), ("core.orbit", "OrbitError"), ("slopetui.sweeps.spec", "SpecError"),
                ("slopetui.store.failures", "StoreError"),
@@ -46,8 +46,6 @@ USER_ERRORS = (("core.params", "ParameterError"), ("core.orbit", "OrbitError"), 
 #: The commands that run for hours (a pool, the application; None is the application):
 #: a password on their command line is in `ps` all that time, so they warn of it.
 LONG_LIVED = (None, "worker")
-#: The database failed (disk full, damaged file...): one line naming the file, exit 1.
-DATABASE_ERRORS = (("sqlalchemy.exc", "SQLAlchemyError"),)
 
 
 def loaded(names: tuple[tuple[str, str], ...]) -> tuple[type[BaseException], ...]:
@@ -105,13 +103,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # `slopetui ... | head`: the reader left, nothing is wrong
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except DatabaseFailure as exc:  # the disk is full, the file damaged, the server gone
+        print(f"slopetui {args.command}: database error: {exc}", file=sys.stderr)
+        return 1
     except Exception as exc:
         if isinstance(exc, loaded(USER_ERRORS)):
             print(f"slopetui {args.command}: error: {exc}", file=sys.stderr)
             return 2
-        if isinstance(exc, loaded(DATABASE_ERRORS)):
-            from slopetui.store.database import explain
-            print(f"slopetui {args.command}: database error: "
-                  f"{explain(exc, getattr(args, 'db', None))}", file=sys.stderr)
-            return 1
         raise

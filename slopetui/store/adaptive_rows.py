@@ -33,7 +33,7 @@ _READY = (select(Sweep.id)
 
 def ready_sweeps(db: Database) -> list[int]:
     """Adaptive sweeps that are active, not refined, and have no run queued or running."""
-    with db.reader.connect() as conn:
+    with db.read() as conn:
         return list(conn.execute(_READY).scalars())
 
 

@@ -31,7 +31,7 @@ def cached_result(db: Database, cache_key: str) -> tuple[int, dict[str, Any]] | 
     """The id and result fields of the earliest finished, computed run with this cache
     key (a worker asks just before computing: one may have finished since the run was
     queued); None if there is none."""
-    with db.reader.connect() as conn:
+    with db.read() as conn:
         row = conn.execute(_CACHED, {"key": cache_key}).first()
     if row is None:
         return None

@@ -35,13 +35,13 @@ from urllib.parse import quote
 
 from sqlalchemy import Connection, Engine, create_engine, event, inspect, select
 from sqlalchemy.engine import URL, CursorResult, Result, make_url
-from sqlalchemy.exc import ArgumentError, DBAPIError
+from sqlalchemy.exc import ArgumentError, DBAPIError, SQLAlchemyError
 from sqlalchemy.orm import Session, sessionmaker
 
 from core.mounts import network_filesystem
 from slopetui.store.connection_slots import ConnectionSlots
 from slopetui.store.db_time import db_now
-from slopetui.store.failures import StoreError, describe, os_failure
+from slopetui.store.failures import DatabaseFailure, StoreError, describe, os_failure
 from slopetui.store.location import DB_ENV, READ_DB_ENV, default_url
 from slopetui.store.url_text import password_hidden
 
@@ -154,18 +154,6 @@ def rows_changed(result: Result[Any]) -> int:
     """The rows an UPDATE or DELETE changed (what SQLAlchemy's CursorResult.rowcount says;
     Session.execute is typed as returning a plain Result)."""
     return cast("CursorResult[Any]", result).rowcount
-
-
-def explain(exc: BaseException, url: str | None = None) -> str:
-    """One line for a database error met by a command on the store at ``url`` (default:
-    ``default_url()``): for a SQLite file, its path and the cause (damaged, disk full,
-    read-only...), see ``slopetui.store.failures``."""
-    reason = str(getattr(exc, "orig", None) or exc).strip()
-    try:
-        path = sqlite_path(parse_url(url or default_url()))
-    except StoreError:
-        path = None
-    return describe(path, reason)
 
 
 def _sqlite_on_connect(dbapi_connection: Any, _record: Any) -> None:
@@ -297,8 +285,7 @@ class Database:
         self.engine = self._make_engine()
         #: The same pool, for reads: ``with db.reader.connect() as conn``.
         self.reader = self.engine.execution_options(**{READ_OPTION: True})
-        #: Sessions for reading (``with db.sessions() as s``); writes use transaction().
-        self.sessions = sessionmaker(self.reader, expire_on_commit=False)
+        self._read_sessions = sessionmaker(self.reader, expire_on_commit=False)
         self._write_sessions = sessionmaker(self.engine, expire_on_commit=False)
         #: The schema revision the store was at when opened (None: no schema yet), read
         #: once: open_store compares it with the head before it pays for Alembic.
@@ -357,11 +344,12 @@ class Database:
         file, so that a SQLite file that cannot be used (not a database, a read-only folder
         for its -wal file...) fails here with its cause named, not at a later query with
         "unable to open database file"."""
+        if self.path is None:
+            with self.failures_translated():
+                return self.stored_revision()
         try:
             return self.stored_revision()
         except DBAPIError as exc:
-            if self.path is None:
-                raise
             raise StoreError(describe(self.path, str(exc.orig).strip())) from None
 
     @property
@@ -370,15 +358,39 @@ class Database:
         return password_hidden(self.url.render_as_string(hide_password=True))
 
     @contextmanager
+    def failures_translated(self) -> Iterator[None]:
+        """SQLAlchemy's errors in the block raised again as DatabaseFailure, naming this
+        store and the cause (Optuna's ``_create_scoped_session`` does the same)."""
+        try:
+            yield
+        except SQLAlchemyError as exc:
+            reason = str(getattr(exc, "orig", None) or exc).strip()
+            raise DatabaseFailure(describe(self.path, reason) if self.path is not None else
+                                  f"{self.display_url}: {reason}") from exc
+
+    @contextmanager
+    def sessions(self) -> Iterator[Session]:
+        """A session for reading (``with db.sessions() as s``); writes use transaction()."""
+        with self.failures_translated(), self._read_sessions() as session:
+            yield session
+
+    @contextmanager
+    def read(self) -> Iterator[Connection]:
+        """A Core connection for reading, in one transaction: one snapshot for every
+        statement in the block."""
+        with self.failures_translated(), self.reader.connect() as conn:
+            yield conn
+
+    @contextmanager
     def transaction(self) -> Iterator[Session]:
         """A session in one write transaction: committed on exit, rolled back on error."""
-        with self._write_sessions.begin() as session:
+        with self.failures_translated(), self._write_sessions.begin() as session:
             yield session
 
     @contextmanager
     def connection(self) -> Iterator[Connection]:
         """A Core connection in one write transaction, for prebuilt hot-path statements."""
-        with self.engine.begin() as conn:
+        with self.failures_translated(), self.engine.begin() as conn:
             yield conn
 
     def now(self, session: Session) -> datetime:

@@ -99,7 +99,7 @@ def losses(db: Database, downgrades: list[str], *, to_base: bool) -> list[str]:
     for what is not there. ``to_base``: every table goes, so only the rows are named."""
     items = [item for revision in downgrades for item in DROPS[revision]
              if item.rows or not to_base]
-    with db.reader.connect() as conn:
+    with db.read() as conn:
         counts = {x.count: int(conn.exec_driver_sql(x.count).scalar() or 0)
                   for x in _every(tuple(items))}
     return [p for p in (_phrase(counts, item) for item in items) if p]

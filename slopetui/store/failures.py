@@ -17,6 +17,14 @@ class StoreError(Exception):
     """The database cannot be opened or used; the message says why and what to do."""
 
 
+class DatabaseFailure(StoreError):
+    """The database failed while in use (a full disk, a damaged file, a server gone, a
+    lock held too long), raised by ``Database``'s sessions, transactions and connections
+    in place of SQLAlchemy's error, which stays its ``__cause__``: the one place the
+    store's driver errors become the store's own, so that no layer above it needs to know
+    SQLAlchemy. The message names the store and the cause (``describe``)."""
+
+
 #: Words of SQLite's messages for a file that is not (or no longer) a valid database.
 DAMAGE_WORDS = ("malformed", "file is not a database", "database disk image")
 #: Words of SQLite's messages for a write that found no room.

@@ -41,7 +41,7 @@ def run_rows(db: Database, columns: Sequence[str], *, sweep: int | None = None,
         query = query.where(Run.regime == regime, Run.status == "done")
     query = query.order_by(Run.sweep_id, Run.iy, Run.ix, Run.ic)
     # a Core connection, not a Session: the ORM's row loading took as long as the read
-    with db.reader.connect() as conn:  # one transaction: one snapshot for both reads
+    with db.read() as conn:  # one transaction: one snapshot for both reads
         known = sweep is None or conn.execute(select(Sweep.id).where(Sweep.id == sweep)).first()
         return list(conn.execute(query).all()) if known else None
 

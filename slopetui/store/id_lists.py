@@ -85,7 +85,7 @@ def _read_other(url: str, sql: str, params: dict[str, Any]) -> list[Any]:
         parsed = parsed.update_query_dict({"connect_timeout": str(TIMEOUT_S)})
     db = Database(parsed.render_as_string(hide_password=False))
     try:
-        with db.reader.connect() as conn:
+        with db.read() as conn:
             return list(conn.execute(text(sql), params).all())
     finally:
         db.dispose()

@@ -75,7 +75,7 @@ def head_revision() -> str:
 
 
 def current_revision(db: Database) -> str | None:
-    with db.reader.connect() as conn:
+    with db.read() as conn:
         return MigrationContext.configure(conn).get_current_revision()
 
 
@@ -116,7 +116,7 @@ def migration_lock(db: Database) -> AbstractContextManager[object]:
 
 def upgrade(db: Database) -> tuple[str | None, str]:
     """Upgrade to head under the lock; returns (revision before, revision after)."""
-    with migration_lock(db):
+    with db.failures_translated(), migration_lock(db):
         before = current_revision(db)
         if before != head_revision():
             _check_known(before)
@@ -173,7 +173,7 @@ def downgrade(db: Database, revision: str, *, backup: bool = True,
     slopetui.store.server_dump.backup_folder()) unless ``backup`` is false, and without
     pg_dump the downgrade is refused. Returns (revision before, revision after, the
     backup)."""
-    with migration_lock(db):
+    with db.failures_translated(), migration_lock(db):
         before = _older(db, revision)
         if db.is_sqlite:
             copy = backup_copy(db, before)

@@ -21,7 +21,7 @@ from sqlalchemy import update
 from sqlalchemy.exc import DBAPIError
 
 from slopetui.store.database import Database
-from slopetui.store.failures import FULL_WORDS, MIN_FREE_BYTES, describe, free_bytes
+from slopetui.store.failures import FULL_WORDS, MIN_FREE_BYTES, DatabaseFailure, describe, free_bytes
 from slopetui.store.models import Run, Worker
 
 #: Words of the databases' messages for a write they refuse, whatever is retried.
@@ -39,6 +39,8 @@ def _reason(exc: DBAPIError) -> str:
 def write_refusal(db: Database, exc: BaseException) -> str | None:
     """One line if ``exc`` is the store refusing a write (read-only, full disk, no
     privilege): retrying cannot help until someone fixes it. None for any other error."""
+    if isinstance(exc, DatabaseFailure):  # Database's own (failures_translated)
+        exc = exc.__cause__ or exc
     if not isinstance(exc, DBAPIError):
         return None
     reason = _reason(exc)
@@ -62,7 +64,7 @@ def refuses_writes(db: Database) -> str | None:
         with db.transaction() as s:
             s.execute(update(Run).where(Run.id.is_(None)).values(status=Run.status))
             s.execute(update(Worker).where(Worker.id.is_(None)).values(pid=Worker.pid))
-    except DBAPIError as exc:
+    except DatabaseFailure as exc:
         line = write_refusal(db, exc)
         if line is None:
             raise
