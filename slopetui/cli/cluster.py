@@ -1,7 +1,7 @@
 """``slopetui cluster slurm``: write the sbatch script of a job array of worker pools, one
 per node, and say how to submit, watch and stop it.
 
-The script is built by slopetui.queue.slurm (which says how the pools stop); here are the
+The script is built by slopetui.ops.slurm (which says how the pools stop); here are the
 options, the checks of the command line, the file and the instructions.
 """
 
@@ -16,7 +16,7 @@ from pathlib import Path
 
 from slopetui.cli.options import UsageError, int_arg
 from slopetui.display_text import terminal_safe
-from slopetui.queue import slurm
+from slopetui.ops import slurm
 from slopetui.store.location import DB_ENV
 
 

@@ -1,6 +1,6 @@
 """``slopetui db upgrade|downgrade|current|check|revision``: the schema and health of the
 store; ``slopetui db serve``: a PostgreSQL server of one's own for the workers
-(slopetui.store.local_server)."""
+(slopetui.ops.local_server)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from slopetui.cli.options import UsageError, add_db_option, int_arg
-from slopetui.store import local_server
+from slopetui.ops import local_server
 from slopetui.store.failures import StoreError
 
 if TYPE_CHECKING:

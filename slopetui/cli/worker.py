@@ -16,9 +16,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from slopetui.cli.options import UsageError, add_db_option
+from slopetui.ops.connection_slots import DEFAULT_CONNECTIONS
 from slopetui.queue import defaults
 from slopetui.queue.local_pool import default_jobs, default_log
-from slopetui.store.connection_slots import DEFAULT_CONNECTIONS
 
 if TYPE_CHECKING:
     from slopetui.queue.local_pool import LocalPool
@@ -39,7 +39,7 @@ MAX_ATTEMPTS_RANGE = (1, 100)
 #: A worker's memory budget for a batch (MiB): 64 MiB holds a few paper runs (~10 MB
 #: each); 512 GiB is beyond any node we run on.
 MEMORY_RANGE = (64, 512 * 1024)
-#: A pool's connection budget on a server database (slopetui.store.connection_slots).
+#: A pool's connection budget on a server database (slopetui.ops.connection_slots).
 CONNECTIONS_RANGE = (1, 64)
 #: --idle-grace: up to a day (s).
 MAX_IDLE_GRACE_S = 86_400.0

@@ -44,6 +44,7 @@ from dataclasses import replace
 from multiprocessing.connection import wait
 from multiprocessing.process import BaseProcess
 
+from slopetui.ops.connection_slots import remove_slots_folder, slots_folder
 from slopetui.queue import jobs
 from slopetui.queue.blas_threads import one_blas_thread
 from slopetui.queue.local_pool import default_jobs, remove_pool_file, write_pool_file
@@ -56,7 +57,6 @@ from slopetui.queue.worker_process import (
     worker_id_for,
     worker_main,
 )
-from slopetui.store.connection_slots import remove_slots_folder, slots_folder
 from slopetui.store.database import Database
 from slopetui.store.integrity import integrity_problems
 from slopetui.store.open import open_store

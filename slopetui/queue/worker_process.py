@@ -18,7 +18,7 @@ the worker holds (Heartbeat).
 Connections. The main thread is the only one that uses the store, and it closes its
 connection whenever it waits (a computation, a sleep: Database.idle). On a server
 database the pool's processes share a budget of connections (WorkerOptions.connections,
-slopetui.store.connection_slots): the pool holds at most that many, whatever its size.
+slopetui.ops.connection_slots): the pool holds at most that many, whatever its size.
 
 Shutdown. The main loop reads three sources, and nothing else acts on them:
 
@@ -56,13 +56,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from slopetui.ops.connection_slots import DEFAULT_CONNECTIONS, ConnectionSlots
 from slopetui.queue import branch_jobs, defaults, hysteresis_jobs, jobs
 from slopetui.queue.batch_memory import MIB, fitting
 from slopetui.queue.idle_exit import IdleExit, Owner
 from slopetui.queue.priority import lower_priority
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
 from slopetui.queue.warm_up import watched_warm_up
-from slopetui.store.connection_slots import DEFAULT_CONNECTIONS, ConnectionSlots
 from slopetui.store.database import Database
 from slopetui.store.queue_backlog import backlog
 from slopetui.store.worker_rows import register_worker, unregister_worker

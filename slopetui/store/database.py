@@ -39,7 +39,7 @@ from sqlalchemy.exc import ArgumentError, DBAPIError, SQLAlchemyError
 from sqlalchemy.orm import Session, sessionmaker
 
 from core.mounts import network_filesystem
-from slopetui.store.connection_slots import ConnectionSlots
+from slopetui.store.connection_budget import ConnectionBudget
 from slopetui.store.db_time import db_now
 from slopetui.store.failures import DatabaseFailure, StoreError, describe, os_failure
 from slopetui.store.location import DB_ENV, READ_DB_ENV, default_url
@@ -221,7 +221,7 @@ def _postgres_read_only_begin(conn: Any) -> None:
     conn.exec_driver_sql("SET TRANSACTION READ ONLY")
 
 
-def _budget(engine: Engine, slots: ConnectionSlots) -> None:
+def _budget(engine: Engine, slots: ConnectionBudget) -> None:
     """Open the engine's connections only under a slot of ``slots`` (acquired before the
     connection is made, released once it is closed, or if making it failed)."""
 
@@ -251,10 +251,10 @@ class Database:
     spawned them.
     """
 
-    def __init__(self, url: str | None = None, *, slots: ConnectionSlots | None = None,
+    def __init__(self, url: str | None = None, *, slots: ConnectionBudget | None = None,
                  read_only_ok: bool = False) -> None:
         """slots : a connection budget shared with other processes (a worker pool's, see
-                   slopetui.store.connection_slots): this process opens a connection only
+                   slopetui.ops.connection_slots): this process opens a connection only
                    while it holds a slot, and ``idle()`` closes it again. None: no budget
                    (SQLite, the application, the commands).
         read_only_ok : the caller only reads: a SQLite file it cannot write is opened
@@ -402,7 +402,7 @@ class Database:
 
     def reader_url(self) -> URL:
         """The URL the read-only queries of a PostgreSQL store connect with: that of
-        ``$SLOPETUI_READ_DB`` (a role that only reads, slopetui.store.local_server) when it
+        ``$SLOPETUI_READ_DB`` (a role that only reads, slopetui.ops.local_server) when it
         names this store's database (same host, port and database), else the store's own.
         Another database's reader is not used: its rows would be shown as this store's."""
         named = os.environ.get(READ_DB_ENV)

@@ -22,7 +22,7 @@ from platformdirs import user_data_path
 
 from slopetui.store.database import Database
 from slopetui.store.failures import StoreError
-from slopetui.store.local_server import PG_BIN_GLOBS
+from slopetui.store.pg_programs import PG_BIN_GLOBS, distribution_folders
 
 #: What to do without pg_dump, in the words of the message that refuses.
 NO_PG_DUMP = ("install PostgreSQL's client programs (Debian/Ubuntu: sudo apt install "
@@ -41,13 +41,9 @@ def find_pg_dump() -> Path:
     on_path = shutil.which("pg_dump")
     if on_path:
         return Path(on_path)
-    for pattern in PG_BIN_GLOBS:
-        found = sorted(Path("/").glob(pattern.lstrip("/") + "/pg_dump"),
-                       key=lambda p: [int(n) for n in re.findall(r"\d+", str(p))],
-                       reverse=True)
-        for program in found:
-            if os.access(program, os.X_OK):
-                return program
+    for folder in distribution_folders():
+        if os.access(folder / "pg_dump", os.X_OK):
+            return folder / "pg_dump"
     raise StoreError(f"the schema was not changed: no pg_dump on PATH or in "
                      f"{PG_BIN_GLOBS[0]} to back the database up first: {NO_PG_DUMP}")
 

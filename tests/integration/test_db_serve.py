@@ -34,8 +34,8 @@ from sqlalchemy import func, select
 import migrations
 import slopetui
 from slopetui.cli import main
+from slopetui.ops import local_server as ls
 from slopetui.store import Database, Run
-from slopetui.store import local_server as ls
 from slopetui.store.failures import StoreError
 from tests.support import slopetui_cli, submit_quick
 

@@ -105,7 +105,7 @@ def test_the_password_goes_by_the_environment_and_a_failed_dump_changes_nothing(
 def test_without_pg_dump_the_downgrade_is_refused_unless_no_backup(
         populated, capsys, monkeypatch):
     monkeypatch.setattr(server_dump.shutil, "which", lambda _name: None)
-    monkeypatch.setattr(server_dump, "PG_BIN_GLOBS", ("/nonexistent/*/bin",))
+    monkeypatch.setattr(server_dump, "distribution_folders", lambda: [])
     db = open_store(populated)
     rows = _rows(db)
     assert main(["db", "downgrade", "0003", "--yes", "--db", populated]) == 2
@@ -114,7 +114,8 @@ def test_without_pg_dump_the_downgrade_is_refused_unless_no_backup(
     assert current_revision(db) == head_revision() and _rows(db) == rows
     assert main(["db", "downgrade", "0003", "--yes", "--no-backup", "--db", populated]) == 0
     out = capsys.readouterr().out
-    assert "dropped 2 hysteresis sweeps" in out and out.splitlines()[0].endswith(
+    assert "dropped the certificates" in out and ", 2 hysteresis sweeps" in out
+    assert out.splitlines()[0].endswith(
         "; no backup (--no-backup)")
     assert current_revision(db) == "0003"
     db.dispose()

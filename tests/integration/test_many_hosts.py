@@ -3,7 +3,7 @@ each with a --host-id of its own as if on its own node, reach one server over TC
 and whole pools are killed with SIGKILL at random while they compute; restarted pools
 carry on. Every run is done exactly once, every pool did work, no claim exceeded its
 batch, and the connections stayed within the pools' budget (--connections): a pool holds
-a connection only to claim and to write (slopetui.store.connection_slots), where before
+a connection only to claim and to write (slopetui.ops.connection_slots), where before
 each worker held two.
 
 The figures the closing note quotes come from a run of this test with -s (it prints

@@ -1,6 +1,6 @@
 """The read-only console on PostgreSQL: what a READ ONLY transaction lets by (signalling
 the workers' backends, advisory locks, NOTIFY, DO) is refused before it runs
-(slopetui.store.pg_read_guard), and the reading role (slopetui.store.local_server's
+(slopetui.store.pg_read_guard), and the reading role (slopetui.ops.local_server's
 reader_grants, what `db serve` makes) can do none of it even past slopetui.
 
 Skipped unless $SLOPETUI_TEST_PG names a PostgreSQL server as a superuser (.ci/run
@@ -19,8 +19,8 @@ import pytest
 from sqlalchemy import create_engine
 from sqlalchemy.engine import make_url
 
+from slopetui.ops.local_server import reader_grants
 from slopetui.store import Database, open_store
-from slopetui.store.local_server import reader_grants
 from slopetui.store.location import READ_DB_ENV
 from slopetui.store.read_query import QueryError, ReadQuery
 from tests.integration.test_db_serve import free_port, runner  # noqa: F401  (a fixture)

@@ -1,4 +1,4 @@
-"""A pool's connection budget (slopetui.store.connection_slots): never more holders than
+"""A pool's connection budget (slopetui.ops.connection_slots): never more holders than
 slots across processes, a slot of a process killed with SIGKILL is free again, and a
 budgeted store gives its slot back when idle (the pools on a live PostgreSQL:
 tests/integration/test_many_hosts.py)."""
@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from slopetui.store.connection_slots import ConnectionSlots, slots_folder
+from slopetui.ops.connection_slots import ConnectionSlots, slots_folder
 from slopetui.store.database import Database
 
 CTX = mp.get_context("fork")  # spawn would import the test module again: 4 s for six

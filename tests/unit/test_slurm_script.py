@@ -1,4 +1,4 @@
-"""`slopetui cluster slurm`: the sbatch script's text (slopetui.queue.slurm) and the command
+"""`slopetui cluster slurm`: the sbatch script's text (slopetui.ops.slurm) and the command
 that writes it, in this process. The script run by a real Slurm (or by bash, against
 PostgreSQL) is tests/integration/test_slurm.py."""
 
@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from slopetui.cli import main
-from slopetui.queue import slurm
+from slopetui.ops import slurm
 
 PG = "postgresql+psycopg://slopes@db.cluster.example:5432/slopes"
 #: Everything a shell could read as more than text: spaces, both quotes, $, backquotes,

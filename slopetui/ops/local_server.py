@@ -65,6 +65,7 @@ from pathlib import Path
 from platformdirs import user_data_path
 
 from slopetui.store.failures import StoreError
+from slopetui.store.pg_programs import distribution_folders
 
 #: The port when none is given and none is stored in DIR. Not PostgreSQL's 5432: that is
 #: where a system server runs (Debian's `apt install postgresql` starts one there).
@@ -72,7 +73,7 @@ DEFAULT_PORT = 54320
 #: Listen on every interface: the workers are on other nodes.
 DEFAULT_LISTEN = "*"
 #: PostgreSQL's own default. A worker pool holds 2 connections by default whatever its
-#: size (slopetui.store.connection_slots), so 100 serve some 45 pools with room to spare.
+#: size (slopetui.ops.connection_slots), so 100 serve some 45 pools with room to spare.
 DEFAULT_MAX_CONNECTIONS = 100
 #: The role and the database the workers use.
 ROLE = DATABASE = "slopetui"
@@ -100,9 +101,6 @@ LISTEN_CHARS = re.compile(r"[A-Za-z0-9.:*_, -]+")
 OWN_NAMES = frozenset({"data", "data.init", "password", "url", "read-password", "read-url",
                        "server.log", "serve.lock",
                        "serve.pid", "server.host"})
-#: Where distributions put the server programs when they are not on PATH (newest wins).
-PG_BIN_GLOBS = ("/usr/lib/postgresql/*/bin", "/usr/pgsql-*/bin",
-                "/opt/homebrew/opt/postgresql@*/bin", "/usr/local/opt/postgresql@*/bin")
 TOOLS = ("initdb", "pg_ctl", "postgres")
 INSTALL_HINT = ("install them (Debian/Ubuntu: sudo apt install postgresql; without root: "
                 "conda install -c conda-forge postgresql; on a cluster: module load "
@@ -172,12 +170,7 @@ def _candidates() -> list[Path]:
     on_path = shutil.which("pg_ctl")
     if on_path:
         found.append(Path(on_path).resolve().parent)
-    for pattern in PG_BIN_GLOBS:
-        matches = sorted(Path("/").glob(pattern.lstrip("/")),
-                         key=lambda p: [int(n) for n in re.findall(r"\d+", str(p))],
-                         reverse=True)
-        found.extend(matches)
-    return found
+    return found + distribution_folders()
 
 
 def find_binaries(pg_bin: Path | None = None) -> Binaries:
