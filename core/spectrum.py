@@ -82,7 +82,7 @@ def check_spectrum(p: Params, s: SolverSettings, n: int) -> None:
     besides the shift), or more memory than a run may take."""
     n = check_count(n)
     if s.method not in SPECTRUM_METHODS:
-        raise ParameterError("spectrum", n, f"--method {' or '.join(SPECTRUM_METHODS)} "
+        raise ParameterError("spectrum", n, f"only with --method {' or '.join(SPECTRUM_METHODS)} "
                                             f"(the {s.method} scheme has no tangent kernel)")
     if p.tau == 0.0 and n > 4:
         raise ParameterError("spectrum", n, "1 <= N <= 4 at tau = 0 (m_y, s_x, s_y, u: "
