@@ -420,7 +420,7 @@ def _continuum_attractor(same_band: bool, k01: float, lyap: LyapunovEstimate | N
     the shift's and the third clearly negative (core.spectrum.evidence), and a band of
     maxima that stays; the 0-1 test only supports either. Without that evidence the
     attractor is undetermined, the reason in the detail."""
-    from core.spectrum import evidence
+    from core.spectrum import evidence, is_zero
     support = f"; 0-1 test K = {k01:.2f}" if math.isfinite(k01) else ""
     if spectrum is not None and spectrum.values:
         ev = evidence(spectrum, CHAOS_LAMBDA_MIN)
@@ -432,8 +432,8 @@ def _continuum_attractor(same_band: bool, k01: float, lyap: LyapunovEstimate | N
             return "torus", f"quasi-periodic: exponents {spectrum.format()}{support}"
         return "undetermined", f"no return: {ev.reason}{support}"
     if lyap is not None and math.isfinite(lyap.value):
-        err = lyap.error if math.isfinite(lyap.error) else 0.0
-        if lyap.value > max(3.0 * err, CHAOS_LAMBDA_MIN):
+        # without an error bar (a run too short for two blocks) nothing is significant
+        if math.isfinite(lyap.error) and lyap.value > max(3.0 * lyap.error, CHAOS_LAMBDA_MIN):
             return "chaotic", f"chaotic: lambda_max {lyap.format()}{support}"
     if not same_band:
         return "unsettled", "no return, band still moving"

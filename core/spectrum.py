@@ -134,9 +134,11 @@ class Evidence:
 
 
 def is_zero(value: float, error: float) -> bool:
-    """The exponent is 0 with confidence (ZERO_SIGMAS, ZERO_ABS)."""
-    err = error if math.isfinite(error) else math.inf
-    return abs(value) <= min(ZERO_SIGMAS * err, ZERO_ABS) or abs(value) <= 1e-12
+    """The exponent is 0 with confidence (ZERO_SIGMAS, ZERO_ABS); without an error bar (a
+    run too short for two blocks) only an exact 0 is."""
+    if not math.isfinite(error):
+        return value == 0.0
+    return abs(value) <= min(ZERO_SIGMAS * error, ZERO_ABS)
 
 
 def evidence(sp: Spectrum, chaos_min: float) -> Evidence:
