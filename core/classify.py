@@ -431,10 +431,10 @@ def _continuum_attractor(same_band: bool, k01: float, lyap: LyapunovEstimate | N
         if ev.torus:
             return "torus", f"quasi-periodic: exponents {spectrum.format()}{support}"
         return "undetermined", f"no return: {ev.reason}{support}"
-    if lyap is not None and math.isfinite(lyap.value):
-        # without an error bar (a run too short for two blocks) nothing is significant
-        if math.isfinite(lyap.error) and lyap.value > max(3.0 * lyap.error, CHAOS_LAMBDA_MIN):
-            return "chaotic", f"chaotic: lambda_max {lyap.format()}{support}"
+    # without an error bar (a run too short for two blocks) nothing is significant
+    if (lyap is not None and math.isfinite(lyap.value) and math.isfinite(lyap.error)
+            and lyap.value > max(3.0 * lyap.error, CHAOS_LAMBDA_MIN)):
+        return "chaotic", f"chaotic: lambda_max {lyap.format()}{support}"
     if not same_band:
         return "unsettled", "no return, band still moving"
     if lyap is None or not math.isfinite(lyap.value):

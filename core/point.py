@@ -34,9 +34,9 @@ from core.history import CarriedState
 from core.lyapunov import LyapunovEstimate, estimate
 from core.params import Params
 from core.result_fields import RECORD_KEYS
+from core.solve import SolverSettings, Trajectory, moved_into, simulate
 from core.spectrum import Spectrum, check_spectrum
 from core.spectrum import spectrum as top_exponents
-from core.solve import SolverSettings, Trajectory, moved_into, simulate
 
 #: The checks over a run's samples (the closure, uphill and negative-variance flags) are
 #: "some sample is bad": they are computed on blocks of this many samples, so that their
