@@ -419,33 +419,35 @@ def _continuum_attractor(same_band: bool, k01: float, lyap: LyapunovEstimate | N
     3 sigma (the spectrum's top one, else lambda_max); a torus two zero exponents besides
     the shift's and the third clearly negative (core.spectrum.evidence), and a band of
     maxima that stays; the 0-1 test only supports either. Without that evidence the
-    attractor is undetermined, the reason in the detail."""
+    attractor is undetermined, the reason in the detail. The details hold no numbers (the
+    exponents and K are fields of their own): the report counts runs by their detail."""
     from core.spectrum import evidence, is_zero
-    support = f"; 0-1 test K = {k01:.2f}" if math.isfinite(k01) else ""
+    support = ("; the 0-1 test suggests chaos (K > 0.5), which only a positive exponent at 3 "
+               "sigma shows" if k01 > 0.5 else "")
     if spectrum is not None and spectrum.values:
         ev = evidence(spectrum, CHAOS_LAMBDA_MIN)
         if ev.chaotic:
-            return "chaotic", f"chaotic: top exponent {spectrum.format().split(', ')[0]}{support}"
+            return "chaotic", "chaotic"
         if not same_band:
             return "unsettled", "no return, band still moving"
         if ev.torus:
-            return "torus", f"quasi-periodic: exponents {spectrum.format()}{support}"
+            return "torus", "quasi-periodic"
         return "undetermined", f"no return: {ev.reason}{support}"
     # without an error bar (a run too short for two blocks) nothing is significant
     if (lyap is not None and math.isfinite(lyap.value) and math.isfinite(lyap.error)
             and lyap.value > max(3.0 * lyap.error, CHAOS_LAMBDA_MIN)):
-        return "chaotic", f"chaotic: lambda_max {lyap.format()}{support}"
+        return "chaotic", "chaotic"
     if not same_band:
         return "unsettled", "no return, band still moving"
     if lyap is None or not math.isfinite(lyap.value):
-        return "undetermined", (f"no return: chaos needs a positive exponent, quasi-periodic "
+        return "undetermined", ("no return: chaos needs a positive exponent, quasi-periodic "
                                 f"two zero exponents: run --spectrum 3{support}")
     if lyap.value > 0.0 and not is_zero(lyap.value, lyap.error):
-        return "undetermined", (f"no return: lambda_max {lyap.format()} positive but not "
-                                f"above 3 sigma and {CHAOS_LAMBDA_MIN:g}: near-neutral "
-                                f"exponents: a slow transient?{support}")
-    return "undetermined", (f"no return, lambda_max {lyap.format()}: quasi-periodic needs two "
-                            f"zero exponents: run --spectrum 3{support}")
+        return "undetermined", ("no return: lambda_max positive but not above 3 sigma and "
+                                f"{CHAOS_LAMBDA_MIN:g}: near-neutral exponents: a slow "
+                                f"transient?{support}")
+    return "undetermined", ("no return: quasi-periodic needs two zero exponents: run "
+                            f"--spectrum 3{support}")
 
 
 def _spectrum_note(s: Summary, spectrum: Spectrum | None) -> Summary:
