@@ -113,3 +113,12 @@ def test_evidence():
     # no error bars (a run too short for two blocks): nothing is known with confidence
     ev = evidence(_sp((1e-6, math.nan), (0.0, math.nan), (-0.1, math.nan)), CHAOS_LAMBDA_MIN)
     assert not ev.torus and not ev.chaotic
+
+
+def test_more_tangent_memory_than_a_run_may_take_is_refused_with_the_count_that_fits():
+    """tau = 1e4, RK4 at dt = 1e-3: each tangent's ring holds 2 x 1e7 values (160 MB): 16
+    of them are over the 2 GiB a run may take, 13 fit."""
+    p, s = Params(tau=1e4), SolverSettings(method="rk4", dt=1e-3, t_end=2e4)
+    with pytest.raises(ParameterError, match=r"spectrum = 16 .* allowed 1 <= N <= 13 at tau = 10000"):
+        check_spectrum(p, s, 16)
+    check_spectrum(p, s, 13)
