@@ -1,10 +1,11 @@
 """Kernels for the Lyapunov spectrum: a run's own scheme with N tangents (core.spectrum).
 
-Each kernel integrates eqs. 6a-6e exactly as core.euler or core.rk4 does (the same steps,
-the same history, so the same trajectory to the bit) and co-iterates N tangent vectors of
-that discrete map, each with its own delay ring, re-orthonormalising them every
-``renorm_steps`` steps (``orthonormalise``). The main kernels stay as they are: a run
-with --spectrum pays for this second pass, and a run without it pays nothing.
+Each kernel integrates eqs. 6a-6e exactly as core.euler or core.rk4 does (the same steps
+from the same history, so the same trajectory up to how LLVM fuses multiply-adds in each
+kernel) and co-iterates N tangent vectors of that discrete map, each with its own delay
+ring, re-orthonormalising them every ``renorm_steps`` steps (``orthonormalise``). The main
+kernels stay as they are: a run with --spectrum pays for this second pass, and a run
+without it pays nothing.
 
 A tangent is its five-vector e[i] = (e_x, e_y, e_sx, e_sy, e_u) and its history
 h[i] (rows: tangent m_x, and for RK4 tangent m_y, over the delay). The initial tangents
