@@ -35,6 +35,8 @@ from core.lyapunov import LyapunovEstimate, estimate
 from core.params import Params
 from core.result_fields import RECORD_KEYS
 from core.solve import SolverSettings, Trajectory, moved_into, simulate
+from core.spectrum import Spectrum, check_spectrum
+from core.spectrum import spectrum as top_exponents
 
 #: The checks over a run's samples (the closure, uphill and negative-variance flags) are
 #: "some sample is bad": they are computed on blocks of this many samples, so that their
@@ -55,6 +57,8 @@ class PointResult:
     t_blowup: float | None
     runtime_s: float
     trajectory: Trajectory
+    #: The top Lyapunov exponents (run --spectrum N, core.spectrum); None: not computed.
+    spectrum: Spectrum | None = None
 
     def as_record(self) -> dict[str, object]:
         """The flat record the CLI prints with --json and the store keeps: the result
@@ -84,8 +88,8 @@ class PointResult:
             "multipliers": [],
             "slips": 0,
             "dt_error": math.nan,
-            "spectrum": [],
-            "spectrum_err": [],
+            "spectrum": list(self.spectrum.values) if self.spectrum else [],
+            "spectrum_err": list(self.spectrum.errors) if self.spectrum else [],
             "dt": self.trajectory.grid.dt,
             "t_end": self.trajectory.grid.t_end,
         }
@@ -93,12 +97,18 @@ class PointResult:
 
 
 def run_point(p: Params, s: SolverSettings | None = None,
-              carried: CarriedState | None = None) -> PointResult:
+              carried: CarriedState | None = None, spectrum: int = 0) -> PointResult:
     """Run one point with settings s (defaults: Euler, dt 1e-3, t_end 1e5, window 1000),
-    from the history s.history (``carried``: the state it names, when it names one)."""
+    from the history s.history (``carried``: the state it names, when it names one);
+    ``spectrum`` > 0: also its top ``spectrum`` Lyapunov exponents (core.spectrum, a
+    second pass of the same scheme), which the classifier takes as its evidence."""
     s = s or SolverSettings()
+    if spectrum:
+        check_spectrum(p, s, spectrum)  # before the run: a refusal costs nothing
     t0 = time.perf_counter()
-    return analyse(simulate(p, s, carried), time.perf_counter() - t0)
+    tr = simulate(p, s, carried)
+    exponents = top_exponents(p, s, spectrum, carried) if spectrum else None
+    return analyse(tr, time.perf_counter() - t0, spectrum=exponents)
 
 
 def run_batch(points: Sequence[Params], s: SolverSettings | None = None) -> list[PointResult]:
@@ -118,7 +128,8 @@ def run_batch(points: Sequence[Params], s: SolverSettings | None = None) -> list
     return results
 
 
-def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False) -> PointResult:
+def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False,
+            spectrum: Spectrum | None = None) -> PointResult:
     """lambda_max and the regime of an integrated trajectory (re-integrated with the
     stiff-safe scheme where an explicit one failed: see the module docstring).
 
@@ -127,8 +138,10 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False) -> Po
     any lane does, so a re-integration in arrays of its own held the lane's samples twice
     (at window 1e5, 8 lanes took 1.30 times what they lay out, 32 lanes 1.60: more lanes,
     more re-integrated). Only for a caller that holds tr nowhere else: tr's samples then
-    show the re-integration's."""
+    show the re-integration's. spectrum: the run's top exponents (core.spectrum), dropped
+    with a note when the run is re-integrated (they belong to the explicit scheme)."""
     flags: tuple[str, ...] = ()
+    dropped = ""
     t_blowup = tr.t_blowup  # the explicit scheme's, kept beside the flag
     if tr.settings.method != "stiff" and (tr.blew_up or _negative_variance(tr)):
         t1 = time.perf_counter()
@@ -137,10 +150,15 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False) -> Po
         del stiff  # its own arrays, once copied: freed before the analysis's temporaries
         integration_s += time.perf_counter() - t1
         flags = ("stiff-fallback",)
+        if spectrum is not None:
+            dropped = "; spectrum dropped: it is the failed explicit scheme's"
+        spectrum = None
     t0 = time.perf_counter()
     s = tr.settings
     lyap = estimate(tr.lyap_logs, tr.grid.renorm_interval) if s.lyap and not tr.blew_up else None
-    summary = classify(tr.window_t, tr.window, tr.blew_up, lyap, tr.mid_t, tr.mid, tr.params)
+    summary = classify(tr.window_t, tr.window, tr.blew_up, lyap, tr.mid_t, tr.mid, tr.params,
+                       spectrum=spectrum)
+    summary = replace(summary, detail=summary.detail + dropped)
     flags += summary.flags + _sample_flags(tr)
     real = tr.realisability
     if real is not None and not real.realisable:
@@ -148,7 +166,7 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False) -> Po
         flags += real.flags()
     summary = replace(summary, flags=flags)
     return PointResult(tr.params, s, summary, lyap, t_blowup,
-                       integration_s + time.perf_counter() - t0, tr)
+                       integration_s + time.perf_counter() - t0, tr, spectrum)
 
 
 def _negative_variance(tr: Trajectory) -> bool:

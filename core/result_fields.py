@@ -57,10 +57,12 @@ class ResultField:
 
 
 #: The attractor words a run can carry (core.classify); the store's column holds the
-#: longest (slopetui.store.models.Run.attractor).
+#: longest (slopetui.store.models.Run.attractor). ``torus`` and ``chaotic`` only with the
+#: exponents' evidence; ``undetermined``: maxima that never return without it (the reason
+#: in the run's detail).
 ATTRACTORS: tuple[str, ...] = ("fixed-point", "unstable-fixed-point", "fast-branch",
                                "variance-state", "periodic", "torus", "chaotic", "divergent",
-                               "unsettled")
+                               "unsettled", "undetermined")
 #: The flags a run can carry (core.point, core.classify, core.closure); the store's
 #: column holds them all at once. ``unrealisable``: some step of the run, not only a
 #: sample, left the possible covariances (core.closure.Realisability; the detail says when).

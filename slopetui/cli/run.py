@@ -68,6 +68,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="analysis window at the end of the run (default min(1000, t_end / 2): "
                         "the paper's 1000, or half of a shorter run)")
     p.add_argument("--no-lyap", dest="lyap", action="store_false", help="skip lambda_max")
+    p.add_argument("--spectrum", metavar="N", default="0",
+                   help="also the top N Lyapunov exponents with their errors, the m_x shift "
+                        "quotiented out (1 <= N <= 16; euler or rk4): the evidence for a torus "
+                        "or chaos (a second pass of the scheme, about N tangents' work)")
     p.add_argument("--history", default="constant", metavar="H",
                    help="m_x before t = 0: constant (default, m_x = delta: eq. 19 as the paper "
                         "reads), consistent (m_x = delta (1 + t): no kink at t = 0), or run:ID "
@@ -92,6 +96,17 @@ def parse_inputs(args: argparse.Namespace) -> tuple[Params, SolverSettings]:
                               history="constant" if name == "run" else name)
     validate_run(params, settings)  # the pair: dt against tau, the engine's limits, the window
     return params, settings
+
+
+def spectrum_count(args: argparse.Namespace, params: Params, settings: SolverSettings) -> int:
+    """N of --spectrum (0: none), checked against the run; raises ParameterError."""
+    given = getattr(args, "spectrum", "0")
+    if str(given).strip() == "0":
+        return 0
+    from core.spectrum import check_count, check_spectrum
+    n = check_count(given)
+    check_spectrum(params, settings, n)
+    return n
 
 
 def carried_of(args: argparse.Namespace, settings: SolverSettings
@@ -134,6 +149,9 @@ def render_text(r: PointResult) -> str:
         f"frequency  {s.frequency:.6g}",
         f"drift      {s.drift:.6g}  (mean dm_x/dt over the window)",
     ]
+    if r.spectrum is not None:
+        lines.append(f"spectrum   {r.spectrum.format()}  (top {len(r.spectrum.values)}, the m_x "
+                     f"shift quotiented out, over the last {r.spectrum.t_measured:g} time units)")
     real = r.trajectory.realisability  # every step's covariance (core.closure)
     if real is not None:
         lines.append(f"covariance {real.text()}")
@@ -163,6 +181,7 @@ def lambda_text(r: PointResult) -> str:
 def handle(args: argparse.Namespace) -> int:
     try:
         params, settings = parse_inputs(args)
+        n_exponents = spectrum_count(args, params, settings)
     except ParameterError as exc:
         print(f"slopetui run: error: {exc}", file=sys.stderr)
         return 2
@@ -176,7 +195,7 @@ def handle(args: argparse.Namespace) -> int:
               "install or a change of the engine; about 4 s, cached after)", file=sys.stderr)
     try:
         settings, carried = carried_of(args, settings)
-        result = run_point(params, settings, carried)
+        result = run_point(params, settings, carried, spectrum=n_exponents)
     except ParameterError as exc:  # a stored run with another tau or step, or none
         print(f"slopetui run: error: {exc}", file=sys.stderr)
         return 2

@@ -8,6 +8,7 @@ thresholds are stated where they are used.
 from __future__ import annotations
 
 import math
+from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -70,6 +71,44 @@ def fig2(d: Diagrams) -> Finding:
 ECHO_POINT = dict(k=6.0, tau=60.0, delta=1e-6)
 
 
+#: Fig. 3's large delays, where the windows at k = 20 show maxima that never return.
+LARGE_DELAY = 60.0
+
+
+def _attractor_counts(runs: list[RunPoint]) -> str:
+    """'undetermined 8, unsettled 1': the attractor words of runs, most common first."""
+    return ", ".join(f"{w} {c}" for w, c in Counter(r.attractor or "none" for r in runs).most_common())
+
+
+def large_delay_text(runs: list[RunPoint]) -> str:
+    """What Fig. 3's windows at tau >= LARGE_DELAY show, and what the evidence supports:
+    a torus only with two zero exponents and the third negative, chaos only with a positive
+    exponent at 3 sigma (core.classify); the others are no demonstrated torus."""
+    big = [r for r in runs if r.x >= LARGE_DELAY]
+    if not big:
+        return ""
+    words = Counter(r.attractor for r in big)
+    shown = [r for r in big if r.attractor not in ("torus", "chaotic")]
+    text = (f"At tau >= {LARGE_DELAY:g} the paper's window shows complex oscillations whose "
+            f"maxima do not return; the attractors the evidence supports there: "
+            f"{_attractor_counts(big)} (of {len(big)} runs). ")
+    if words["torus"] or words["chaotic"]:
+        text += (f"{words['torus']} torus and {words['chaotic']} chaotic rest on the exponents "
+                 "(two zero besides the shift's and a negative third; a positive one at 3 "
+                 "sigma). ")
+    if shown:
+        text += (f"The {'other ' if len(shown) < len(big) else ''}{len(shown)} "
+                 f"({_attractor_counts(shown)}) are not a demonstrated torus: a band of maxima "
+                 "that stays the same is not enough, a torus needs two zero exponents besides "
+                 "the shift's with the third clearly negative (slopetui run --spectrum 3), and "
+                 "chaos a positive exponent significant at 3 sigma; lambda_max within its "
+                 "errors of 0 decides neither. Issue 32's independent check found the slips per "
+                 "delay still changing at k = 20 (18 -> 17 -> 18 between t = 2e4 and 4e5) and "
+                 "finite-time exponents of +1.2e-4 to +1.5e-4 over 1.5e4 time units: a very "
+                 "long transient or weak chaos, undetermined. ")
+    return text
+
+
 def fig3(d: Diagrams) -> Finding:
     runs = m.done(d["fig3"])
     lines = [f"regimes at tau = 20-100, k = 20, delta = 1e-4: {m.counts_text(d['fig3'])}"]
@@ -77,6 +116,9 @@ def fig3(d: Diagrams) -> Finding:
         lam = format_with_error(r.lambda_max, r.lambda_err) if math.isfinite(r.lambda_max) else "-"
         lines.append(f"tau = {r.x:g}: {r.regime} ({r.detail}), attractor {r.attractor}, "
                      f"{'settled' if r.settled else 'not settled'}, lambda_max = {lam}")
+    big = [r for r in runs if r.x >= LARGE_DELAY]
+    if big:
+        lines.append(f"attractors at tau >= {LARGE_DELAY:g}: {_attractor_counts(big)}")
     lams = [(r.lambda_max, r.lambda_err) for r in runs if math.isfinite(r.lambda_max)]
     negative = [x for x in lams if x[0] + 3 * x[1] < 0]
     near_zero = [x for x in lams if abs(x[0]) <= 3 * x[1] + 1e-3]
@@ -94,8 +136,9 @@ def fig3(d: Diagrams) -> Finding:
                    "O(dt) bias against the model is 0.2-1.7 % in sliding runs, core."
                    "lyapunov_bias). What the large delays show is many slips per delay that "
                    "drift against each other for longer than the run (not settled between the "
-                   "middle and the end of the run), and beyond tau = 60 no return at all. The "
-                   "conclusion's stick-slip near the fixed point is no attractor: an echo of the "
+                   "middle and the end of the run), and beyond tau = 60 no return at all. "
+                   + large_delay_text(runs)
+                   + "The conclusion's stick-slip near the fixed point is no attractor: an echo of the "
                    "kink in eq. 19's history, re-emitted every tau, about a rest state that "
                    "linear theory calls unstable (k = 6 lies past the Hopf point k_H(60) = "
                    "5.977; leading root +1.3e-7 without noise). The window has not departed "
@@ -159,6 +202,10 @@ def fig4b(d: Diagrams) -> Finding:
         lines += o.pulse_lines()
     doubled = sum(1 for r in runs if (r.period_count or 0) == 2)
     verdict = "agree" if doubled > len(runs) / 2 else "disagree"
+    multi = [r for r in runs if (r.maxima_per_period or 0) >= 2]
+    if multi:
+        lines.append(f"with 2 or more maxima per period: {len(multi)} runs, "
+                     f"{sum(not r.settled for r in multi)} of them not settled at t = 1e5")
     return Finding(("fig4b",), verdict, lines,
                    "No period doubling: the runs return after one basic period (a return in "
                    "state space, core.returns), with 2 maxima per period from k ~ 17.4 and 3 "
@@ -172,7 +219,23 @@ def fig4b(d: Diagrams) -> Finding:
                       "neither settle nor leave within t = 1e5. The paper's 'four distinct "
                       "amplitudes' are the maxima of such a drifting multi-slip state."
                       if o is not None else "The paper's 'four distinct amplitudes' are maxima "
-                      "per period, not a doubled period."))
+                      "per period, not a doubled period.")
+                   + " " + MULTI_SLIP_TEXT)
+
+
+#: What the multi-slip states of Fig. 4B are, from issue 32's independent check (runs to
+#: t = 2e6, RK4 at dt = 0.01 and 0.005, Lyapunov spectra with the m_x shift quotiented):
+#: the tool's own windows end at t = 1e5, where they are still on their way.
+MULTI_SLIP_TEXT = (
+    "The multi-slip states the window shows (the paper's 'period doubling') are long "
+    "transients, not attractors of their own: on a time scale of 1e6 they converge to equally "
+    "spaced n-slip periodic orbits (at k = 18, delta = 1e-6 the slip spacings go from (3.00, "
+    "3.78, 3.61) at t = 1e4 to (3.461, 3.464, 3.457) at t = 2e6, where T1/3 = 3.4608), and "
+    "their Lyapunov spectra show 2(n - 1) near-neutral exponents besides the flow's and no "
+    "positive one (issue 32's independent check; slopetui run --spectrum shows such "
+    "exponents in the run's detail). They are neither a period doubling, nor a torus, nor "
+    "chaos. Computing those equally spaced orbits belongs to issue 35, 'The whole "
+    "bifurcation picture'.")
 
 
 def fig4c(d: Diagrams) -> Finding:

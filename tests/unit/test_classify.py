@@ -15,6 +15,7 @@ from core.classify import (
     zero_one_test,
 )
 from core.returns import RETURN_NOISE, find_return
+from core.spectrum import Spectrum
 
 T = np.arange(0.0, 1000.0, 0.01)
 
@@ -101,17 +102,65 @@ def test_a_decaying_alternation_is_not_complex():
     assert s.regime == "complex" and s.period_count == 2 and s.settled, s
 
 
-def test_quasi_periodic_is_a_continuum_but_not_chaos():
-    y = np.sin(2 * np.pi * T / 10.0) + 0.2 * np.sin(2 * np.pi * T / (10.0 * math.sqrt(2)))
-    s = classify(T, window(y), lyap=LyapunovEstimate(1e-5, 2e-5, 5e4, 20))
-    assert s.regime == "complex" and s.detail == "quasi-periodic" and s.period_count == -1
-    assert s.attractor == "torus" and s.settled
+QUASI = np.sin(2 * np.pi * T / 10.0) + 0.2 * np.sin(2 * np.pi * T / (10.0 * math.sqrt(2)))
+
+
+def _spectrum(*pairs: tuple[float, float]) -> Spectrum:
+    return Spectrum(tuple(v for v, _ in pairs), tuple(e for _, e in pairs), 5e4)
+
+
+def test_quasi_periodic_window_is_a_torus_only_with_two_zero_exponents():
+    """Before: a continuum whose band stays was a torus on lambda_max ~ 0 alone (issue 32:
+    "torus, settled" at k = 20, tau >= 60 was not shown). Now the spectrum decides."""
+    s = classify(T, window(QUASI), lyap=LyapunovEstimate(1e-5, 2e-5, 5e4, 20))
+    assert s.regime == "complex" and s.period_count == -1 and s.settled
+    assert s.attractor == "undetermined" and "run --spectrum 3" in s.detail
+    torus = _spectrum((1e-5, 2e-5), (-2e-5, 3e-5), (-0.04, 1e-3))
+    s = classify(T, window(QUASI), lyap=LyapunovEstimate(1e-5, 2e-5, 5e4, 20), spectrum=torus)
+    assert s.attractor == "torus" and s.detail == "quasi-periodic" and s.settled
+
+
+def test_near_neutral_third_exponent_is_no_torus():
+    """Two zero exponents and a third within its errors of 0: a slow transient, perhaps
+    (the multi-slip states at tau = 10 have 2(n - 1) such exponents besides the flow's)."""
+    slow = _spectrum((1e-5, 2e-5), (-2e-5, 3e-5), (-4e-5, 3e-5))
+    s = classify(T, window(QUASI), spectrum=slow)
+    assert s.attractor == "undetermined" and "near-neutral exponents: a slow transient?" in s.detail
+
+
+def test_weak_positive_exponent_is_undetermined_not_chaos():
+    """The referee's k = 20, tau >= 60: finite-time exponents +1.2e-4 to +1.5e-4. Below
+    CHAOS_LAMBDA_MIN, and the 0-1 test alone does not decide."""
+    s = classify(T, window(QUASI), lyap=LyapunovEstimate(1.3e-4, 1e-5, 1.5e4, 20))
+    assert s.attractor == "undetermined" and "slow transient?" in s.detail
+    weak = _spectrum((1.3e-4, 1e-5), (-2e-5, 3e-5), (-0.04, 1e-3))
+    assert classify(T, window(QUASI), spectrum=weak).attractor == "undetermined"
+
+
+def test_the_zero_one_test_alone_is_no_chaos(monkeypatch):
+    """Before: without lambda_max a 0-1 statistic above 0.5 named the continuum chaotic."""
+    import sys
+    monkeypatch.setattr(sys.modules["core.classify"], "zero_one_test", lambda phi: 0.97)
+    s = classify(T, window(QUASI))
+    assert s.attractor == "undetermined" and "the 0-1 test suggests chaos (K > 0.5)" in s.detail
 
 
 def test_significant_positive_lambda_on_a_continuum_is_chaos():
-    y = np.sin(2 * np.pi * T / 10.0) + 0.2 * np.sin(2 * np.pi * T / (10.0 * math.sqrt(2)))
-    s = classify(T, window(y), lyap=LyapunovEstimate(0.02, 1e-3, 5e4, 20))
-    assert s.detail == "chaotic"
+    s = classify(T, window(QUASI), lyap=LyapunovEstimate(0.02, 1e-3, 5e4, 20))
+    assert s.attractor == "chaotic" and s.detail == "chaotic"
+    s = classify(T, window(QUASI), spectrum=_spectrum((0.02, 1e-3), (0.0, 1e-4), (-0.1, 1e-3)))
+    assert s.attractor == "chaotic" and s.detail == "chaotic"
+
+
+def test_a_periodic_window_beside_extra_zero_exponents_says_so():
+    y = np.sin(2 * np.pi * T / 10.0)
+    p = _with_basic_period(10.0)
+    flat = _spectrum((0.0, 1e-5), (-1e-5, 2e-5), (2e-5, 2e-5), (-0.05, 1e-3))
+    s = classify(T, window(y), mid_t=T, mid=window(y), p=p, spectrum=flat)
+    assert s.attractor == "periodic" and "2 near-neutral exponents besides the flow's" in s.detail
+    s = classify(T, window(y), mid_t=T, mid=window(y), p=p,
+                 spectrum=_spectrum((0.0, 1e-5), (-0.04, 1e-3)))
+    assert "near-neutral" not in s.detail
 
 
 def test_switching_between_quiet_and_oscillating_is_mixed():
@@ -195,3 +244,11 @@ def test_dominant_frequency_of_a_window_of_awkward_length():
 
 def test_dominant_frequency():
     assert dominant_frequency(T, np.sin(2 * np.pi * 0.37 * T)) == pytest.approx(0.37, rel=1e-3)
+
+
+def test_a_continuums_detail_holds_no_numbers():
+    """The report counts complex runs by their detail (reproduce.measures.details): a detail
+    with lambda_max or K in it made every run a kind of its own."""
+    a = classify(T, window(QUASI), lyap=LyapunovEstimate(1e-5, 2e-5, 5e4, 20))
+    b = classify(T, window(QUASI), lyap=LyapunovEstimate(-3e-5, 4e-5, 5e4, 20))
+    assert a.attractor == b.attractor == "undetermined" and a.detail == b.detail
