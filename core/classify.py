@@ -92,8 +92,8 @@ ALTERNATION_DECAY = 0.5
 TORUS_TOL = 1e-2
 #: Chaos needs lambda_max (or the spectrum's top exponent) above 3 sigma and above this
 #: absolute value (1/time). At k = 20, tau >= 60 the finite-time exponents are +1.2e-4 to
-#: +1.5e-4 over 1.5e4 time units while the slips per delay still change (issue 32's
-#: referee): ten times below, a long transient or weak chaos that nothing decides there.
+#: +1.5e-4 over 1.5e4 time units while the slips per delay still change (an independent
+#: referee's runs): ten times below, a long transient or weak chaos that nothing decides there.
 CHAOS_LAMBDA_MIN = 1e-3
 #: At most this many peak values are kept for a continuum's bifurcation-diagram column.
 MAX_PEAKS_KEPT = 64

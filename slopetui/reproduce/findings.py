@@ -102,7 +102,7 @@ def large_delay_text(runs: list[RunPoint]) -> str:
                  "that stays the same is not enough, a torus needs two zero exponents besides "
                  "the shift's with the third clearly negative (slopetui run --spectrum 3), and "
                  "chaos a positive exponent significant at 3 sigma; lambda_max within its "
-                 "errors of 0 decides neither. Issue 32's independent check found the slips per "
+                 "errors of 0 decides neither. An independent referee's check found the slips per "
                  "delay still changing at k = 20 (18 -> 17 -> 18 between t = 2e4 and 4e5) and "
                  "finite-time exponents of +1.2e-4 to +1.5e-4 over 1.5e4 time units: a very "
                  "long transient or weak chaos, undetermined. ")
@@ -223,7 +223,7 @@ def fig4b(d: Diagrams) -> Finding:
                    + " " + MULTI_SLIP_TEXT)
 
 
-#: What the multi-slip states of Fig. 4B are, from issue 32's independent check (runs to
+#: What the multi-slip states of Fig. 4B are, from an independent referee's check (runs to
 #: t = 2e6, RK4 at dt = 0.01 and 0.005, Lyapunov spectra with the m_x shift quotiented):
 #: the tool's own windows end at t = 1e5, where they are still on their way.
 MULTI_SLIP_TEXT = (
@@ -232,7 +232,7 @@ MULTI_SLIP_TEXT = (
     "spaced n-slip periodic orbits (at k = 18, delta = 1e-6 the slip spacings go from (3.00, "
     "3.78, 3.61) at t = 1e4 to (3.461, 3.464, 3.457) at t = 2e6, where T1/3 = 3.4608), and "
     "their Lyapunov spectra show 2(n - 1) near-neutral exponents besides the flow's and no "
-    "positive one (issue 32's independent check; slopetui run --spectrum shows such "
+    "positive one (an independent referee's check; slopetui run --spectrum shows such "
     "exponents in the run's detail). They are neither a period doubling, nor a torus, nor "
     "chaos. Computing those equally spaced orbits belongs to issue 35, 'The whole "
     "bifurcation picture'.")

@@ -110,8 +110,8 @@ def _spectrum(*pairs: tuple[float, float]) -> Spectrum:
 
 
 def test_quasi_periodic_window_is_a_torus_only_with_two_zero_exponents():
-    """Before: a continuum whose band stays was a torus on lambda_max ~ 0 alone (issue 32:
-    "torus, settled" at k = 20, tau >= 60 was not shown). Now the spectrum decides."""
+    """Before: a continuum whose band stays was a torus on lambda_max ~ 0 alone ("torus,
+    settled" at k = 20, tau >= 60 was not shown). Now the spectrum decides."""
     s = classify(T, window(QUASI), lyap=LyapunovEstimate(1e-5, 2e-5, 5e4, 20))
     assert s.regime == "complex" and s.period_count == -1 and s.settled
     assert s.attractor == "undetermined" and "run --spectrum 3" in s.detail

@@ -1,5 +1,5 @@
 """Fig. 3's and Fig. 4B's text say what the paper's window shows and what the evidence
-supports (issue 32: '"torus, settled" at k = 20, tau >= 60 (Fig. 3) is not shown'; the
+supports ('"torus, settled" at k = 20, tau >= 60 (Fig. 3) is not shown'; the
 multi-slip states of Fig. 4B are long transients toward equally spaced n-slip orbits).
 The panels are the presets' own lattices with labels set by hand: the sentences are under
 test, not the integration (the classifier's rule is tests/unit/test_classify.py's)."""

@@ -59,7 +59,7 @@ def test_the_encoder_does_not_load_numpy():
 def test_run_json_of_a_continuum_holds_a_numpy_bool(capsys):
     """Before: TypeError "Object of type bool is not JSON serializable", a traceback: the
     classifier's `settled` of a continuum is a numpy.bool_ (core.classify). Without
-    lambda_max the 0-1 test no longer calls it chaotic on its own (issue 32)."""
+    lambda_max the 0-1 test no longer calls it chaotic on its own."""
     assert main(["run", "--k", "15.047", "--tau", "20", "--delta", "0.1", "--t-end", "30000",
                  "--no-lyap", "--json"]) == 0
     rec = strict(capsys.readouterr().out)
