@@ -5,6 +5,9 @@ it, so the form and ``slopetui submit`` accept and refuse exactly the same sweep
 "adaptive levels" (beside the name, so the form still fits 80x24) makes a phase
 diagram adaptive (``[adaptive] levels``); empty means every point is computed.
 
+The field that has the keys is lit, and so is its row; the footer says that tab moves
+on (a field takes the digits and q, which elsewhere switch screens and quit).
+
 At 80x24 the form scrolls (the buttons sit below the fold; ctrl+s submits from
 anywhere). It opens on the name, the first field one types (the preset above it is a
 shortcut, not a field). The axis rows have a heading row (start, stop, points, spacing)
@@ -120,6 +123,10 @@ class NewSweepScreen(SlopeScreen[int | None]):
 
     BINDINGS = [
         Binding("ctrl+s", "submit", "Submit", id="new_sweep.submit", priority=True),
+        # Typed keys go into the focused field (the digits and q too): the footer says how
+        # to move on, and the focused field and its row are lit (slopetui.tcss).
+        Binding("tab", "app.focus_next", "Next field", id="new_sweep.next_field",
+                tooltip="The next field (shift+tab: the one before)"),
         Binding("escape", "cancel", "Cancel", id="new_sweep.cancel"),
     ]
 
