@@ -191,8 +191,11 @@ class NewSweepScreen(SlopeScreen[int | None]):
                 Select([(h, h) for h in HISTORIES], value="constant", allow_blank=False,
                        compact=True, id="solver-history", classes="spacing"),
                 Label("δ list", classes="param-label"),
-                Input(placeholder="(the fixed δ) e.g. 1e-6, 0.1: a map of where they differ",
-                      compact=True, id="initial-deltas"),
+                # short enough for the ~50 columns the field has at 80 (the rest: tooltip)
+                Input(placeholder="e.g. 1e-6, 0.1: a map of where they differ",
+                      compact=True, id="initial-deltas",
+                      tooltip="Empty: every point from the fixed δ. A list: each lattice "
+                              "point from each δ, and a map of where their regimes differ"),
                 classes="form-row")
             yield Static("", id="preset-note")
             yield Static("", id="estimate")
