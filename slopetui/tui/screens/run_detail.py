@@ -155,10 +155,12 @@ def _multipliers_text(pairs: list[list[float]] | None) -> str:
 
 def packed(items: Sequence[str], width: int) -> list[str]:
     """The items joined by ITEM_SEPARATOR into as few lines of at most ``width`` columns
-    as fill them in order (an item longer than a line has one of its own, which wraps)."""
+    as fill them in order; an item longer than a line (a long certificate) goes on after
+    the one before it, and the screen wraps it."""
     lines: list[str] = []
     for item in items:
-        if lines and len(lines[-1]) + len(ITEM_SEPARATOR) + len(item) <= width:
+        if lines and (len(lines[-1]) + len(ITEM_SEPARATOR) + len(item) <= width
+                      or len(item) > width):
             lines[-1] += ITEM_SEPARATOR + item
         else:
             lines.append(item)
