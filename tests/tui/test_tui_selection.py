@@ -96,8 +96,12 @@ def test_d_a_click_arrows_and_x_act_on_the_highlighted_sweep_while_its_diagram_i
             release.set()  # the 1-D sweep's diagram arrives: d moves into it
             await wait_until(pilot, lambda: screen.query_one("#diagram-switcher").current
                              == "bifurcation")
+            view = screen.query_one(BifurcationView)
+            resting = view.background_colors[1]
             await pilot.press("d")
             assert isinstance(app.focused, BifurcationView)
+            await pilot.pause()
+            assert view.background_colors[1] != resting  # lit: it has the keys now
             await pilot.press("x")
             await wait_until(pilot, lambda: isinstance(app.screen, ConfirmScreen))
             assert f"Delete sweep {line_sweep} " in question(app)
