@@ -22,7 +22,7 @@ from slopetui.tui.screens import sweeps as sweeps_screen
 from slopetui.tui.screens.confirm import ConfirmScreen
 from slopetui.tui.screens.sweeps import SweepsScreen
 from slopetui.tui.widgets.bifurcation_view import BifurcationView
-from slopetui.tui.widgets.phase_grid import PhaseGrid
+from slopetui.tui.widgets.phase_grid import LABEL_WIDTH, PhaseGrid
 from tests.support import finish_all, submit_quick
 from tests.tui.support import run, wait_until
 from tests.tui.test_tui_app import app_for, plane
@@ -144,3 +144,30 @@ def test_a_refresh_between_a_key_and_its_highlight_keeps_the_users_row(db, monke
         run(scenario)
     finally:
         release.set()
+
+
+def test_a_click_in_the_phase_diagram_puts_the_cursor_on_the_run_clicked(db):
+    grid_sweep, _ = two_sweeps(db)
+
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            screen = app.screen
+            assert isinstance(screen, SweepsScreen)
+            phase_grid = screen.query_one(PhaseGrid)
+            await wait_until(pilot, lambda: phase_grid.data is not None
+                             and screen.selected == grid_sweep)
+            view = phase_grid.view()
+            assert view is not None and not view.half and (view.sx, view.sy) == (1, 1)
+            col, row = 4, 1  # a run away from the cursor's first place (0, 0)
+            text_row = view.row0 + view.view_rows - 1 - row
+            await pilot.click(PhaseGrid, offset=(LABEL_WIDTH + col * view.cell_w, text_row))
+            assert phase_grid.has_focus and phase_grid.cursor == (col, row)
+            found = phase_grid.cursor_run()
+            assert found is not None
+            run_id, x, y, _ = found
+            assert (x, y) == (float(phase_grid.data.xs[col]), float(phase_grid.data.ys[row]))
+            await pilot.press("enter")  # opens the run clicked
+            await wait_until(pilot, lambda: getattr(app.screen, "run_id", None) == run_id)
+
+    run(scenario)
