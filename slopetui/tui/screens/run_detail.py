@@ -17,8 +17,8 @@ copy of the run, its recomputation and the tolerance policy are UI-free, in
 At 80 x 24 the whole header shows, every stored result field included: its result items
 are packed into lines as wide as the screen (``summary_text``), the note on where the
 plots come from is the header's subtitle, the tabs take one line, and a λmax note too long
-for one line is wrapped under the plot, not cut. A header longer than the screen leaves
-(e.g. a long certificate) scrolls the screen rather than hiding a line.
+for one line is wrapped under the plot, not cut. A header taller than the room the plot
+leaves it (a long certificate, say) scrolls the screen rather than hiding a line.
 
 The time series shows the last TIME_PERIODS periods of the run's dominant frequency
 (a window holds hundreds: drawn whole it is a solid wall of braille); z zooms out to
