@@ -138,7 +138,8 @@ def test_help_of_the_sql_console_lists_the_editor_keys(db):
             assert rows["Help"] == "f1" and rows["Quit"] == "^q"  # ? and q go to the editor
             titles = [s.title for s in app.screen.sections]
             assert titles[0] == "This screen (SQL)"
-            assert "The focused TextArea #sql-editor" in titles and titles[-1] == "Everywhere"
+            assert "The focused QueryEditor #sql-editor" in titles and titles[-1] == "Everywhere"
+            assert rows["Leave editor"] == "esc/tab"  # how to leave it, in the footer too
             await pilot.press("q")
             await wait_until(pilot, lambda: app.screen is console)
 

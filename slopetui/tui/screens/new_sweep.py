@@ -5,6 +5,9 @@ it, so the form and ``slopetui submit`` accept and refuse exactly the same sweep
 "adaptive levels" (beside the name, so the form still fits 80x24) makes a phase
 diagram adaptive (``[adaptive] levels``); empty means every point is computed.
 
+The field that has the keys is lit, and so is its row; the footer says that tab moves
+on (a field takes the digits and q, which elsewhere switch screens and quit).
+
 At 80x24 the form scrolls (the buttons sit below the fold; ctrl+s submits from
 anywhere). It opens on the name, the first field one types (the preset above it is a
 shortcut, not a field). The axis rows have a heading row (start, stop, points, spacing)
@@ -120,6 +123,10 @@ class NewSweepScreen(SlopeScreen[int | None]):
 
     BINDINGS = [
         Binding("ctrl+s", "submit", "Submit", id="new_sweep.submit", priority=True),
+        # Typed keys go into the focused field (the digits and q too): the footer says how
+        # to move on, and the focused field and its row are lit (slopetui.tcss).
+        Binding("tab", "app.focus_next", "Next field", id="new_sweep.next_field",
+                tooltip="The next field (shift+tab: the one before)"),
         Binding("escape", "cancel", "Cancel", id="new_sweep.cancel"),
     ]
 
@@ -184,8 +191,11 @@ class NewSweepScreen(SlopeScreen[int | None]):
                 Select([(h, h) for h in HISTORIES], value="constant", allow_blank=False,
                        compact=True, id="solver-history", classes="spacing"),
                 Label("δ list", classes="param-label"),
-                Input(placeholder="(the fixed δ) e.g. 1e-6, 0.1: a map of where they differ",
-                      compact=True, id="initial-deltas"),
+                # short enough for the ~50 columns the field has at 80 (the rest: tooltip)
+                Input(placeholder="e.g. 1e-6, 0.1: a map of where they differ",
+                      compact=True, id="initial-deltas",
+                      tooltip="Empty: every point from the fixed δ. A list: each lattice "
+                              "point from each δ, and a map of where their regimes differ"),
                 classes="form-row")
             yield Static("", id="preset-note")
             yield Static("", id="estimate")

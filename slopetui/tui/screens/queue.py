@@ -51,7 +51,7 @@ class QueueScreen(SlopeScreen[None]):
 
     def compose(self) -> ComposeResult:
         yield Header()
-        yield Static("Workers", classes="section-title")
+        yield Static("Workers", id="worker-title", classes="section-title")
         workers: DataTable[Any] = DataTable(id="worker-table", cursor_type="row")
         workers.add_columns("worker", "running", "jobs done", "heartbeat", "since")
         yield workers
@@ -90,8 +90,12 @@ class QueueScreen(SlopeScreen[None]):
             workers.add_row(Text(terminal_safe(w.id)),
                             f"run {w.run_id}" if w.run_id else "idle", str(w.jobs_done),
                             f"{w.heartbeat_age_s:.0f} s ago", f"{w.started_at:%H:%M:%S}")
+        # the way to start them in the title: in a cell it pushed "since" off 80 columns
+        self.query_one("#worker-title", Static).update(
+            "Workers" if message.workers else
+            "Workers: none live (slopetui worker --detach starts them)")
         if not message.workers:
-            workers.add_row("no live workers", "start them: slopetui worker --detach", "", "", "")
+            workers.add_row("no live workers", "", "", "", "")
         table = self.query_one("#queue-table", DataTable)
         row = table.cursor_row
         # The cursor stays on its sweep, not its row: p, r and c act on the highlighted

@@ -14,6 +14,12 @@ copy of the run, its recomputation and the tolerance policy are UI-free, in
 ``slopetui.sweeps.recompute``; the result lines of the header list the fields of
 ``core.result_fields`` marked ``detail``.
 
+At 80 x 24 the whole header shows, every stored result field included: its result items
+are packed into lines as wide as the screen (``summary_text``), the note on where the
+plots come from is the header's subtitle, the tabs take one line, and a λmax note too long
+for one line is wrapped under the plot, not cut. A header taller than the room the plot
+leaves it (a long certificate, say) scrolls the screen rather than hiding a line.
+
 The time series shows the last TIME_PERIODS periods of the run's dominant frequency
 (a window holds hundreds: drawn whole it is a solid wall of braille); z zooms out to
 50 periods, then to the whole window, then back (a fixed point has no period and is
@@ -32,9 +38,11 @@ runs in a thread worker and reports back with a message; widgets are touched on 
 from __future__ import annotations
 
 import math
+import textwrap
+from collections.abc import Sequence
 from dataclasses import dataclass
 
-from textual import work
+from textual import events, work
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.message import Message
@@ -68,12 +76,15 @@ from slopetui.tui.widgets.steady_footer import SteadyFooter
 __all__ = ["MATCH_TEXT", "RECOMPUTED_NOTE", "RunDetailScreen", "StoredRun", "compare",
            "compute_traces", "recompute_text", "summary_text"]
 
-#: The one line that says where the plots come from.
-RECOMPUTED_NOTE = "Traces are recomputed on demand (the store keeps summaries only)."
+#: Where the plots come from: the header's subtitle, after the run's id.
+RECOMPUTED_NOTE = "traces recomputed on demand, not stored"
 #: Peak values shown in the summary; the rest are counted.
 PEAKS_SHOWN = 2
-#: Stored result fields per line of the header (core.result_fields.DETAIL_FIELDS).
-ITEMS_PER_LINE = 4
+#: Columns of a line of the header on an 80-column terminal (its padding: one each side):
+#: the width its result items are packed to when none is given.
+SUMMARY_WIDTH = 78
+#: Between two result items on a line of the header.
+ITEM_SEPARATOR = " · "
 
 #: The spans of the time series that z steps through: periods of the dominant frequency
 #: before the window's end, None for the whole window.
@@ -142,9 +153,24 @@ def _multipliers_text(pairs: list[list[float]] | None) -> str:
     return f"{len(values)}" + (f" ({shown}{more})" if values else "")
 
 
-def summary_text(run: StoredRun) -> str:
-    """The header of the screen, five lines: who the run is, its parameters, its solver
-    settings, and its stored result or, for a run not done, its status and the cause of
+def packed(items: Sequence[str], width: int) -> list[str]:
+    """The items joined by ITEM_SEPARATOR into as few lines of at most ``width`` columns
+    as fill them in order; an item longer than a line (a long certificate) goes on after
+    the one before it, and the screen wraps it."""
+    lines: list[str] = []
+    for item in items:
+        if lines and (len(lines[-1]) + len(ITEM_SEPARATOR) + len(item) <= width
+                      or len(item) > width):
+            lines[-1] += ITEM_SEPARATOR + item
+        else:
+            lines.append(item)
+    return lines
+
+
+def summary_text(run: StoredRun, width: int = SUMMARY_WIDTH) -> str:
+    """The header of the screen: who the run is, its parameters, its solver settings,
+    and its stored result (every field of core.result_fields marked ``detail``, packed
+    into lines of ``width`` columns) or, for a run not done, its status and the cause of
     its last error. Escaped (terminal_safe_lines): the status, worker id, regime and error
     are stored text."""
     cached = f" · copied from run {run.cached_from}" if run.cached_from is not None else ""
@@ -164,9 +190,9 @@ def summary_text(run: StoredRun) -> str:
         error = f"last error: {last_line(run.error)}" if run.error else "no error recorded"
         return terminal_safe_lines("\n".join([who, params, solver,
                                                f"no stored result ({run.status})", error]))
-    items = [result_item(run, f) for f in DETAIL_FIELDS]
-    lines = [" · ".join(items[i:i + ITEMS_PER_LINE]) for i in range(0, len(items), ITEMS_PER_LINE)]
-    return terminal_safe_lines("\n".join([who, params, solver, *lines]))
+    # escaped item by item: the packing counts the columns the escaped text takes
+    items = [terminal_safe_lines(result_item(run, f)) for f in DETAIL_FIELDS]
+    return terminal_safe_lines("\n".join([who, params, solver, *packed(items, width)]))
 
 
 def result_item(run: StoredRun, field: ResultField) -> str:
@@ -185,8 +211,8 @@ def result_item(run: StoredRun, field: ResultField) -> str:
         shown = _num(value, ".3g")
     elif field.kind == "optional":
         shown = _num(value, "g")
-    else:
-        shown = "–" if value is None else str(value)
+    else:  # text: none stored, or none at all (no flags)
+        shown = "–" if value is None or value == "" else str(value)
     return f"{field.shown_as} {shown}"
 
 
@@ -223,8 +249,13 @@ def renderers(traces: Traces, periods: int | None = TIME_PERIODS) -> dict[str, R
         return render_spectrum(traces.freq, traces.power, width=w, height=h, color=c)
 
     def lyapunov(w: int, h: int, c: bool) -> str:
-        return render_lyapunov(traces.lam_t, traces.lam, estimate=estimate,
-                               note_text=traces.lambda_note, width=w, height=h, color=c)
+        # the note (which map, its bias) wrapped under the legend: the plot's legend
+        # would cut a line longer than the plot ("…"), and it is 90-110 columns
+        note = textwrap.wrap(traces.lambda_note, w, initial_indent="- ",
+                             subsequent_indent="  ")
+        plot = render_lyapunov(traces.lam_t, traces.lam, estimate=estimate, width=w,
+                               height=h - len(note), color=c)
+        return "\n".join([plot, *note])
 
     return {TAB_TIME: time_series, TAB_PHASE: phase, TAB_SPECTRUM: spectrum,
             TAB_LYAP: lyapunov}
@@ -265,7 +296,6 @@ class RunDetailScreen(SlopeScreen[None]):
     def compose(self) -> ComposeResult:
         yield Header()
         yield Static(f"run {self.run_id}: loading…", id="run-summary", markup=False)
-        yield Static(RECOMPUTED_NOTE, id="run-note", markup=False)
         yield Static("", id="run-status", markup=False)
         with TabbedContent(id="run-tabs"):
             with TabPane("Time series", id=TAB_TIME):
@@ -279,7 +309,7 @@ class RunDetailScreen(SlopeScreen[None]):
         yield SteadyFooter()
 
     def on_mount(self) -> None:
-        self.sub_title = f"run {self.run_id}"
+        self.sub_title = f"run {self.run_id} · {RECOMPUTED_NOTE}"
         self.refresh_data()
 
     def refresh_data(self) -> None:
@@ -326,7 +356,7 @@ class RunDetailScreen(SlopeScreen[None]):
 
     def on_run_loaded(self, message: RunLoaded) -> None:
         run = self.run = message.run
-        self.query_one("#run-summary", Static).update(summary_text(run))
+        self._show_summary()
         if run.inferred:
             self._status("inferred, not computed: nothing to plot; press r to compute it")
         elif run.done:
@@ -402,6 +432,15 @@ class RunDetailScreen(SlopeScreen[None]):
         self.recompute(params, settings, self._generation)
 
     # -- widgets ---------------------------------------------------------------------------
+
+    def on_resize(self, event: events.Resize) -> None:
+        self._show_summary()  # packed to the new width
+
+    def _show_summary(self) -> None:
+        if self.run is not None:
+            summary = self.query_one("#run-summary", Static)
+            width = self.size.width - summary.styles.gutter.width
+            summary.update(summary_text(self.run, max(width, 20)))
 
     def _status(self, text: str, kind: str = "") -> None:
         status = self.query_one("#run-status", Static)

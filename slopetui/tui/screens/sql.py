@@ -56,6 +56,7 @@ from slopetui.store.catalog import Column, tables_and_columns
 from slopetui.store.read_query import DEFAULT_TIMEOUT_S, ReadQuery
 from slopetui.tui.messages import StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
+from slopetui.tui.widgets.query_editor import QueryEditor
 from slopetui.tui.widgets.steady_footer import SteadyFooter
 
 if TYPE_CHECKING:
@@ -141,7 +142,9 @@ class SqlScreen(SlopeScreen[None]):
         Binding("ctrl+r,ctrl+enter", "run_query", "Run", id="sql.run"),
         Binding("ctrl+b", "toggle_panel", "Schema/history", id="sql.toggle_panel"),
         Binding("escape", "focus_editor", "Editor", id="sql.focus_editor"),
-        Binding("ctrl+l", "clear", "Clear", id="sql.clear"),
+        # Out of the footer (in the help): at 80 columns it leaves the room for how to
+        # leave the editor (widgets.query_editor), which the footer says while it is focused.
+        Binding("ctrl+l", "clear", "Clear", id="sql.clear", show=False),
         # Not in the footer (it only matters while a query runs): the status line names it.
         Binding("ctrl+g", "cancel_query", "Cancel query", show=False, id="sql.cancel"),
     ]
@@ -164,8 +167,8 @@ class SqlScreen(SlopeScreen[None]):
         yield Header()
         with Horizontal(id="sql-body"):
             with Vertical(id="sql-main"):
-                editor = TextArea.code_editor(EXAMPLE_QUERY, id="sql-editor",
-                                              tab_behavior="focus")
+                editor = QueryEditor.code_editor(EXAMPLE_QUERY, id="sql-editor",
+                                                 tab_behavior="focus")
                 editor.border_title = "query"
                 yield editor
                 yield Static("", id="sql-status", markup=False)

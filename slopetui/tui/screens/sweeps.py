@@ -13,6 +13,12 @@ bar at 0%, not a full green one.
 The name column takes the width the other columns leave (at least NAME_MIN), computed
 anew on every refresh and resize from the screen's width.
 
+The keys act on the sweep the list highlights, and only its diagram is ever on show: a
+sweep selected shows at once its diagram as last read, or a line saying it is being read,
+never the diagram of the sweep selected before (d, a click or the arrows went into that one
+while a large sweep was read, and x named a sweep the user had not meant); a refresh that
+refills the list keeps its cursor on the row the user moved it to.
+
 The selected sweep's diagram is read whole once, then only what changed
 (``sweeps.live_diagram``), every refresh while the screen is in view and never while
 another covers it (``SlopeScreen.refresh_while_shown``); the grid is rebuilt and drawn
@@ -181,6 +187,9 @@ class SweepsScreen(SlopeScreen[None]):
         self._grids: dict[int, tuple[SweepDiagram, Curve | None, GridData]] = {}
         #: The grid on show (the same object again: nothing to draw anew).
         self._shown_grid: GridData | None = None
+        #: Each sweep's diagram and grid as last shown, by id (the UI thread's): shown at
+        #: once when the sweep is selected again, while its load brings it up to date.
+        self._seen: dict[int, tuple[SweepDiagram, GridData | None]] = {}
 
     def compose(self) -> ComposeResult:
         yield Header()
@@ -258,6 +267,8 @@ class SweepsScreen(SlopeScreen[None]):
 
     def on_sweeps_screen_loaded(self, message: Loaded) -> None:
         ids = [p.id for p in message.sweeps]
+        for gone in set(self._seen) - set(ids):
+            del self._seen[gone]
         if self.selected not in ids:  # none yet, or deleted: the one load() fell back to
             self.selected = message.diagram.id if message.diagram is not None else None
         if message.sweeps != self._listed:  # a table refilled is drawn again
@@ -272,6 +283,8 @@ class SweepsScreen(SlopeScreen[None]):
         if self._shown is None and message.diagram is not None:  # the first diagram
             self.call_after_refresh(garbage.settle)
         self._shown, self._shown_grid = message.diagram, message.grid
+        if message.diagram is not None:
+            self._seen[message.diagram.id] = (message.diagram, message.grid)
         self._show_diagram(message.diagram, message.grid)
 
     def on_resize(self, event: events.Resize) -> None:
@@ -309,6 +322,10 @@ class SweepsScreen(SlopeScreen[None]):
         for column, width in zip(table.columns.values(), widths, strict=True):
             column.auto_width, column.width = False, width
         keep = table.cursor_row
+        # The row the user moved the cursor to: its highlight may not be handled yet (a
+        # refresh read before the key landed first), and is then the selection to come.
+        moved = (int(table.coordinate_to_cell_key(table.cursor_coordinate).row_key.value or 0)
+                 if table.row_count else None)
         # Refilled without RowHighlighted: putting the cursor back on the selected sweep
         # is no choice of the user's. clear() puts the cursor on row 0, the first row
         # added is announced as highlighted, then the selected one by move_cursor;
@@ -327,7 +344,8 @@ class SweepsScreen(SlopeScreen[None]):
                 table.add_row(*row, key=str(p.id))
             if sweeps:
                 ids = [p.id for p in sweeps]
-                at = (ids.index(self.selected) if self.selected in ids
+                at = (ids.index(moved) if moved in ids
+                      else ids.index(self.selected) if self.selected in ids
                       else min(keep, len(ids) - 1))
                 table.move_cursor(row=at, animate=False)
         if not sweeps:
@@ -346,14 +364,30 @@ class SweepsScreen(SlopeScreen[None]):
             if grid is not phase_grid.data:  # the same grid again: drawn already
                 phase_grid.set_data(grid)
             switcher.current = "phase-grid"
+        focused = self.focused
+        if isinstance(focused, (PhaseGrid, BifurcationView)) and focused.id != switcher.current:
+            # the keys never stay with a diagram put away: the one on show, or the list
+            self.query_one(f"#{switcher.current}" if diagram is not None
+                           else "#sweep-table").focus()
+
+    def _select(self, sweep_id: int) -> None:
+        """Select a sweep: its diagram as last read (or a line saying it is being read)
+        replaces the one on show at once, and a load brings it up to date."""
+        self.selected = sweep_id
+        seen = self._seen.get(sweep_id)
+        self._shown, self._shown_grid = seen or (None, None)
+        if seen is None:
+            self.query_one("#diagram-empty", Static).update(
+                f"Reading the diagram of sweep {sweep_id}…")
+        self._show_diagram(*(seen or (None, None)))
+        self.refresh_data()
 
     @on(DataTable.RowHighlighted, "#sweep-table")
     def _row_highlighted(self, event: DataTable.RowHighlighted) -> None:
         if event.row_key.value is not None:
             chosen = int(event.row_key.value)
             if chosen != self.selected:
-                self.selected = chosen
-                self.refresh_data()
+                self._select(chosen)
 
     @on(DataTable.RowSelected, "#sweep-table")
     def _row_selected(self) -> None:
@@ -361,8 +395,10 @@ class SweepsScreen(SlopeScreen[None]):
 
     def action_focus_diagram(self) -> None:
         current = self.query_one("#diagram-switcher", ContentSwitcher).current
-        if current in ("phase-grid", "bifurcation"):
+        if current in ("phase-grid", "bifurcation"):  # the selected sweep's (_select)
             self.query_one(f"#{current}").focus()
+        elif self.selected is not None and self.db is not None:
+            self.notify(f"the diagram of sweep {self.selected} is still being read")
 
     def action_focus_list(self) -> None:
         grid = self.query_one(PhaseGrid)

@@ -11,8 +11,8 @@ drawn in markers, in colour; a larger one, with colour, in half blocks, two rows
 per character (``slopetui.plots.lattice_cells``), where the Hopf curve, the fold of
 cycles and the cursor are drawn as blocks of their own colours (the line under the grid
 names the run under the cursor); without colour (NO_COLOR) in markers, a block of runs
-per character. ``z`` switches to full resolution, one run per block, the view following
-the cursor, and back.
+per character. A click puts the cursor on the block clicked. ``z`` switches to full
+resolution, one run per block, the view following the cursor, and back.
 
 An adaptive sweep is drawn like any other: an inferred run in its regime's marker and
 colour, dimmed in markers (a block is dimmed when all its runs are inferred; half blocks
@@ -41,6 +41,7 @@ from typing import Any
 import numpy as np
 from rich.style import Style
 from rich.text import Text
+from textual import events
 from textual.binding import Binding
 from textual.message import Message
 from textual.reactive import reactive
@@ -204,6 +205,18 @@ class PhaseGrid(Widget, can_focus=True):
             return None
         run_id, regime = self.data.runs[(ix, iy)]
         return run_id, float(self.data.xs[ix]), float(self.data.ys[iy]), regime
+
+    def on_click(self, event: events.Click) -> None:
+        """A click on a block puts the cursor there: enter then opens the run the user
+        pointed at, not the one the cursor was left on. In half blocks a line holds two
+        block rows; the click takes the lower (the arrows reach the upper)."""
+        view = self.view()
+        col = (event.x - LABEL_WIDTH) // max(view.cell_w, 1) if view is not None else -1
+        if view is None or not (0 <= col < view.view_cols and 0 <= event.y < view.text_rows):
+            return
+        row = (self._lower_row(view, event.y) if view.half
+               else view.row0 + view.view_rows - 1 - event.y)
+        self.cursor = view.clamp(view.col0 + col, max(row, view.row0))
 
     def action_choose(self) -> None:
         found = self.cursor_run()
