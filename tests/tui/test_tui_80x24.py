@@ -1,4 +1,4 @@
-"""Complete at 80 x 24 (issue 36, item 3): the essential text of every screen is on the
+"""Complete at 80 x 24: the essential text of every screen is on the
 screen as drawn, whole, at 80 x 24 and at 120 x 40.
 
 Cut off before: the run detail's result lines after the first (attractor, settled,

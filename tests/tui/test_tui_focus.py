@@ -1,4 +1,4 @@
-"""Focus you can see (issue 36, item 4): in the SQL editor and the form the digits and q
+"""Focus you can see: in the SQL editor and the form the digits and q
 are typed into the field, so the field that has the keys is lit and the footer says how
 to leave it (escape or tab)."""
 

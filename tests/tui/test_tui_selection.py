@@ -1,5 +1,5 @@
-"""The keys of the sweeps screen act on the sweep the user sees as selected (issue 36,
-item 4): the row the list highlights, whose diagram is the one on show.
+"""The keys of the sweeps screen act on the sweep the user sees as selected: the row
+the list highlights, whose diagram is the one on show.
 
 Twice x offered to delete a sweep the user had not meant, and after d or a click in the
 diagram the arrows moved over the diagram of the sweep selected before: the diagram of
