@@ -6,7 +6,8 @@ both their heights and their spacing at lag n: the defect
 
     q_n = max( max_i |p_{i+n} - p_i| / A ,  max_i |(t_{i+n} - t_i) - T_n| / T_n ),
 
-(a spacing defect below TIME_NOISE counts as 0),
+(a spacing defect below TIME_NOISE, or below a tenth of the sample step, counts as 0:
+the timing noise of a flat maximum),
 with A the peak-to-peak amplitude of m_y and T_n the mean lag-n time, is then at the level
 of round-off. Heights alone are not enough: along tau = 10 at k = 17.2-20 the orbit has two
 maxima per period of almost equal height (2.2128 and 2.2133 at k = 20, RK4, t = 1e5:
@@ -41,6 +42,18 @@ RETURN_NOISE = 1e-6
 #: is uncertain (the square wave at k = 6, b = 15.5, tau = 21.3, RK4: 1.7e-6 at every lag,
 #: against height defects of 7e-11); settled rounded maxima show 2e-8-7e-8.
 TIME_NOISE = 1e-5
+#: ... and so do spacing defects below this fraction of the window's sample step (in
+#: absolute time): the time of a flat maximum is found to a fraction of a sample, which
+#: does not shrink with the period. At large b the flat-topped maxima's times scatter with
+#: the sampling phase (sample step 0.01, Euler dt 1e-3, t_end 2e4): 0.009 samples at
+#: b = 15, k = 12, tau = 6; 0.024 at b = 17, k = 10, tau = 7; 0.038 at b = 18, k = 12,
+#: tau = 10, a spacing defect of 1.3e-5-3.4e-5 of the period at lag 1, where the heights
+#: repeat to 2e-8-1.6e-7 A and an independent RK4 at dt / 2 sees one maximum a period,
+#: equally spaced (tests/integration/test_minimal_period.py). Above TIME_NOISE, lag 1 was
+#: rejected, and the lag whose n periods happened to repeat the sampling phase better was
+#: called period-2, -3 or -4. Genuine alternations of the spacing are 100 times coarser
+#: than the margin left (2.86 against 7.51 at tau = 10, k = 20: 465 samples).
+SAMPLE_TIME_NOISE = 0.1
 #: Longer returns than this many maxima are not told from a continuum (quasi-periodic or
 #: chaotic); the three-hump orbits at tau = 10 need 3, the square waves at large tau ~6.
 MAX_MAXIMA = 16
@@ -63,23 +76,26 @@ class Return:
 
 
 def lag_defects(t_peaks: np.ndarray, peaks: np.ndarray, amplitude: float,
-                max_lag: int = MAX_MAXIMA) -> np.ndarray:
-    """q_n for n = 1..max_lag (fewer if the sequence is short): see the module docstring."""
+                max_lag: int = MAX_MAXIMA, step: float = 0.0) -> np.ndarray:
+    """q_n for n = 1..max_lag (fewer if the sequence is short): see the module docstring.
+    ``step``: the sample step of the series the maxima were found on (0: unknown)."""
     max_lag = min(max_lag, max(1, (len(peaks) - 2) // 2))
     out = np.empty(max_lag)
     for n in range(1, max_lag + 1):
         heights = np.max(np.abs(peaks[n:] - peaks[:-n])) / amplitude
         spans = t_peaks[n:] - t_peaks[:-n]
         mean = spans.mean()
-        timing = np.max(np.abs(spans - mean)) / mean
-        out[n - 1] = max(heights, timing if timing > TIME_NOISE else 0.0)
+        spread = np.max(np.abs(spans - mean))
+        noise = spread <= SAMPLE_TIME_NOISE * step or spread <= TIME_NOISE * mean
+        out[n - 1] = max(heights, 0.0 if noise else spread / mean)
     return out
 
 
 def find_return(t_peaks: np.ndarray, peaks: np.ndarray, amplitude: float,
-                basic_period: float) -> Return | None:
-    """The first return of the maxima sequence, or None if it has none within MAX_MAXIMA."""
-    q = lag_defects(t_peaks, peaks, amplitude)
+                basic_period: float, step: float = 0.0) -> Return | None:
+    """The first return of the maxima sequence, or None if it has none within MAX_MAXIMA
+    (``step``: the sample step the maxima were found on, lag_defects)."""
+    q = lag_defects(t_peaks, peaks, amplitude, step=step)
     best = float(q.min())
     if not best <= RETURN_TOL:
         return None
