@@ -134,6 +134,7 @@ def render_text(r: PointResult) -> str:
         f"frequency  {s.frequency:.6g}",
         f"drift      {s.drift:.6g}  (mean dm_x/dt over the window)",
     ]
+    lines.append(f"certified  {'yes' if r.certificate.certified else 'no'}: {r.certificate.text}")
     real = r.trajectory.realisability  # every step's covariance (core.closure)
     if real is not None:
         lines.append(f"covariance {real.text()}")
