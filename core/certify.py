@@ -29,6 +29,7 @@ import numpy as np
 
 from core.classify import Summary, find_peaks
 from core.params import Params
+from core.returns import distinct_maxima
 from core.solve import Trajectory
 from core.stability import hopf_period, leading_exponent
 
@@ -46,6 +47,10 @@ KRYLOV_BUDGET = 120
 #: ARNOLDI_VECTORS vectors).
 N_MULTIPLIERS = 6
 ARNOLDI_VECTORS = 40
+#: ARPACK's restarts allowed (each costs about ARNOLDI_VECTORS - N_MULTIPLIERS products):
+#: k = tau = 10 needs 1 (41 products); where the multipliers crowd near the unit circle
+#: (large tau near the Hopf point) it would need hundreds: "not certified: budget".
+ARNOLDI_RESTARTS = 10
 #: A nontrivial multiplier must lie inside the unit circle by this much for the orbit to
 #: count as stable: ten times core.floquet.UNIT_TOL, the distance within which a multiplier
 #: is on the circle (the flow multiplier's own distance from 1, RK4's error over a period,
@@ -99,8 +104,7 @@ def certify(tr: Trajectory, s: Summary) -> Certificate:
     if s.attractor == "fixed-point":
         return _fixed_point(tr, s)
     if s.attractor == "unstable-fixed-point":
-        return Certificate(False, "the rest state is unstable (its leading root is positive): "
-                                  "the run has not reached its attractor")
+        return _unstable_rest(tr.params)
     if s.attractor == "periodic" and s.period_count > 0:
         if not math.isfinite(s.period):
             return Certificate(False, "too few maxima in the window to seed the period")
@@ -140,6 +144,17 @@ def _fixed_point(tr: Trajectory, s: Summary) -> Certificate:
                               f"{root:+.3e}/t: not yet the linear decay to the fixed point")
 
 
+def _unstable_rest(p: Params) -> Certificate:
+    """A window still at a rest state that linear theory calls unstable (core.classify)."""
+    from core.rest_stability import rest_exponent
+    try:
+        root = f"{rest_exponent(p):+.2e}/t"
+    except ArithmeticError:
+        root = "positive"
+    return Certificate(False, f"leading root {root} > 0: the window has not departed from the "
+                              "unstable rest state, its attractor is not reached")
+
+
 def _decay_rate(t: np.ndarray, y: np.ndarray, level: float) -> float:
     """The envelope's growth rate over the window: a line through the log of the
     peak-to-peak of m_y in 10 sub-windows, those above round-off."""
@@ -173,13 +188,15 @@ def _periodic(tr: Trajectory, s: Summary) -> Certificate:
         sol = correct(pm, z0, s.period, z0, zdot, max_steps=NEWTON_BUDGET,
                       max_products=KRYLOV_BUDGET)
     except OrbitError as exc:
-        return Certificate(False, f"Newton did not converge from the final state ({where}): {exc}")
+        return Certificate(False, f"not certified within the budget ({NEWTON_BUDGET} Newton steps of "
+                                  f"{KRYLOV_BUDGET} Krylov products; {where}): from the final state, {exc}")
     sol = _minimal(pm, sol, correct)
     try:
-        mult = multipliers(pm, sol.shot, N_MULTIPLIERS, ARNOLDI_VECTORS)
+        mult = multipliers(pm, sol.shot, N_MULTIPLIERS, ARNOLDI_VECTORS, ARNOLDI_RESTARTS)
     except OrbitError as exc:
-        return Certificate(False, f"orbit of period {sol.period:.6g} found ({where}), its "
-                                  f"multipliers not: {exc}")
+        return Certificate(False, f"not certified within the budget: an orbit of period "
+                                  f"{sol.period:.6g} ({where}), its multipliers not found "
+                                  f"({ARNOLDI_RESTARTS} Arnoldi restarts): {exc}")
     m_y = sol.shot.traj[1, g.n_delay:sol.shot.col + 1]
     maxima = orbit_maxima(m_y)
     others = tuple(complex(m) for m in mult.nontrivial)
@@ -232,13 +249,14 @@ def state_from_window(t: np.ndarray, window: np.ndarray, g, at: float) -> np.nda
 
 def orbit_maxima(m_y: np.ndarray) -> tuple[float, ...]:
     """The maxima of m_y over one period (sampled every step, first and last sample the
-    same point), wrapped around the section; maxima equal to within SUBPERIOD_TOL of the
-    amplitude at the same place are one (a flat top)."""
-    y = np.concatenate((m_y[-3:-1], m_y, m_y[1:3]))  # wrap around the section
+    same point); maxima of a plateau that no dip separates are one (core.returns
+    .distinct_maxima)."""
+    # start the period at its lowest point, so that no maximum straddles the section
+    low = int(np.argmin(m_y[:-1]))
+    y = np.concatenate((m_y[low:-1], m_y[:low + 1]))
     tt = np.arange(y.size, dtype=float)
-    peak_t, peak_y = find_peaks(tt, y)
-    inside = (peak_t >= 2) & (peak_t < 2 + m_y.size - 1)
-    return tuple(float(v) for v in peak_y[inside])
+    peak_t, peak_y = distinct_maxima(tt, y, *find_peaks(tt, y), float(np.ptp(y)))
+    return tuple(float(v) for v in peak_y)
 
 
 def relabel(s: Summary, c: Certificate, p: Params) -> Summary:

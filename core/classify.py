@@ -45,7 +45,7 @@ import numpy as np
 
 from core.lyapunov import LyapunovEstimate
 from core.params import Params, sliding_branches
-from core.returns import Return, clusters, find_return, lag_defects
+from core.returns import Return, clusters, distinct_maxima, find_return, lag_defects
 from core.stability import hopf_period, leading_exponent
 
 #: Peak-to-peak amplitude of m_y (relative to max(1, |mean m_y|)) below which the window
@@ -451,7 +451,7 @@ def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
                                       [], frequency, drift, attractor="fixed-point", settled=False,
                                       flags=("decaying",)), p, follow_branch)
 
-    peak_t, peak_y = find_peaks(t, m_y)
+    peak_t, peak_y = distinct_maxima(t, m_y, *find_peaks(t, m_y), amplitude)  # a plateau's: one
     if len(peak_y) < 4:
         # too few maxima in the window to tell a return: an oscillation of unknown period
         return Summary("oscillatory", f"{len(peak_y)} peaks in window", amplitude, math.nan, 1,
@@ -460,7 +460,7 @@ def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
     basic = hopf_period(p.tau, p.F1) if p is not None else math.nan
     step = float(t[1] - t[0])  # the sample step: a flat maximum's timing noise (core.returns)
     ret = find_return(peak_t, peak_y, amplitude, basic, step)
-    early_peaks = find_peaks(early[0], early[1])
+    early_peaks = distinct_maxima(early[0], early[1], *find_peaks(early[0], early[1]), amplitude)
     if ret is not None:
         return _periodic(peak_t, peak_y, ret, early_peaks, amplitude, basic, frequency, drift, step)
     return _continuum(peak_y, early_peaks, amplitude, frequency, drift, lyap)

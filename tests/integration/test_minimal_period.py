@@ -95,3 +95,22 @@ def test_large_b_orbits_are_period_1(b, k, tau, old):
     assert r.certificate.slips == 1
     assert s.period == pytest.approx(period, rel=2e-6)   # measured 1.7e-7 to 2.7e-7
     assert all(abs(complex(*m)) < 1 for m in r.as_record()["multipliers"])
+
+
+def test_a_square_wave_s_plateau_is_one_slip_a_period():
+    # k = 7, tau = 60: the stick phase is a plateau of m_y flat to round-off, whose ripple
+    # (1.3e-12 A) made RK4's window "no return, band still moving" (complex)
+    p = Params(k=7, tau=60, delta=0.1)
+    t, heights = reference_maxima(p)
+    y_range = float(np.max(heights) - np.min(heights))
+    slips = t[heights > np.min(heights) + 0.5 * y_range]     # the reference's real maxima
+    low = heights[heights <= np.min(heights) + 0.5 * y_range]
+    assert np.ptp(low) < 1e-9 * y_range                       # the rest: the plateau's ripple
+    period = float(np.diff(slips).mean())
+    assert np.ptp(np.diff(slips)) < 1e-3 * period
+
+    r = run_point(p, SolverSettings(t_end=T_END, method="rk4", dt=0.01))
+    s = r.summary
+    assert (s.regime, s.period_count, s.maxima_per_period) == ("oscillatory", 1, 1), s.detail
+    assert r.certificate.certified and r.certificate.slips == 1, r.certificate.text
+    assert s.period == pytest.approx(period, rel=2e-6)

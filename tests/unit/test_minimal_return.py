@@ -44,3 +44,18 @@ def test_a_real_alternation_of_the_spacing_is_still_seen():
     y = 2.2128 + 5e-4 * (i % 2)
     ret = find_return(t, y, 2.5, basic_period=10.5, step=STEP)
     assert ret is not None and ret.maxima == 2 and ret.count == 1
+
+
+def test_a_plateau_s_round_off_ripple_is_not_a_row_of_maxima():
+    # the stick phase of a square wave (k = 7, tau = 60): m_y flat at -0.59 to round-off,
+    # its local maxima 2e-16 A apart; one slip a period
+    from core import Params, classify
+
+    t = np.arange(0.0, 1000.0, 0.01)
+    slip = np.sin(2 * np.pi * t / 60.6)
+    y = -0.59 + 2.48 * np.maximum(slip, 0.0) ** 3
+    y = y + np.where(slip <= 0.0, 1e-16 * np.sin(2 * np.pi * t / 0.37), 0.0)
+    w = np.zeros((5, len(t)))
+    w[1] = y
+    s = classify(t, w, p=Params(k=7, tau=60))
+    assert (s.regime, s.maxima_per_period) == ("oscillatory", 1), s.detail

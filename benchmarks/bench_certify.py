@@ -1,0 +1,72 @@
+"""What certification (core.certify) costs beside the run it certifies.
+
+Run:  python benchmarks/bench_certify.py [--t-end T] [--rounds R]
+
+At the paper's settings (Euler, dt 1e-3, t_end 1e5, window 1000) on a handful of points
+(an orbit, a fixed point, a long transient Newton gives up on, a large-b square wave, a
+long and a short delay), each round runs every point (core.point.run_point, which
+certifies) and then certifies it again alone (core.certify.certify on the run's own
+trajectory and label), in CPU time (process_time), in one process, the points' order
+reversed every other round so that a busy machine slows both alike. Printed per point:
+the median run and certification times, their ratio (the target: at most 10 %), and what
+the certificate said. The first certification in a process also pays the import of
+scipy's sparse solvers and the loading of the orbit kernels from numba's cache: measured
+once, before the rounds, and printed apart (a worker pays it once).
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+from core import Params, SolverSettings, run_point
+from core.certify import certify
+
+POINTS = {
+    "k=10 tau=10 (orbit)": Params(k=10, tau=10),
+    "k=4 tau=10 (fixed point)": Params(k=4, tau=10),
+    "k=20 tau=10 (slow transient)": Params(k=20, tau=10),
+    "b=15 k=12 tau=6 (square wave)": Params(b=15, k=12, tau=6),
+    "k=7 tau=60 (long delay)": Params(k=7, tau=60),
+    "k=30 tau=1 (short delay)": Params(k=30, tau=1),
+}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--t-end", type=float, default=1e5)
+    ap.add_argument("--rounds", type=int, default=2)
+    args = ap.parse_args()
+    s = SolverSettings(t_end=args.t_end)
+    warm = run_point(Params(k=10, tau=10), SolverSettings(t_end=2000))  # kernels compiled
+    c0 = time.process_time()
+    certify(warm.trajectory, warm.summary)
+    first = time.process_time()
+    warm_twice = certify(warm.trajectory, warm.summary)
+    again = time.process_time()
+    print(f"first certification in a process: {first - c0:.3f} s CPU (the next: "
+          f"{again - first:.3f} s; {warm_twice.certified})")
+    runs: dict[str, list[float]] = {name: [] for name in POINTS}
+    certs: dict[str, list[float]] = {name: [] for name in POINTS}
+    said: dict[str, str] = {}
+    for rnd in range(args.rounds):
+        names = list(POINTS) if rnd % 2 == 0 else list(reversed(POINTS))
+        for name in names:
+            t0 = time.process_time()
+            r = run_point(POINTS[name], s)
+            t1 = time.process_time()
+            c = certify(r.trajectory, r.summary)
+            t2 = time.process_time()
+            runs[name].append(t1 - t0 - (t2 - t1))   # the run without its certification
+            certs[name].append(t2 - t1)
+            said[name] = ("certified: " if c.certified else "not certified: ") + c.text[:90]
+    print(f"Euler dt 1e-3, t_end {args.t_end:g}, median of {args.rounds} rounds, CPU s")
+    print(f"{'point':32} {'run':>8} {'certify':>8} {'share':>7}  certificate")
+    for name in POINTS:
+        run, cert = statistics.median(runs[name]), statistics.median(certs[name])
+        print(f"{name:32} {run:8.3f} {cert:8.4f} {cert / run:7.1%}  {said[name]}")
+
+
+if __name__ == "__main__":
+    main()
