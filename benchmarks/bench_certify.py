@@ -1,6 +1,6 @@
 """What certification (core.certify) costs beside the run it certifies.
 
-Run:  python benchmarks/bench_certify.py [--t-end T] [--rounds R]
+Run:  python benchmarks/bench_certify.py [--t-end T] [--rounds R] [--markdown FILE]
 
 At the paper's settings (Euler, dt 1e-3, t_end 1e5, window 1000) on a handful of points
 (an orbit, a fixed point, a long transient Newton gives up on, a large-b square wave, a
@@ -37,6 +37,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--t-end", type=float, default=1e5)
     ap.add_argument("--rounds", type=int, default=2)
+    ap.add_argument("--markdown", help="also write the table here (benchmarks/results/certify.md)")
     args = ap.parse_args()
     s = SolverSettings(t_end=args.t_end)
     warm = run_point(Params(k=10, tau=10), SolverSettings(t_end=2000))  # kernels compiled
@@ -45,8 +46,9 @@ def main() -> None:
     first = time.process_time()
     warm_twice = certify(warm.trajectory, warm.summary)
     again = time.process_time()
-    print(f"first certification in a process: {first - c0:.3f} s CPU (the next: "
-          f"{again - first:.3f} s; {warm_twice.certified})")
+    once = (f"first certification in a process: {first - c0:.3f} s CPU (the next: "
+            f"{again - first:.3f} s; {warm_twice.certified})")
+    print(once)
     runs: dict[str, list[float]] = {name: [] for name in POINTS}
     certs: dict[str, list[float]] = {name: [] for name in POINTS}
     said: dict[str, str] = {}
@@ -63,9 +65,17 @@ def main() -> None:
             said[name] = ("certified: " if c.certified else "not certified: ") + c.text[:90]
     print(f"Euler dt 1e-3, t_end {args.t_end:g}, median of {args.rounds} rounds, CPU s")
     print(f"{'point':32} {'run':>8} {'certify':>8} {'share':>7}  certificate")
+    rows = []
     for name in POINTS:
         run, cert = statistics.median(runs[name]), statistics.median(certs[name])
         print(f"{name:32} {run:8.3f} {cert:8.4f} {cert / run:7.1%}  {said[name]}")
+        rows.append(f"| {name} | {run:.3f} | {cert:.4f} | {cert / run:.1%} | {said[name]} |")
+    if args.markdown:
+        with open(args.markdown, "w") as f:
+            f.write(f"Euler dt 1e-3, t_end {args.t_end:g}, median of {args.rounds} rounds, CPU s "
+                    "(`python benchmarks/bench_certify.py`; the machine shared)\n\n"
+                    "| point | run | certify | share | certificate |\n|---|---:|---:|---:|---|\n"
+                    + "\n".join(rows) + f"\n\n{once}.\n")
 
 
 if __name__ == "__main__":

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -33,15 +34,28 @@ from core.returns import distinct_maxima
 from core.solve import Trajectory
 from core.stability import hopf_period, leading_exponent
 
+if TYPE_CHECKING:  # the orbit kernels load only when an orbit is certified
+    from core.orbit import Grid, PeriodMap
+    from core.shooting import Solution
+
 #: The step of the shooting (RK4): core.periodic_orbit's ORBIT_DT (its period is accurate
-#: to ~1e-9 relative against finer dt).
+#: to ~1e-9 relative against finer dt) ...
 CERTIFY_DT = 0.01
-#: Newton steps allowed from the run's final state. Measured: from Euler's state (dt 1e-3)
-#: Newton on RK4's map (dt 0.01) converges in 3-5 steps where the two schemes' orbits are
-#: close (k = tau = 10: 4 steps); a seed that needs more is far from any orbit.
+#: ... or coarser, so that a delay holds at most this many steps: the shooting's unknowns
+#: (2 N + 4) and a product's steps (a period, ~tau to 2 tau) grow with tau / dt, and at
+#: tau = 60, dt 0.01 certification cost 40 % of the paper's run (benchmarks/bench_certify.py).
+#: At tau = 60 the step is 0.03 (0.25 s instead of 1.1 s at k = 7): its period, 60.617270,
+#: differs from dt 0.01's by 2e-8 and from an independent RK4 at dt 0.005 by 1.2e-7
+#: (tests/integration/test_minimal_period.py).
+MAX_DELAY_STEPS = 2000
+#: Newton steps allowed from the run's final state. Measured from Euler's state (dt 1e-3,
+#: t_end 2e4) on RK4's map (dt 0.01): 2 steps at k = tau = 10 and at b = 15, k = 12,
+#: tau = 6, 3 at b = 17-18 and at k = 7, tau = 60; core.orbit allows 25 from a seed 1e-2
+#: off. A run that needs more is "not certified within the budget" (k = 20, tau = 10, a
+#: long transient: residual 2e-3 after 8).
 NEWTON_BUDGET = 8
-#: Krylov products per Newton step (GMRES restarts at this many): k = tau = 10 needs
-#: 20-40 per step at the default rtol.
+#: Krylov products per Newton step (GMRES's restart length): measured 15 a step at
+#: k = tau = 10, 34 at k = 7, tau = 60.
 KRYLOV_BUDGET = 120
 #: Multipliers computed (the leading ones by modulus; ARPACK's Arnoldi with
 #: ARNOLDI_VECTORS vectors).
@@ -175,7 +189,7 @@ def _periodic(tr: Trajectory, s: Summary) -> Certificate:
     from core.shooting import correct
 
     p = tr.params
-    g = Grid.of(p, CERTIFY_DT)
+    g = Grid.of(p, max(CERTIFY_DT, p.tau / MAX_DELAY_STEPS))
     t = tr.window_t
     if len(t) < 2 or t[-1] - t[0] < p.tau + 2 * g.dt:
         return Certificate(False, f"the window ({t[-1] - t[0] if len(t) else 0:g}) is shorter "
@@ -190,7 +204,7 @@ def _periodic(tr: Trajectory, s: Summary) -> Certificate:
     except OrbitError as exc:
         return Certificate(False, f"not certified within the budget ({NEWTON_BUDGET} Newton steps of "
                                   f"{KRYLOV_BUDGET} Krylov products; {where}): from the final state, {exc}")
-    sol = _minimal(pm, sol, correct)
+    sol = _minimal(pm, sol)
     try:
         mult = multipliers(pm, sol.shot, N_MULTIPLIERS, ARNOLDI_VECTORS, ARNOLDI_RESTARTS)
     except OrbitError as exc:
@@ -212,11 +226,12 @@ def _periodic(tr: Trajectory, s: Summary) -> Certificate:
                        maxima, others)
 
 
-def _minimal(pm, sol, correct):  # type: ignore[no-untyped-def]
+def _minimal(pm: PeriodMap, sol: Solution) -> Solution:
     """The orbit at its minimal period: a shot over sol.period / j (j up to the orbit's
     maxima per period) that closes to SUBPERIOD_TOL of the amplitude is corrected at that
     period (the window may return after a multiple of it)."""
     from core.orbit import OrbitError
+    from core.shooting import correct
     m_y = sol.shot.traj[1, pm.g.n_delay:sol.shot.col + 1]
     amplitude = float(np.ptp(m_y))
     w = pm.g.weights
@@ -235,7 +250,7 @@ def _minimal(pm, sol, correct):  # type: ignore[no-untyped-def]
     return sol
 
 
-def state_from_window(t: np.ndarray, window: np.ndarray, g, at: float) -> np.ndarray:  # type: ignore[no-untyped-def]
+def state_from_window(t: np.ndarray, window: np.ndarray, g: Grid, at: float) -> np.ndarray:
     """The reduced state of core.orbit (m_y, s_x, s_y, u now; m_x - m_x(now) and m_y at
     the N delay-grid times before) at time ``at``, read from a sampled window by linear
     interpolation (its error, ~1e-5 of m_y's curvature at the sample step 0.01, is far
@@ -255,7 +270,7 @@ def orbit_maxima(m_y: np.ndarray) -> tuple[float, ...]:
     low = int(np.argmin(m_y[:-1]))
     y = np.concatenate((m_y[low:-1], m_y[:low + 1]))
     tt = np.arange(y.size, dtype=float)
-    peak_t, peak_y = distinct_maxima(tt, y, *find_peaks(tt, y), float(np.ptp(y)))
+    _, peak_y = distinct_maxima(tt, y, *find_peaks(tt, y), float(np.ptp(y)))
     return tuple(float(v) for v in peak_y)
 
 

@@ -37,7 +37,7 @@ def _field(m_x, m_y, s_x, s_y, u, x_tau, a, b, c, d, k, v):
 @njit(cache=False)
 def _rk4(a, b, c, d, k, v, tau, delta, h, n_steps, n_tail):
     """m_y over the last n_tail steps, from eq. 19 with the constant history."""
-    n = int(round(tau / h))
+    n = int(tau / h + 0.5)
     xs = np.full(n + n_steps + 1, delta)       # m_x at every step from -tau
     z = np.full(5, delta)                      # (19)
     out = np.empty(n_tail)
