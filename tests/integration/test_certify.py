@@ -7,8 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings, run_point
-from core.certify import STABLE_MARGIN, certify
+from core import Params, SolverSettings, run_batch, run_point
+from core.certify import STABLE_MARGIN, certify, relabel
 from core.classify import classify
 from core.periodic_orbit import find_orbit
 from core.solve import simulate
@@ -48,6 +48,18 @@ def test_an_orbit_seeded_at_twice_its_period_is_certified_at_its_period():
     assert c.certified, c.text
     assert c.period == pytest.approx(r.certificate.period, rel=1e-9)
     assert c.slips == 1
+    # and the label follows the certified orbit, not the window's return
+    s = relabel(dataclasses.replace(doubled, regime="complex", detail="period-2, 2 maxima"), c, p)
+    assert (s.regime, s.period_count, s.maxima_per_period) == ("oscillatory", 1, 1)
+    assert s.detail.startswith("period-1, 1 maxima, 0.99 T_H (certified)")
+
+
+def test_batched_runs_are_certified_as_single_ones():
+    points = [Params(k=10, tau=10), Params(k=4, tau=10)]
+    s = SolverSettings(t_end=5000, method="rk4", dt=0.01)
+    for one, lane in zip((run_point(p, s) for p in points), run_batch(points, s), strict=True):
+        assert lane.certificate.certified, lane.certificate.text
+        assert lane.certificate.text == one.certificate.text
 
 
 def test_a_fixed_point_is_certified_by_its_root_and_its_decay():
