@@ -204,8 +204,9 @@ def _periodic(tr: Trajectory, s: Summary) -> Certificate:
         sol = correct(pm, z0, s.period, z0, zdot, max_steps=NEWTON_BUDGET,
                       max_products=KRYLOV_BUDGET)
     except OrbitError as exc:
-        return Certificate(False, f"not certified within the budget ({NEWTON_BUDGET} Newton steps of "
-                                  f"{KRYLOV_BUDGET} Krylov products; {where}): from the final state, {exc}")
+        budget = (f"not certified within the budget ({NEWTON_BUDGET} Newton steps of "
+                  f"{KRYLOV_BUDGET} Krylov products): " if "did not converge" in str(exc) else "")
+        return Certificate(False, f"{budget}Newton from the final state ({where}): {exc}")
     sol = _minimal(pm, sol)
     try:
         mult = multipliers(pm, sol.shot, N_MULTIPLIERS, ARNOLDI_VECTORS, ARNOLDI_RESTARTS)
