@@ -140,8 +140,8 @@ def _fixed_point(tr: Trajectory, s: Summary) -> Certificate:
         root = rest_exponent(p)
     except ArithmeticError as exc:
         return Certificate(False, f"linear theory undecided: {exc}")
-    if root == -math.inf:  # below the stability gate: stable without a computation
-        root = leading_exponent(p)
+    if root == -math.inf:  # below the stability gate: stable without a computation, and
+        root = leading_exponent(p)  # the noise-free root is the rate (the noise shifts it ~d)
     if root >= -NEUTRAL_TOL:
         return Certificate(False, f"leading root {root:+.2e}/t is not < 0")
     y = tr.window[1]
@@ -191,7 +191,10 @@ def _periodic(tr: Trajectory, s: Summary) -> Certificate:
     from core.shooting import correct
 
     p = tr.params
-    g = Grid.of(p, max(CERTIFY_DT, p.tau / MAX_DELAY_STEPS))
+    try:
+        g = Grid.of(p, max(CERTIFY_DT, p.tau / MAX_DELAY_STEPS))
+    except OrbitError as exc:  # tau = 0
+        return Certificate(False, str(exc))
     t = tr.window_t
     if len(t) < 2 or t[-1] - t[0] < p.tau + 2 * g.dt:
         return Certificate(False, f"the window ({t[-1] - t[0] if len(t) else 0:g}) is shorter "
