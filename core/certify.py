@@ -138,10 +138,10 @@ def _fixed_point(tr: Trajectory, s: Summary) -> Certificate:
     p = tr.params
     try:
         root = rest_exponent(p)
-    except ArithmeticError as exc:
+        if root == -math.inf:  # below the stability gate: stable without a computation, and
+            root = leading_exponent(p)  # the noise-free root is the rate (noise shifts it ~d)
+    except ArithmeticError as exc:  # k ~ 1e-283: every root of the delay factor is ~0
         return Certificate(False, f"linear theory undecided: {exc}")
-    if root == -math.inf:  # below the stability gate: stable without a computation, and
-        root = leading_exponent(p)  # the noise-free root is the rate (the noise shifts it ~d)
     if root >= -NEUTRAL_TOL:
         return Certificate(False, f"leading root {root:+.2e}/t is not < 0")
     y = tr.window[1]
