@@ -50,7 +50,7 @@ import numpy as np
 
 from core.lyapunov import LyapunovEstimate
 from core.params import Params, sliding_branches
-from core.returns import Return, clusters, find_return, lag_defects
+from core.returns import Return, clusters, distinct_maxima, find_return, lag_defects
 from core.stability import hopf_period, leading_exponent
 
 if TYPE_CHECKING:  # core.spectrum loads core.solve, which imports this module
@@ -355,12 +355,12 @@ def _linear(t: np.ndarray, y: np.ndarray, early: tuple, amplitude: float, drift:
 
 
 def _settled(early_peaks: tuple[np.ndarray, np.ndarray], amplitude: float, basic: float, ret: Return,
-             late_peaks: list[float]) -> bool:
+             late_peaks: list[float], step: float = 0.0) -> bool:
     """Whether the early window returns as the late one, with the same maxima and time."""
     pt, py = early_peaks
     if len(py) < 4:
         return False
-    then = find_return(pt, py, amplitude, basic)
+    then = find_return(pt, py, amplitude, basic, step)
     if then is None or then.maxima != ret.maxima:
         return False
     moved = max(abs(a - b) for a, b in zip(clusters(py, then.maxima), late_peaks, strict=True))
@@ -368,20 +368,21 @@ def _settled(early_peaks: tuple[np.ndarray, np.ndarray], amplitude: float, basic
 
 
 def _periodic(peak_t: np.ndarray, peak_y: np.ndarray, ret: Return, early_peaks: tuple[np.ndarray, np.ndarray],
-              amplitude: float, basic: float, frequency: float, drift: float) -> Summary:
+              amplitude: float, basic: float, frequency: float, drift: float, step: float = 0.0) -> Summary:
     """An orbit that returns: oscillatory after one basic period, complex after n >= 2,
-    unless the alternation that makes it n is dying out."""
+    unless the alternation that makes it n is dying out (step: the window's sample step,
+    core.returns.lag_defects)."""
     n = ret.maxima
     late = clusters(peak_y, n)
-    settled = _settled(early_peaks, amplitude, basic, ret, late)
+    settled = _settled(early_peaks, amplitude, basic, ret, late, step)
     flags: tuple[str, ...] = () if settled else ("slow-modulation",)
     count = ret.count or 1
     per = n // count if count > 1 and n % count == 0 else 0
     if count > 1 and per and not settled:
         # the defect of the return after one basic period, then and now
         ept, epy = early_peaks
-        q_then = lag_defects(ept, epy, amplitude, per)[-1] if len(epy) > 2 * per + 2 else math.nan
-        q_now = lag_defects(peak_t, peak_y, amplitude, per)[-1]
+        q_then = lag_defects(ept, epy, amplitude, per, step)[-1] if len(epy) > 2 * per + 2 else math.nan
+        q_now = lag_defects(peak_t, peak_y, amplitude, per, step)[-1]
         if q_now < ALTERNATION_DECAY * q_then:
             return Summary("oscillatory", f"alternation decaying {q_then:.1e} -> {q_now:.1e}",
                            amplitude, ret.time / count, 1, clusters(peak_y, per), frequency, drift,
@@ -508,16 +509,17 @@ def classify(t: np.ndarray, window: np.ndarray, blew_up: bool = False,
                                       [], frequency, drift, attractor="fixed-point", settled=False,
                                       flags=("decaying",)), p, follow_branch)
 
-    peak_t, peak_y = find_peaks(t, m_y)
+    peak_t, peak_y = distinct_maxima(t, m_y, *find_peaks(t, m_y), amplitude)  # a plateau's: one
     if len(peak_y) < 4:
         # too few maxima in the window to tell a return: an oscillation of unknown period
         return Summary("oscillatory", f"{len(peak_y)} peaks in window", amplitude, math.nan, 1,
                        sorted(float(v) for v in peak_y), frequency, drift,
                        maxima_per_period=len(peak_y), attractor="periodic", settled=False)
     basic = hopf_period(p.tau, p.F1) if p is not None else math.nan
-    ret = find_return(peak_t, peak_y, amplitude, basic)
-    early_peaks = find_peaks(early[0], early[1])
+    step = float(t[1] - t[0])  # the sample step: a flat maximum's timing noise (core.returns)
+    ret = find_return(peak_t, peak_y, amplitude, basic, step)
+    early_peaks = distinct_maxima(early[0], early[1], *find_peaks(early[0], early[1]), amplitude)
     if ret is not None:
         return _spectrum_note(_periodic(peak_t, peak_y, ret, early_peaks, amplitude, basic,
-                                        frequency, drift), spectrum)
+                                        frequency, drift, step), spectrum)
     return _continuum(peak_y, early_peaks, amplitude, frequency, drift, lyap, spectrum)

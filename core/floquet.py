@@ -68,8 +68,10 @@ class Multipliers:
         return complex(others[0]) if others.size else 0j
 
 
-def multipliers(pm: PeriodMap, shot: Shot, count: int = N_MULTIPLIERS) -> Multipliers:
-    """The ``count`` leading Floquet multipliers of the orbit through ``shot``."""
+def multipliers(pm: PeriodMap, shot: Shot, count: int = N_MULTIPLIERS,
+                vectors: int = ARNOLDI_VECTORS, restarts: int = 2000) -> Multipliers:
+    """The ``count`` leading Floquet multipliers of the orbit through ``shot`` (Arnoldi
+    with ``vectors`` vectors, at least 3 count, restarted at most ``restarts`` times)."""
     n = pm.g.size
     sw = np.sqrt(pm.g.weights)
 
@@ -82,8 +84,8 @@ def multipliers(pm: PeriodMap, shot: Shot, count: int = N_MULTIPLIERS) -> Multip
     # multipliers reproducible to the bit (a resumed branch, a rerun, the CLI and a worker)
     start = np.random.default_rng(ARPACK_SEED).standard_normal(n)
     try:
-        values = eigs(op, k=k, which="LM", tol=ARPACK_TOL, ncv=min(n - 1, max(3 * k, ARNOLDI_VECTORS)),
-                      v0=start, return_eigenvectors=False, maxiter=2000)
+        values = eigs(op, k=k, which="LM", tol=ARPACK_TOL, ncv=min(n - 1, max(3 * k, vectors)),
+                      v0=start, return_eigenvectors=False, maxiter=restarts)
     except ArpackNoConvergence as exc:
         raise OrbitError("Arnoldi did not converge on the monodromy operator") from exc
     values = values[np.argsort(-np.abs(values), kind="stable")]

@@ -28,6 +28,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from core.batch import simulate_batch
+from core.certify import NOT_ATTEMPTED, Certificate, certify, relabel
 from core.classify import Summary, classify
 from core.closure import CLOSURE_TOL, closure_flags, uphill_flags
 from core.history import CarriedState
@@ -59,6 +60,8 @@ class PointResult:
     trajectory: Trajectory
     #: The top Lyapunov exponents (run --spectrum N, core.spectrum); None: not computed.
     spectrum: Spectrum | None = None
+    #: The attractor's certificate (core.certify), tried after the window's label.
+    certificate: Certificate = NOT_ATTEMPTED
 
     def as_record(self) -> dict[str, object]:
         """The flat record the CLI prints with --json and the store keeps: the result
@@ -83,10 +86,10 @@ class PointResult:
             "zero_one_k": s.zero_one_k,
             "t_blowup": self.t_blowup,
             "runtime_s": self.runtime_s,
-            "certified": False,
-            "certificate": "not attempted",
-            "multipliers": [],
-            "slips": 0,
+            "certified": self.certificate.certified,
+            "certificate": self.certificate.text,
+            "multipliers": self.certificate.pairs,
+            "slips": self.certificate.slips,
             "dt_error": math.nan,
             "spectrum": list(self.spectrum.values) if self.spectrum else [],
             "spectrum_err": list(self.spectrum.errors) if self.spectrum else [],
@@ -165,8 +168,11 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False,
         summary = replace(summary, detail=f"{summary.detail}; {real.text()}")
         flags += real.flags()
     summary = replace(summary, flags=flags)
+    cert = certify(tr, summary)  # the labels then follow a certified orbit (core.certify)
+    summary = relabel(summary, cert, tr.params)
     return PointResult(tr.params, s, summary, lyap, t_blowup,
-                       integration_s + time.perf_counter() - t0, tr, spectrum)
+                       integration_s + time.perf_counter() - t0, tr, spectrum=spectrum,
+                       certificate=cert)
 
 
 def _negative_variance(tr: Trajectory) -> bool:

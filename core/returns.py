@@ -6,7 +6,8 @@ both their heights and their spacing at lag n: the defect
 
     q_n = max( max_i |p_{i+n} - p_i| / A ,  max_i |(t_{i+n} - t_i) - T_n| / T_n ),
 
-(a spacing defect below TIME_NOISE counts as 0),
+(a spacing defect below TIME_NOISE, or below a tenth of the sample step, counts as 0:
+the timing noise of a flat maximum),
 with A the peak-to-peak amplitude of m_y and T_n the mean lag-n time, is then at the level
 of round-off. Heights alone are not enough: along tau = 10 at k = 17.2-20 the orbit has two
 maxima per period of almost equal height (2.2128 and 2.2133 at k = 20, RK4, t = 1e5:
@@ -41,12 +42,34 @@ RETURN_NOISE = 1e-6
 #: is uncertain (the square wave at k = 6, b = 15.5, tau = 21.3, RK4: 1.7e-6 at every lag,
 #: against height defects of 7e-11); settled rounded maxima show 2e-8-7e-8.
 TIME_NOISE = 1e-5
+#: ... and so do spacing defects below this fraction of the window's sample step (in
+#: absolute time): the time of a flat maximum is found to a fraction of a sample, which
+#: does not shrink with the period. At large b the flat-topped maxima's times scatter with
+#: the sampling phase (sample step 0.01, Euler dt 1e-3, t_end 2e4): 0.009 samples at
+#: b = 15, k = 12, tau = 6; 0.024 at b = 17, k = 10, tau = 7; 0.038 at b = 18, k = 12,
+#: tau = 10, a spacing defect of 1.3e-5-3.4e-5 of the period at lag 1, where the heights
+#: repeat to 2e-8-1.6e-7 A and an independent RK4 at dt / 2 sees one maximum a period,
+#: equally spaced (tests/integration/test_minimal_period.py). Above TIME_NOISE, lag 1 was
+#: rejected, and the lag whose n periods happened to repeat the sampling phase better was
+#: called period-2, -3 or -4. Genuine alternations of the spacing are 100 times coarser
+#: than the margin left (2.86 against 7.51 at tau = 10, k = 20: 465 samples).
+SAMPLE_TIME_NOISE = 0.1
 #: Longer returns than this many maxima are not told from a continuum (quasi-periodic or
 #: chaotic); the three-hump orbits at tau = 10 need 3, the square waves at large tau ~6.
 MAX_MAXIMA = 16
 #: A return time within this distance of an integer number of basic periods counts as that
 #: number (measured period-1 ratios: 0.93-1.02, see core.stability.hopf_period).
 PERIOD_RATIO_TOL = 0.25
+
+#: Maxima not separated by a dip deeper than this fraction of the amplitude are one
+#: maximum (the highest of them): a plateau's round-off ripple, not slips. On the
+#: stick phase of the square wave at k = 7, tau = 60 (RK4, dt 0.01, t_end 2e4) m_y stays
+#: at -0.590062 with ~200 local maxima a period, equal to 1.3e-12 A: the window was called
+#: "no return, band still moving" (on the RK4 orbit through it, 154 "slips" a period).
+#: Refined maxima of distinct slips are found to 4e-8 A (core.classify.find_peaks), and
+#: distinct maxima dip far below each other (tau = 10, k = 20, RK4: by 0.997 A between
+#: the two maxima 2e-4 A apart in height).
+PLATEAU_TOL = 1e-8
 
 
 @dataclass(frozen=True, slots=True)
@@ -63,23 +86,26 @@ class Return:
 
 
 def lag_defects(t_peaks: np.ndarray, peaks: np.ndarray, amplitude: float,
-                max_lag: int = MAX_MAXIMA) -> np.ndarray:
-    """q_n for n = 1..max_lag (fewer if the sequence is short): see the module docstring."""
+                max_lag: int = MAX_MAXIMA, step: float = 0.0) -> np.ndarray:
+    """q_n for n = 1..max_lag (fewer if the sequence is short): see the module docstring.
+    ``step``: the sample step of the series the maxima were found on (0: unknown)."""
     max_lag = min(max_lag, max(1, (len(peaks) - 2) // 2))
     out = np.empty(max_lag)
     for n in range(1, max_lag + 1):
         heights = np.max(np.abs(peaks[n:] - peaks[:-n])) / amplitude
         spans = t_peaks[n:] - t_peaks[:-n]
         mean = spans.mean()
-        timing = np.max(np.abs(spans - mean)) / mean
-        out[n - 1] = max(heights, timing if timing > TIME_NOISE else 0.0)
+        spread = np.max(np.abs(spans - mean))
+        noise = spread <= SAMPLE_TIME_NOISE * step or spread <= TIME_NOISE * mean
+        out[n - 1] = max(heights, 0.0 if noise else spread / mean)
     return out
 
 
 def find_return(t_peaks: np.ndarray, peaks: np.ndarray, amplitude: float,
-                basic_period: float) -> Return | None:
-    """The first return of the maxima sequence, or None if it has none within MAX_MAXIMA."""
-    q = lag_defects(t_peaks, peaks, amplitude)
+                basic_period: float, step: float = 0.0) -> Return | None:
+    """The first return of the maxima sequence, or None if it has none within MAX_MAXIMA
+    (``step``: the sample step the maxima were found on, lag_defects)."""
+    q = lag_defects(t_peaks, peaks, amplitude, step=step)
     best = float(q.min())
     if not best <= RETURN_TOL:
         return None
@@ -95,3 +121,26 @@ def find_return(t_peaks: np.ndarray, peaks: np.ndarray, amplitude: float,
 def clusters(peaks: np.ndarray, n: int) -> list[float]:
     """The n maxima of one return, as the means over the window, ascending."""
     return sorted(float(peaks[j::n].mean()) for j in range(n))
+
+
+def distinct_maxima(t: np.ndarray, y: np.ndarray, peak_t: np.ndarray, peak_y: np.ndarray,
+                    amplitude: float) -> tuple[np.ndarray, np.ndarray]:
+    """The maxima (peak_t, peak_y of the samples y at times t, core.classify.find_peaks)
+    with those that no dip deeper than PLATEAU_TOL of the amplitude separates merged into
+    the highest of them: maxima equal to round-off on a plateau are one maximum."""
+    if len(peak_t) < 2 or len(t) < 2:
+        return peak_t, peak_y
+    at = np.clip(np.rint((peak_t - t[0]) / (t[1] - t[0])).astype(np.int64), 0, len(y) - 1)
+    dips = np.minimum.reduceat(y, at)[:-1] if np.all(np.diff(at) > 0) else None
+    if dips is None:
+        return peak_t, peak_y
+    floor = PLATEAU_TOL * amplitude
+    keep_t, keep_y = [peak_t[0]], [peak_y[0]]
+    for j in range(1, len(peak_t)):
+        if dips[j - 1] > min(keep_y[-1], peak_y[j]) - floor:   # no dip between: one maximum
+            if peak_y[j] > keep_y[-1]:
+                keep_t[-1], keep_y[-1] = peak_t[j], peak_y[j]
+            continue
+        keep_t.append(peak_t[j])
+        keep_y.append(peak_y[j])
+    return np.array(keep_t), np.array(keep_y)

@@ -45,8 +45,9 @@ def weighted_dot(a: np.ndarray, b: np.ndarray, w: np.ndarray) -> float:
 
 
 def solve_krylov(apply: Callable[[np.ndarray], np.ndarray], rhs: np.ndarray,
-                 rtol: float) -> tuple[np.ndarray, int]:
-    """GMRES on a matrix-free operator; returns the solution and the products used."""
+                 rtol: float, max_products: int = KRYLOV_MAX_PRODUCTS) -> tuple[np.ndarray, int]:
+    """GMRES on a matrix-free operator; returns the solution and the products used (about
+    max_products at most)."""
     count = [0]
 
     def mv(x: np.ndarray) -> np.ndarray:
@@ -55,28 +56,31 @@ def solve_krylov(apply: Callable[[np.ndarray], np.ndarray], rhs: np.ndarray,
 
     n = rhs.size
     op = LinearOperator((n, n), matvec=mv, dtype=float)
-    x, info = gmres(op, rhs, rtol=rtol, atol=0.0, restart=min(KRYLOV_RESTART, n),
-                    maxiter=max(1, KRYLOV_MAX_PRODUCTS // KRYLOV_RESTART))
+    restart = min(KRYLOV_RESTART, max_products, n)
+    x, info = gmres(op, rhs, rtol=rtol, atol=0.0, restart=restart,
+                    maxiter=max(1, max_products // restart))
     if info < 0:
         raise OrbitError("GMRES broke down on the Newton system")
     return x, count[0]
 
 
 def correct(pm: PeriodMap, z: np.ndarray, period: float, z_ref: np.ndarray,
-            zdot_ref: np.ndarray, tol: float = NEWTON_TOL) -> Solution:
-    """Newton-Krylov from (z, period) with the phase condition of (z_ref, zdot_ref)."""
+            zdot_ref: np.ndarray, tol: float = NEWTON_TOL, max_steps: int = NEWTON_MAX,
+            max_products: int = KRYLOV_MAX_PRODUCTS) -> Solution:
+    """Newton-Krylov from (z, period) with the phase condition of (z_ref, zdot_ref), in at
+    most max_steps steps of at most ~max_products Krylov products each (a budget)."""
     w = pm.g.weights
     sw = np.sqrt(w)
     n = z.size
     products = 0
     shot = pm.shoot(z, period)
-    for step in range(NEWTON_MAX + 1):
+    for step in range(max_steps + 1):
         r = shot.value - z
         phase = weighted_dot(zdot_ref, z - z_ref, w)
         residual = math.sqrt(weighted_dot(r, r, w) + phase * phase)
         if residual < tol:
             return Solution(z, period, shot, step, residual, products)
-        if step == NEWTON_MAX:
+        if step == max_steps:
             break
         current = shot
 
@@ -86,7 +90,7 @@ def correct(pm: PeriodMap, z: np.ndarray, period: float, z_ref: np.ndarray,
             return np.concatenate((sw * top, [weighted_dot(zdot_ref, dz, w)]))
 
         rhs = -np.concatenate((sw * r, [phase]))
-        x, used = solve_krylov(apply, rhs, min(GMRES_RTOL, 0.1 * residual))
+        x, used = solve_krylov(apply, rhs, min(GMRES_RTOL, 0.1 * residual), max_products)
         products += used
         dz, dT = x[:n] / sw, x[n]
         # a damped step when the full one does not lower the residual (far from the orbit)
@@ -105,5 +109,5 @@ def correct(pm: PeriodMap, z: np.ndarray, period: float, z_ref: np.ndarray,
                 break
         else:
             raise OrbitError("Newton's step left the finite range: no orbit near the seed")
-    raise OrbitError(f"Newton did not converge in {NEWTON_MAX} steps (residual "
+    raise OrbitError(f"Newton did not converge in {max_steps} steps (residual "
                      f"{residual:.1e} > {tol:.0e}): no periodic orbit near the seed")

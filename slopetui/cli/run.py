@@ -152,6 +152,7 @@ def render_text(r: PointResult) -> str:
     if r.spectrum is not None:
         lines.append(f"spectrum   {r.spectrum.format()}  (top {len(r.spectrum.values)}, the m_x "
                      f"shift quotiented out, over the last {r.spectrum.t_measured:g} time units)")
+    lines.append(f"certified  {'yes' if r.certificate.certified else 'no'}: {r.certificate.text}")
     real = r.trajectory.realisability  # every step's covariance (core.closure)
     if real is not None:
         lines.append(f"covariance {real.text()}")

@@ -1,0 +1,299 @@
+"""Certify a run's attractor from the run's own final state, after its window is classified.
+
+The window's label (core.classify) says what the last 1000 time units show. A certificate
+says which attractor the run has reached, by a second, independent argument:
+
+* **Fixed point.** Linear theory (the rest state's leading nonzero root, core.rest_stability;
+  the always-zero root of the m_x shift left out) is negative, and the window agrees: its
+  envelope decays at a rate consistent with that root, or is already at round-off.
+* **Periodic orbit.** Newton-Krylov shooting (core.shooting) converges from the state at
+  the end of the window (the run's final state: m_x and m_y over the last delay, which the
+  window holds in full, in a batch's lane too), seeded with the window's return time. The
+  orbit is RK4's at ORBIT_DT (core.periodic_orbit), coarser than the paper's Euler run: the
+  certificate says so. Its minimal period is confirmed (a shot over a fraction of the
+  period that also closes makes that fraction the period), and its Floquet multipliers
+  (core.floquet), the flow's and the translation's (both 1) apart, lie inside the unit
+  circle by STABLE_MARGIN.
+
+Anything else is not certified, the certificate saying why. The Newton iteration has a
+budget (NEWTON_BUDGET steps, KRYLOV_BUDGET products a step): a run that needs more is "not
+certified: budget", so that certification costs a bounded share of a run (docs/speed.md).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from core.classify import Summary, find_peaks
+from core.params import Params
+from core.returns import distinct_maxima
+from core.solve import Trajectory
+from core.stability import hopf_period, leading_exponent
+
+if TYPE_CHECKING:  # the orbit kernels load only when an orbit is certified
+    from core.orbit import Grid, PeriodMap
+    from core.shooting import Solution
+
+#: The step of the shooting (RK4): core.periodic_orbit's ORBIT_DT (its period is accurate
+#: to ~1e-9 relative against finer dt) ...
+CERTIFY_DT = 0.01
+#: ... or coarser, so that a delay holds at most this many steps: the shooting's unknowns
+#: (2 N + 4) and a product's steps (a period, ~tau to 2 tau) grow with tau / dt, and at
+#: tau = 60, dt 0.01 certification cost 40 % of the paper's run (benchmarks/bench_certify.py).
+#: At tau = 60 the step is 0.03 (0.25 s instead of 1.1 s at k = 7): its period, 60.617270,
+#: differs from dt 0.01's by 2e-8 and from an independent RK4 at dt 0.005 by 1.2e-7
+#: (tests/integration/test_minimal_period.py).
+MAX_DELAY_STEPS = 2000
+#: Newton steps allowed from the run's final state. Measured from Euler's state (dt 1e-3,
+#: t_end 2e4) on RK4's map (dt 0.01): 2 steps at k = tau = 10 and at b = 15, k = 12,
+#: tau = 6, 3 at b = 17-18 and at k = 7, tau = 60; core.orbit allows 25 from a seed 1e-2
+#: off. A run that needs more is "not certified within the budget" (k = 20, tau = 10, a
+#: long transient: residual 2e-3 after 8 steps). With 8 steps of 120 products that
+#: failure cost 9.5 % of the paper's run (benchmarks/bench_certify.py), the most of any
+#: point measured: 5 steps of 80 leave the converging runs their margin.
+NEWTON_BUDGET = 5
+#: Krylov products per Newton step (GMRES's restart length): measured 15 a step at
+#: k = tau = 10, 34 at k = 7, tau = 60.
+KRYLOV_BUDGET = 80
+#: Multipliers computed (the leading ones by modulus; ARPACK's Arnoldi with
+#: ARNOLDI_VECTORS vectors).
+N_MULTIPLIERS = 6
+ARNOLDI_VECTORS = 40
+#: ARPACK's restarts allowed (each costs about ARNOLDI_VECTORS - N_MULTIPLIERS products):
+#: k = tau = 10 needs 1 (41 products); where the multipliers crowd near the unit circle
+#: (large tau near the Hopf point) it would need hundreds: "not certified: budget".
+ARNOLDI_RESTARTS = 10
+#: A nontrivial multiplier must lie inside the unit circle by this much for the orbit to
+#: count as stable: ten times core.floquet.UNIT_TOL, the distance within which a multiplier
+#: is on the circle (the flow multiplier's own distance from 1, RK4's error over a period,
+#: is ~1e-9 at dt = 0.01, and ARPACK's relative accuracy is 1e-10). An orbit closer to the
+#: circle than this is marginal: a fold, a period doubling or a torus nearby.
+STABLE_MARGIN = 1e-5
+#: A shot over T / j closes (the period is T / j, not T) when its residual is below this
+#: fraction of the orbit's amplitude: Newton's tolerance is 1e-10, an orbit of period T that
+#: is not T / j-periodic misses by the difference of its distinct maxima (2e-4 A at the
+#: closest we measured: tau = 10, k = 20).
+SUBPERIOD_TOL = 1e-6
+#: The window's decay rate agrees with the leading root within this fraction of the root
+#: (Euler's map carries a bias: -0.00393 against the root -0.003944 at tau = 10, k = 4,
+#: 0.4 %; 0.36 % at tau = 0.2, k = 12), or within DECAY_RATE_ABS where the decay is too slow
+#: to measure in the window (1e-5: a 1 % change over a window of 1000).
+DECAY_RATE_REL = 0.1
+DECAY_RATE_ABS = 1e-5
+#: The window's envelope is at round-off when its amplitude is below this, relative to
+#: max(1, |m_y|): a rest state reached long before the window leaves 0 to 1.5e-10
+#: (core.classify.AMPLITUDE_FLOOR's measurement).
+ROUND_OFF = 1e-9
+
+
+@dataclass(frozen=True, slots=True)
+class Certificate:
+    """Whether a run's attractor is certified, and how (``text``, or why not); for an
+    orbit its period, amplitude (peak-to-peak m_y), maxima of m_y in one period (slips,
+    and their heights) and nontrivial Floquet multipliers, largest modulus first."""
+
+    certified: bool
+    text: str
+    period: float = math.nan
+    amplitude: float = math.nan
+    slips: int = 0
+    maxima: tuple[float, ...] = ()
+    multipliers: tuple[complex, ...] = ()
+
+    @property
+    def pairs(self) -> list[list[float]]:
+        """The multipliers as [re, im] pairs (the result field ``multipliers``)."""
+        return [[float(m.real), float(m.imag)] for m in self.multipliers]
+
+
+NOT_ATTEMPTED = Certificate(False, "not attempted")
+
+
+def certify(tr: Trajectory, s: Summary) -> Certificate:
+    """The certificate of a run whose window is classified as ``s``."""
+    if tr.blew_up:
+        return Certificate(False, f"blew up at t = {tr.t_blowup:.6g}")
+    if s.attractor == "fixed-point":
+        return _fixed_point(tr, s)
+    if s.attractor == "unstable-fixed-point":
+        return _unstable_rest(tr.params)
+    if s.attractor == "periodic" and s.period_count > 0:
+        if not math.isfinite(s.period):
+            return Certificate(False, "too few maxima in the window to seed the period")
+        return _periodic(tr, s)
+    if s.attractor in ("fast-branch", "variance-state"):
+        return Certificate(False, f"rest on a steady state off the fixed point ({s.attractor}): "
+                                  "no linear theory of it here")
+    return Certificate(False, f"no return in the window ({s.attractor or s.regime}): "
+                              "no periodic orbit to shoot for")
+
+
+def _fixed_point(tr: Trajectory, s: Summary) -> Certificate:
+    """Linear theory and the window's decay agree (the module docstring)."""
+    from core.rest_stability import NEUTRAL_TOL, rest_exponent
+    p = tr.params
+    try:
+        root = rest_exponent(p)
+        if root == -math.inf:  # below the stability gate: stable without a computation, and
+            root = leading_exponent(p)  # the noise-free root is the rate (noise shifts it ~d)
+    except ArithmeticError as exc:  # k ~ 1e-283: every root of the delay factor is ~0
+        return Certificate(False, f"linear theory undecided: {exc}")
+    if root >= -NEUTRAL_TOL:
+        return Certificate(False, f"leading root {root:+.2e}/t is not < 0")
+    y = tr.window[1]
+    level = max(1.0, abs(float(np.mean(y))))
+    if float(np.ptp(y)) <= ROUND_OFF * level:
+        return Certificate(True, f"fixed point: leading root {root:+.3e}/t < 0, window at "
+                                 f"round-off (m_y peak-to-peak {float(np.ptp(y)):.1e})")
+    rate = _decay_rate(tr.window_t, y, level)
+    if not math.isfinite(rate):
+        return Certificate(False, f"leading root {root:+.3e}/t < 0, but the window's decay "
+                                  "could not be measured")
+    if abs(rate - root) <= max(DECAY_RATE_REL * abs(root), DECAY_RATE_ABS):
+        return Certificate(True, f"fixed point: leading root {root:+.3e}/t < 0, window decays "
+                                 f"at {rate:+.3e}/t")
+    return Certificate(False, f"the window decays at {rate:+.3e}/t, linear theory says "
+                              f"{root:+.3e}/t: not yet the linear decay to the fixed point")
+
+
+def _unstable_rest(p: Params) -> Certificate:
+    """A window still at a rest state that linear theory calls unstable (core.classify)."""
+    from core.rest_stability import rest_exponent
+    try:
+        root = f"{rest_exponent(p):+.2e}/t"
+    except ArithmeticError:
+        root = "positive"
+    return Certificate(False, f"leading root {root} > 0: the window has not departed from the "
+                              "unstable rest state, its attractor is not reached")
+
+
+def _decay_rate(t: np.ndarray, y: np.ndarray, level: float) -> float:
+    """The envelope's growth rate over the window: a line through the log of the
+    peak-to-peak of m_y in 10 sub-windows, those above round-off."""
+    parts = np.array_split(np.arange(len(y)), 10)
+    centres = np.array([t[i].mean() for i in parts])
+    amps = np.array([np.ptp(y[i]) for i in parts])
+    keep = amps > ROUND_OFF * level
+    if np.count_nonzero(keep) < 3:
+        return math.nan
+    return float(np.polyfit(centres[keep], np.log(amps[keep]), 1)[0])
+
+
+def _periodic(tr: Trajectory, s: Summary) -> Certificate:
+    """Newton-Krylov shooting from the end of the window, seeded with its return time."""
+    # imported here: the orbit kernels and scipy's sparse solvers serve only this path
+    from core.floquet import multipliers
+    from core.orbit import Grid, OrbitError, PeriodMap
+    from core.shooting import correct
+
+    p = tr.params
+    try:
+        g = Grid.of(p, max(CERTIFY_DT, p.tau / MAX_DELAY_STEPS))
+    except OrbitError as exc:  # tau = 0
+        return Certificate(False, str(exc))
+    t = tr.window_t
+    if len(t) < 2 or t[-1] - t[0] < p.tau + 2 * g.dt:
+        return Certificate(False, f"the window ({t[-1] - t[0] if len(t) else 0:g}) is shorter "
+                                  f"than the delay: no final state to shoot from")
+    z0 = state_from_window(t, tr.window, g, float(t[-1]))
+    zdot = (z0 - state_from_window(t, tr.window, g, float(t[-1]) - g.dt)) / g.dt
+    pm = PeriodMap(p, g)
+    where = f"RK4 at dt {g.dt:.4g}"
+    try:
+        sol = correct(pm, z0, s.period, z0, zdot, max_steps=NEWTON_BUDGET,
+                      max_products=KRYLOV_BUDGET)
+    except OrbitError as exc:
+        budget = (f"not certified within the budget ({NEWTON_BUDGET} Newton steps of "
+                  f"{KRYLOV_BUDGET} Krylov products): " if "did not converge" in str(exc) else "")
+        return Certificate(False, f"{budget}Newton from the final state ({where}): {exc}")
+    sol = _minimal(pm, sol)
+    try:
+        mult = multipliers(pm, sol.shot, N_MULTIPLIERS, ARNOLDI_VECTORS, ARNOLDI_RESTARTS)
+    except OrbitError as exc:
+        return Certificate(False, f"not certified within the budget: an orbit of period "
+                                  f"{sol.period:.6g} ({where}), its multipliers not found "
+                                  f"({ARNOLDI_RESTARTS} Arnoldi restarts): {exc}")
+    m_y = sol.shot.traj[1, g.n_delay:sol.shot.col + 1]
+    maxima = orbit_maxima(m_y)
+    others = tuple(complex(m) for m in mult.nontrivial)
+    amplitude = float(np.ptp(m_y))
+    top = max((abs(m) for m in others), default=0.0)
+    said = (f"period {sol.period:.8g}, amplitude {amplitude:.6g}, {len(maxima)} "
+            f"slip{'s' if len(maxima) != 1 else ''} a period, |multipliers| <= {top:.6f} ({where}; "
+            f"Newton {sol.steps} steps, residual {sol.residual:.1e})")
+    if top >= 1.0 - STABLE_MARGIN:
+        return Certificate(False, f"the orbit is not stable: {said}", sol.period, amplitude,
+                           len(maxima), maxima, others)
+    return Certificate(True, f"stable orbit: {said}", sol.period, amplitude, len(maxima),
+                       maxima, others)
+
+
+def _minimal(pm: PeriodMap, sol: Solution) -> Solution:
+    """The orbit at its minimal period: a shot over sol.period / j (j up to the orbit's
+    maxima per period) that closes to SUBPERIOD_TOL of the amplitude is corrected at that
+    period (the window may return after a multiple of it)."""
+    from core.orbit import OrbitError
+    from core.shooting import correct
+    m_y = sol.shot.traj[1, pm.g.n_delay:sol.shot.col + 1]
+    amplitude = float(np.ptp(m_y))
+    w = pm.g.weights
+    for j in range(len(orbit_maxima(m_y)), 1, -1):
+        try:
+            shot = pm.shoot(sol.z, sol.period / j)
+        except OrbitError:
+            continue
+        d = shot.value - sol.z
+        if math.sqrt(float(np.dot(d * w, d))) < SUBPERIOD_TOL * amplitude:
+            try:
+                return correct(pm, sol.z, sol.period / j, sol.z, shot.d_dT,
+                               max_steps=NEWTON_BUDGET, max_products=KRYLOV_BUDGET)
+            except OrbitError:
+                continue
+    return sol
+
+
+def state_from_window(t: np.ndarray, window: np.ndarray, g: Grid, at: float) -> np.ndarray:
+    """The reduced state of core.orbit (m_y, s_x, s_y, u now; m_x - m_x(now) and m_y at
+    the N delay-grid times before) at time ``at``, read from a sampled window by linear
+    interpolation (its error, ~1e-5 of m_y's curvature at the sample step 0.01, is far
+    inside Newton's reach)."""
+    back = at - g.dt * np.arange(1, g.n_delay + 1)
+    now = np.array([np.interp(at, t, row) for row in window])
+    xi = np.interp(back, t, window[0]) - now[0]
+    eta = np.interp(back, t, window[1])
+    return np.concatenate((now[1:], xi, eta))
+
+
+def orbit_maxima(m_y: np.ndarray) -> tuple[float, ...]:
+    """The maxima of m_y over one period (sampled every step, first and last sample the
+    same point); maxima of a plateau that no dip separates are one (core.returns
+    .distinct_maxima)."""
+    # start the period at its lowest point, so that no maximum straddles the section
+    low = int(np.argmin(m_y[:-1]))
+    y = np.concatenate((m_y[low:-1], m_y[:low + 1]))
+    tt = np.arange(y.size, dtype=float)
+    _, peak_y = distinct_maxima(tt, y, *find_peaks(tt, y), float(np.ptp(y)))
+    return tuple(float(v) for v in peak_y)
+
+
+def relabel(s: Summary, c: Certificate, p: Params) -> Summary:
+    """The window's summary with the certified orbit's period and slips: period,
+    period_count (in basic periods, core.returns) and maxima_per_period follow the orbit,
+    and so do the regime (oscillatory after one basic period, complex after more) and its
+    detail's words. ``settled`` stays the window's statement."""
+    if not c.certified or s.attractor != "periodic" or not math.isfinite(c.period):
+        return s
+    basic = hopf_period(p.tau, p.F1)
+    ratio = c.period / basic if basic > 0.0 else math.nan
+    count = max(1, round(ratio)) if math.isfinite(ratio) else 1
+    words = f"period-{count}, {c.slips} maxima" + (f", {ratio:.2f} T_H" if math.isfinite(ratio) else "")
+    head = s.detail.split(";")[0]
+    tail = s.detail[len(head):]
+    detail = f"{words} (certified){tail}" if head.startswith("period-") else f"{s.detail}; {words} (certified)"
+    peaks = s.peaks if len(s.peaks) == c.slips else sorted(c.maxima)
+    return replace(s, regime="oscillatory" if count == 1 else "complex", detail=detail,
+                   period=c.period, period_count=count, maxima_per_period=c.slips, peaks=list(peaks))

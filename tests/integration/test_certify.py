@@ -1,0 +1,102 @@
+"""Certification (core.certify) against theory and independent computations."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from core import Params, SolverSettings, run_batch, run_point
+from core.certify import STABLE_MARGIN, certify, relabel
+from core.classify import classify
+from core.periodic_orbit import find_orbit
+from core.solve import simulate
+from core.stability import hopf_period, leading_exponent
+
+
+def test_the_default_orbit_is_certified_as_core_periodic_orbit_finds_it():
+    p = Params(k=10, tau=10)
+    r = run_point(p, SolverSettings(t_end=2e4))            # Euler, dt 1e-3
+    c = r.certificate
+    assert c.certified, c.text
+    assert "RK4 at dt 0.01" in c.text                      # where it was certified
+    orbit = find_orbit(p)                                   # from eq. 19, its own seed
+    assert c.period == pytest.approx(orbit.period, rel=1e-9)
+    assert c.amplitude == pytest.approx(orbit.amplitude, rel=1e-7)
+    assert c.slips == orbit.maxima_per_period == 1
+    # the multipliers: the same leading ones, inside the unit circle, the flow's apart
+    mine = np.array([complex(*m) for m in r.as_record()["multipliers"]])
+    assert np.all(np.abs(mine) < 1 - STABLE_MARGIN)
+    assert abs(mine[0]) == pytest.approx(abs(orbit.multipliers.leading), rel=1e-6)
+    assert np.all(np.abs(mine - 1) > 1e-3)                  # no flow multiplier among them
+    # a period of the Hopf branch's family: 0.99 of 2 pi / omega_H (core.stability)
+    assert c.period / hopf_period(p.tau, p.F1) == pytest.approx(1.0, abs=0.05)
+    # the labels follow the orbit; the window's own return time is Euler's, 8e-5 away
+    assert r.summary.period == c.period
+    assert r.summary.period_count == 1 and r.summary.maxima_per_period == 1
+    assert abs(r.trajectory.window_t[-1] - 2e4) < 1e-9
+
+
+def test_an_orbit_seeded_at_twice_its_period_is_certified_at_its_period():
+    # the window may return after a multiple of the period: Newton converges at 2 T too
+    # (every T-periodic orbit is 2T-periodic), and the shot over T that closes says T
+    p = Params(k=10, tau=10)
+    r = run_point(p, SolverSettings(t_end=5000, method="rk4", dt=0.01))
+    doubled = dataclasses.replace(r.summary, period=2 * r.summary.period, period_count=2)
+    c = certify(r.trajectory, doubled)
+    assert c.certified, c.text
+    assert c.period == pytest.approx(r.certificate.period, rel=1e-9)
+    assert c.slips == 1
+    # and the label follows the certified orbit, not the window's return
+    s = relabel(dataclasses.replace(doubled, regime="complex", detail="period-2, 2 maxima"), c, p)
+    assert (s.regime, s.period_count, s.maxima_per_period) == ("oscillatory", 1, 1)
+    assert s.detail.startswith("period-1, 1 maxima, 0.99 T_H (certified)")
+
+
+def test_batched_runs_are_certified_as_single_ones():
+    points = [Params(k=10, tau=10), Params(k=4, tau=10)]
+    s = SolverSettings(t_end=5000, method="rk4", dt=0.01)
+    for one, lane in zip((run_point(p, s) for p in points), run_batch(points, s), strict=True):
+        assert lane.certificate.certified, lane.certificate.text
+        assert lane.certificate.text == one.certificate.text
+
+
+def test_a_fixed_point_is_certified_by_its_root_and_its_decay():
+    p = Params(k=4, tau=10)
+    r = run_point(p, SolverSettings(t_end=2e4))
+    c = r.certificate
+    assert c.certified, c.text
+    assert f"leading root {leading_exponent(p):+.3e}/t" in c.text
+    assert "-3.944e-03" in c.text                           # core.stability's root
+    assert r.as_record()["multipliers"] == [] and c.slips == 0
+    # still decaying in the window: the measured rate beside the root (5.6 % apart)
+    p = Params(k=5.8, tau=10)
+    r = run_point(p, SolverSettings(t_end=5000))
+    c = r.certificate
+    assert c.certified, c.text
+    assert "window decays at" in c.text and f"{leading_exponent(p):+.3e}" in c.text
+
+
+def test_an_unstable_rest_state_is_not_certified():
+    # the conclusion's point beyond k_H(60) = 5.977: the window is the kink's echo, 5e-6
+    r = run_point(Params(k=6, tau=60, delta=1e-6), SolverSettings(t_end=1e4))
+    assert r.summary.attractor == "unstable-fixed-point"
+    c = r.certificate
+    assert not c.certified
+    assert c.text.startswith("leading root +1.76e-07/t > 0")
+    assert r.as_record()["certified"] is False
+
+
+def test_a_blow_up_is_not_certified():
+    # Fig. 7 (a = 0.035, k = 12, tau = 0.2): Euler leaves its stability region at t = 0.5
+    p = Params(a=0.035, k=12, tau=0.2)
+    tr = simulate(p, SolverSettings(t_end=100))
+    assert tr.blew_up
+    c = certify(tr, classify(tr.window_t, tr.window, tr.blew_up, None, tr.mid_t, tr.mid, p))
+    assert not c.certified and c.text == f"blew up at t = {tr.t_blowup:.6g}"
+    # the run re-integrated by the stiff scheme rests on the fast branch: no linear theory
+    # of that state here, so not certified either
+    r = run_point(p, SolverSettings(t_end=100))
+    assert r.summary.attractor == "fast-branch"
+    assert not r.certificate.certified and "fast-branch" in r.certificate.text
