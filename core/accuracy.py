@@ -1,0 +1,258 @@
+"""The accuracy of a run's scheme at its step: a shadow integration at half the step.
+
+The paper's Euler at dt = 1e-3 is first order, and where the orbit turns fast (small tau,
+large k, omega ~ 8) its cycles come out tens of per cent too large while the label looks
+right: at tau = 0.5, k = 37.6 (just past the Hopf point k_H = 37.40, where Euler's
+anti-damping moves the onset) Euler's peak-to-peak m_y is 0.790, RK4's (dt = 1e-3, 1e-4
+agree to 1e-7) 0.496. Nothing in the window shows it; a second integration does.
+
+**The estimate.** From the run's own final state (the five variables and m_x over the last
+delay: core.recording.hand_over, or the window's samples for a batched run), the run's
+scheme integrates a span S twice: at the run's step dt and at dt / 2 (its history given at
+the half steps by core.history.half_steps, 4th order). The dt shadow continues the run's
+attractor; the dt / 2 shadow relaxes from it to the finer scheme's. Over the second half
+of the span both give an amplitude (refined maxima minus refined minima of m_y,
+core.classify.find_peaks: 4e-8 of the amplitude) and a period (core.returns, through
+core.classify), and a label (regime and attractor). Richardson's extrapolation with the
+scheme's order p (Euler and the stiff scheme 1, RK4 4) gives the error of the dt run:
+
+    E_Q = (Q_dt - Q_dt/2) 2^p / (2^p - 1),     Q_ref = Q_dt - E_Q,
+
+and ``dt_error`` is max(|E_A| / |A_ref|, |E_T| / |T_ref|) over those of amplitude A and
+period T that exist. The flag ``dt-sensitive``: dt_error above 1 % (the issue's tolerance)
+or a label that differs between the two shadows.
+
+**At rest** the estimate is NaN, on purpose: a rest state of eqs. 6a-6e is a fixed point of
+each scheme's map too (Euler, RK4 and the stiff scheme step a zero right-hand side to
+itself), so the rest level carries no discretisation error at any dt. What the scheme does
+change there is the decay rate, λmax's bias against the continuous root, which
+core.lyapunov_bias reports beside λmax. A blown-up run has no state to start from (NaN).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from core.classify import Summary, classify, find_peaks
+from core.history import CarriedState, half_steps
+from core.params import Params
+from core.solve import SolverSettings, Trajectory, simulate
+
+#: The order of each scheme's global error in dt (Richardson's p). Euler's and RK4's are
+#: measured (docs/numerics.md: RK4 4.35 -> 4.13 from dt = 0.1 to 0.00625); the stiff
+#: scheme is linearly implicit Euler, first order (core.stiff).
+ORDER: dict[str, int] = {"euler": 1, "rk4": 4, "stiff": 1}
+#: Above this relative change of amplitude or period the run is flagged dt-sensitive: the
+#: issue's 1 %.
+TOLERANCE = 0.01
+#: The shadow's span, in time units: twice SPAN_PERIODS of the run's period (1 / its
+#: dominant frequency for a continuum), at least MIN_SPAN and at most the run's window
+#: (what its label rests on) and at most COST_SHARE of t_end: the estimate then costs at
+#: most 3 x 1000 / 1e5 of a paper run's steps, and 3 x MIN_SPAN / t_end of a short run's. The analysis takes the second half: the classifier
+#: splits it into 20 sub-windows (core.classify.N_SUBWINDOWS) and calls one without a
+#: whole cycle "quiet": at k = tau = 10 (period 10.5) a half of 100 was "mixed, 6
+#: switches", a half of 200 "period-1". The dt / 2 shadow relaxes from the dt attractor at
+#: the orbit's slowest Floquet rate: at tau = 0.5, k = 37.6 (0.5 % past the Hopf point,
+#: the slowest we met among the high-frequency cycles) its maxima settled to 1e-6 within
+#: 100 time units, at k = tau = 10 within 50.
+MIN_SPAN = 200.0
+SPAN_PERIODS = 30.0
+COST_SHARE = 0.01
+#: The span doubles (continuing both shadows) until the dt / 2 shadow's amplitude changes
+#: between the last two quarters of the span by at most RELAXED of the difference it
+#: measures (or by RELAXED_FLOOR of itself), at most MAX_DOUBLINGS times; the estimate of
+#: a shadow still relaxing is a lower bound, and says so.
+RELAXED = 0.1
+RELAXED_FLOOR = 1e-5
+MAX_DOUBLINGS = 2
+#: The attractors at rest (core.classify): the estimate is NaN there (module docstring).
+AT_REST = ("fixed-point", "unstable-fixed-point", "fast-branch", "variance-state", "divergent")
+
+
+@dataclass(frozen=True, slots=True)
+class DtError:
+    """The estimated error of a run's scheme at its step (relative; NaN: not estimated).
+
+    amplitude, period: the Richardson estimates E / Q_ref of each (signed: positive when
+    the run's value is too large), NaN where the quantity does not exist. labels: the
+    regime and attractor of the dt shadow, then of the dt / 2 shadow. reason: why the
+    estimate is NaN, or what it rests on."""
+
+    value: float
+    amplitude: float = math.nan
+    period: float = math.nan
+    labels: tuple[str, str] = ("", "")
+    span: float = 0.0
+    relaxed: bool = True
+    reason: str = ""
+    cost_s: float = 0.0
+
+    @property
+    def label_changed(self) -> bool:
+        return self.labels[0] != self.labels[1]
+
+    @property
+    def sensitive(self) -> bool:
+        """The run's amplitude, period or label would change by more than TOLERANCE."""
+        return (math.isfinite(self.value) and self.value > TOLERANCE) or self.label_changed
+
+    def _changes(self) -> str:
+        """The changes measured: amplitude, period, label."""
+        parts = [f"{name} {v:+.2g}" for name, v in (("amplitude", self.amplitude),
+                                                      ("period", self.period)) if math.isfinite(v)]
+        if self.label_changed:
+            parts.append(f"label {self.labels[0]} -> {self.labels[1]}")
+        return ", ".join(parts)
+
+    def clause(self) -> str:
+        """The run's detail, where the estimate flags it."""
+        return f"dt error {self.value:.2g} ({self._changes()} at dt/2, Richardson)"
+
+    def text(self) -> str:
+        """One line for ``slopetui run``."""
+        if not math.isfinite(self.value):
+            return f"not estimated ({self.reason})"
+        return (f"{self.value:.2g}  ({self._changes()}; {self.reason})"
+                + ("; dt-sensitive" if self.sensitive else ""))
+
+
+def dt_error(tr: Trajectory, summary: Summary) -> DtError:
+    """The error estimate of run ``tr`` (classified as ``summary``): see the module
+    docstring."""
+    t0 = time.process_time()
+    if tr.blew_up:
+        return DtError(math.nan, reason="the run blew up: no state to start from")
+    if summary.attractor in AT_REST:
+        return DtError(math.nan, reason="at rest: a rest state is each scheme's own at any "
+                                        "dt; the decay's bias is lambda_max's")
+    start = start_of(tr)
+    if start is None:
+        return DtError(math.nan, reason="the window is shorter than the delay")
+    p, s, dt = tr.params, tr.settings, tr.grid.dt
+    span = shadow_span(summary, s)
+    coarse, fine = shadow(p, s.method, dt, start, span), shadow(p, s.method, dt / 2, finer(start), span)
+    continuum = summary.period_count < 0
+    relaxed = continuum or _relaxed(coarse, fine)
+    for _ in range(MAX_DOUBLINGS):
+        if relaxed or coarse.final is None or fine.final is None:
+            break
+        more = coarse.window_t[-1]
+        coarse = _joined(coarse, shadow(p, s.method, dt, coarse.final, more))
+        fine = _joined(fine, shadow(p, s.method, dt / 2, fine.final, more))
+        relaxed = _relaxed(coarse, fine)
+    per_period = summary.maxima_per_period if summary.period_count > 0 else 0
+    a, b = _measures(coarse, p, per_period), _measures(fine, p, per_period)
+    order = ORDER[s.method]
+    amp, per = (_richardson(a[i], b[i], order) for i in (0, 1))
+    value = max((abs(v) for v in (amp, per) if math.isfinite(v)), default=math.nan)
+    span = float(coarse.window_t[-1])
+    reason = (f"Richardson, dt against dt/2 over t_end + [{span / 2:.4g}, {span:.4g}]"
+              + ("" if relaxed else "; the dt/2 shadow still relaxing: a lower bound")
+              + ("; a continuum's amplitude and return" if continuum else ""))
+    return DtError(value, amp, per, (a[2], b[2]), span, relaxed, reason, time.process_time() - t0)
+
+
+def shadow_span(summary: Summary, s: SolverSettings) -> float:
+    """The shadow's first span: see SPAN_PERIODS."""
+    period = summary.period if math.isfinite(summary.period) else 1.0 / summary.frequency
+    span = 2.0 * SPAN_PERIODS * period if math.isfinite(period) and period > 0 else math.inf
+    return max(MIN_SPAN, min(span, s.window, COST_SHARE * s.t_end))
+
+
+def start_of(tr: Trajectory) -> CarriedState | None:
+    """The run's final state: the kernel's hand-over, or (batched runs keep none) the
+    window's last sample with m_x over the last delay from its samples, by the cubic
+    Hermite interpolant with slope m_y (eq. 6a); None when the window is shorter than the
+    delay."""
+    if tr.final is not None:
+        return tr.final
+    g, t, w = tr.grid, tr.window_t, tr.window
+    if len(t) < 2 or t[-1] - t[0] < tr.params.tau:
+        return None
+    t_m = t[-1] - tr.params.tau + g.dt * np.arange(g.n_delay)
+    return CarriedState(tr.params.tau, g.dt, w[:, -1].copy(), hermite(t, w[0], w[1], t_m))
+
+
+def hermite(t: np.ndarray, x: np.ndarray, y: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """x at times ``at`` (within t) from samples x(t) and slopes y(t): cubic Hermite."""
+    i = np.clip(np.searchsorted(t, at, side="right") - 1, 0, len(t) - 2)
+    h = t[i + 1] - t[i]
+    s = (at - t[i]) / h
+    h00, h10, h01, h11 = (2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s, -2 * s**3 + 3 * s**2,
+                          s**3 - s**2)
+    return h00 * x[i] + h10 * h * y[i] + h01 * x[i + 1] + h11 * h * y[i + 1]
+
+
+def finer(c: CarriedState) -> CarriedState:
+    """The same state on a grid of half the step: m_x at the half steps too (cubic
+    Lagrange midpoints, core.history.half_steps)."""
+    m_x = half_steps(np.append(c.m_x, c.now[0]))[:-1] if c.m_x.size else c.m_x
+    return CarriedState(c.tau, c.dt / 2, c.now.copy(), m_x)
+
+
+def shadow(p: Params, method: str, dt: float, start: CarriedState, span: float) -> Trajectory:
+    """``method`` at step dt from ``start`` over ``span``, every sample kept (no λmax)."""
+    s = SolverSettings(method=method, dt=dt, t_end=span, window=span, lyap=False,
+                       trace_points=2, history=start.name)
+    return simulate(p, s, start)
+
+
+def _joined(a: Trajectory, b: Trajectory) -> Trajectory:
+    """Shadow a, continued by b (which starts at a's end): one window, b's final state."""
+    t = np.concatenate((a.window_t, a.window_t[-1] + b.window_t[1:]))
+    return replace(b, window_t=t, window=np.concatenate((a.window, b.window[:, 1:]), axis=1))
+
+
+def _late(tr: Trajectory, part: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
+    """The samples of the last ``part`` of the shadow."""
+    i = int(len(tr.window_t) * (1 - part))
+    return tr.window_t[i:], tr.window[:, i:]
+
+
+def _amplitude(t: np.ndarray, y: np.ndarray) -> float:
+    """Refined maxima minus refined minima of m_y (the samples' extremes where none is
+    refined: a monotone stretch)."""
+    _, top = find_peaks(t, y)
+    _, low = find_peaks(t, -y)
+    hi = max(float(y.max()), float(top.max()) if top.size else -math.inf)
+    lo = min(float(y.min()), -float(low.max()) if low.size else math.inf)
+    return hi - lo
+
+
+def _relaxed(coarse: Trajectory, fine: Trajectory) -> bool:
+    """Whether the dt / 2 shadow's amplitude has stopped moving (RELAXED)."""
+    t, w = _late(fine)
+    h = len(t) // 2
+    a3, a4 = _amplitude(t[:h], w[1, :h]), _amplitude(t[h:], w[1, h:])
+    t_dt, w_dt = _late(coarse)
+    return abs(a4 - a3) <= max(RELAXED * abs(_amplitude(t_dt, w_dt[1]) - a4), RELAXED_FLOOR * abs(a4))
+
+
+def _measures(tr: Trajectory, p: Params, per_period: int) -> tuple[float, float, str]:
+    """Amplitude, period and label (regime, attractor) over the last half of a shadow.
+
+    The period: the time over the most whole returns of ``per_period`` maxima (the run's
+    own count) the half holds, divided by their number; the classifier's return time
+    needs more cycles than a short half holds at large tau (NaN for a continuum)."""
+    t, w = _late(tr)
+    summary = classify(t, w, tr.blew_up, None, None, None, p, follow_branch=False)
+    label = f"{summary.regime}, {summary.attractor}"
+    if tr.blew_up or len(t) < 3:
+        return math.nan, math.nan, label
+    period = math.nan
+    at, _ = find_peaks(t, w[1])
+    returns = (len(at) - 1) // per_period if per_period > 0 else 0
+    if returns > 0:
+        period = float(at[-1] - at[-1 - returns * per_period]) / returns
+    return _amplitude(t, w[1]), period, label
+
+
+def _richardson(q_dt: float, q_half: float, order: int) -> float:
+    """The relative error of q_dt by Richardson's extrapolation with q_half (signed)."""
+    e = (q_dt - q_half) * 2**order / (2**order - 1)
+    ref = q_dt - e
+    return e / abs(ref) if math.isfinite(e) and ref != 0 else math.nan
