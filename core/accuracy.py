@@ -137,14 +137,22 @@ def dt_error(tr: Trajectory, summary: Summary) -> DtError:
     p, s, dt = tr.params, tr.settings, tr.grid.dt
     span = shadow_span(summary, s)
     coarse, fine = shadow(p, s.method, dt, start, span), shadow(p, s.method, dt / 2, finer(start), span)
+    if coarse.blew_up or fine.blew_up:  # from the run's own state: a label of its own
+        labels = tuple("unstable, divergent" if x.blew_up else "bounded" for x in (coarse, fine))
+        return DtError(math.nan, labels=(labels[0], labels[1]), span=span,
+                       reason=f"the {'dt' if coarse.blew_up else 'dt/2'} shadow blew up",
+                       cost_s=time.process_time() - t0)
     continuum = summary.period_count < 0
     relaxed = continuum or _relaxed(coarse, fine)
     for _ in range(MAX_DOUBLINGS):
         if relaxed or coarse.final is None or fine.final is None:
             break
         more = coarse.window_t[-1]
-        coarse = _joined(coarse, shadow(p, s.method, dt, coarse.final, more))
-        fine = _joined(fine, shadow(p, s.method, dt / 2, fine.final, more))
+        c_more = shadow(p, s.method, dt, coarse.final, more)
+        f_more = shadow(p, s.method, dt / 2, fine.final, more)
+        if c_more.blew_up or f_more.blew_up:  # keep the spans measured before
+            break
+        coarse, fine = _joined(coarse, c_more), _joined(fine, f_more)
         relaxed = _relaxed(coarse, fine)
     per_period = summary.maxima_per_period if summary.period_count > 0 else 0
     a, b = _measures(coarse, p, per_period), _measures(fine, p, per_period)
@@ -160,7 +168,9 @@ def dt_error(tr: Trajectory, summary: Summary) -> DtError:
 
 def shadow_span(summary: Summary, s: SolverSettings) -> float:
     """The shadow's first span: see SPAN_PERIODS."""
-    period = summary.period if math.isfinite(summary.period) else 1.0 / summary.frequency
+    period = summary.period
+    if not math.isfinite(period):  # a continuum: its dominant frequency's period
+        period = 1.0 / summary.frequency if summary.frequency > 0 else math.nan
     span = 2.0 * SPAN_PERIODS * period if math.isfinite(period) and period > 0 else math.inf
     return max(MIN_SPAN, min(span, s.window, COST_SHARE * s.t_end))
 

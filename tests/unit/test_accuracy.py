@@ -117,3 +117,17 @@ def test_run_prints_the_estimate_and_json_has_it(capsys) -> None:
     assert main([*args, "--json"]) == 0
     rec = json.loads(capsys.readouterr().out)
     assert 0.025 < rec["dt_error"] < 0.11 and "dt-sensitive" in rec["flags"]
+
+
+def test_a_shadow_still_relaxing_is_continued_and_called_a_lower_bound(monkeypatch) -> None:
+    """With no change small enough to count as relaxed, the span doubles twice (200 ->
+    800) and the estimate says it is a lower bound; the continued shadows measure the same
+    error (the dt / 2 shadow had relaxed: within 1e-3 of itself)."""
+    import core.accuracy as accuracy
+    tr = run_point(FAST, SHORT)
+    monkeypatch.setattr(accuracy, "RELAXED", -1.0)
+    monkeypatch.setattr(accuracy, "RELAXED_FLOOR", -1.0)
+    e = accuracy.dt_error(tr.trajectory, tr.summary)
+    assert e.span == pytest.approx(4 * tr.accuracy.span, rel=1e-6) and not e.relaxed
+    assert "lower bound" in e.reason
+    assert e.value == pytest.approx(tr.accuracy.value, rel=1e-3)
