@@ -110,10 +110,6 @@ class DtError:
             parts.append(f"label {self.labels[0]} -> {self.labels[1]}")
         return ", ".join(parts)
 
-    def clause(self) -> str:
-        """The run's detail, where the estimate flags it."""
-        return f"dt error {self.value:.2g} ({self._changes()} at dt/2, Richardson)"
-
     def text(self) -> str:
         """One line for ``slopetui run``."""
         if not math.isfinite(self.value):

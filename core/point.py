@@ -20,7 +20,8 @@ labels rest on; the stiff fallback still follows the samples (``_negative_varian
 **The accuracy of every run.** After the classification a short shadow integration from
 the run's final state at dt and dt / 2 estimates the scheme's error at its step
 (core.accuracy: ``dt_error``); a run whose amplitude, period or label would change by more
-than 1 % carries the flag ``dt-sensitive``, and its detail says by how much.
+than 1 % carries the flag ``dt-sensitive``. The detail stays the classifier's (the report
+counts its words by kind: core.closure.classifier_detail); ``dt_error`` says how much.
 """
 
 from __future__ import annotations
@@ -156,7 +157,6 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False) -> Po
         flags += real.flags()
     accuracy = dt_error(tr, summary)
     if accuracy.sensitive:
-        summary = replace(summary, detail=f"{summary.detail}; {accuracy.clause()}")
         flags += ("dt-sensitive",)
     summary = replace(summary, flags=flags)
     return PointResult(tr.params, s, summary, lyap, t_blowup,

@@ -65,7 +65,7 @@ ATTRACTORS: tuple[str, ...] = ("fixed-point", "unstable-fixed-point", "fast-bran
 #: column holds them all at once. ``unrealisable``: some step of the run, not only a
 #: sample, left the possible covariances (core.closure.Realisability; the detail says when).
 #: ``dt-sensitive``: the run's amplitude, period or label would change by more than 1 % at
-#: half its step (core.accuracy; the detail says by how much).
+#: half its step (core.accuracy; dt_error says by how much).
 FLAGS: tuple[str, ...] = ("stiff-fallback", "closure-breakdown", "unrealisable", "uphill",
                           "linear-transient", "not-departed", "slow-modulation",
                           "decaying-alternation", "decaying", "dt-sensitive")
