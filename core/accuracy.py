@@ -12,9 +12,10 @@ scheme integrates a span S twice: at the run's step dt and at dt / 2 (its histor
 the half steps by core.history.half_steps, 4th order). The dt shadow continues the run's
 attractor; the dt / 2 shadow relaxes from it to the finer scheme's. Over the second half
 of the span both give an amplitude (refined maxima minus refined minima of m_y,
-core.classify.find_peaks: 4e-8 of the amplitude) and a period (core.returns, through
-core.classify), and a label (regime and attractor). Richardson's extrapolation with the
-scheme's order p (Euler and the stiff scheme 1, RK4 4) gives the error of the dt run:
+core.classify.find_peaks: 4e-8 of the amplitude), a period (whole returns of the major
+maxima) and a label (at rest, or how many distinct heights the major maxima have; a
+continuum). Richardson's extrapolation with the scheme's order p (Euler and the stiff
+scheme 1, RK4 4) gives the error of the dt run:
 
     E_Q = (Q_dt - Q_dt/2) 2^p / (2^p - 1),     Q_ref = Q_dt - E_Q,
 
@@ -37,7 +38,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from core.classify import Summary, classify, find_peaks
+from core.classify import AMPLITUDE_FLOOR, Summary, find_peaks
 from core.history import CarriedState, half_steps
 from core.params import Params
 from core.solve import SolverSettings, Trajectory, simulate
@@ -49,21 +50,18 @@ ORDER: dict[str, int] = {"euler": 1, "rk4": 4, "stiff": 1}
 #: Above this relative change of amplitude or period the run is flagged dt-sensitive: the
 #: issue's 1 %.
 TOLERANCE = 0.01
-#: The shadow's span, in time units: twice SPAN_PERIODS of the run's period (1 / its
-#: dominant frequency for a continuum), at least MIN_SPAN, at most the run's window (what
-#: its label rests on) and at most COST_SHARE of t_end: the estimate then costs at most
-#: 3 x 1000 / 1e5 of a paper run's steps, and 3 x MIN_SPAN / t_end of a short run's.
-#: The analysis takes the second half: the classifier splits it into 20 sub-windows
-#: (core.classify.N_SUBWINDOWS) and calls one without a whole cycle "quiet" (at
-#: k = tau = 10, period 10.5, a half of 100 was "mixed, 6 switches", a half of 200
-#: "period-1"). The dt / 2 shadow relaxes from the dt attractor at the orbit's slowest
-#: Floquet rate; its maxima at t = 100 were still off their limit by 2.7 % of the
-#: difference the estimate measures at tau = 0.5, k = 37.6 (0.5 % past the Hopf point),
-#: 0.9 % at k = tau = 10 and 0.2 % at k = 20, tau = 10 (Euler; 0.1 %, 0.02 %, 0.08 % at
-#: t = 200): the estimate over [100, 200] is good to a few per cent of itself.
+#: The shadow's span, in time units: twice SPAN_RETURNS of the run's period (1 / its
+#: dominant frequency for a continuum), at least MIN_SPAN and at most the run's window
+#: (what its label rests on): the analysis takes the second half, SPAN_RETURNS returns.
+#: At the paper's settings the estimate then costs at most 3 x 1000 / 1e5 of the run's
+#: steps (the dt / 2 shadow twice the dt one). The dt / 2 shadow relaxes from the dt
+#: attractor at the orbit's slowest Floquet rate; its maxima at t = 100 were still off
+#: their limit by 2.7 % of the difference the estimate measures at tau = 0.5, k = 37.6
+#: (0.5 % past the Hopf point), 0.9 % at k = tau = 10 and 0.2 % at k = 20, tau = 10
+#: (Euler; 0.1 %, 0.02 %, 0.08 % at t = 200): the estimate over [100, 200] is good to a
+#: few per cent of itself.
 MIN_SPAN = 200.0
-SPAN_PERIODS = 30.0
-COST_SHARE = 0.01
+SPAN_RETURNS = 10.0
 #: The span doubles (continuing both shadows) until the dt / 2 shadow's amplitude changes
 #: between the last two quarters of the span by at most RELAXED of the difference it
 #: measures (or by RELAXED_FLOOR of itself), at most MAX_DOUBLINGS times; the estimate of
@@ -71,6 +69,11 @@ COST_SHARE = 0.01
 RELAXED = 0.1
 RELAXED_FLOOR = 1e-5
 MAX_DOUBLINGS = 2
+#: Maxima whose heights differ by more than this fraction of the amplitude are distinct
+#: (the shadows' label). Euler's two maxima at k = 20, tau = 10 differ by 0.2 % of the
+#: amplitude and drift (a slow modulation: core.classify): one height here, in both
+#: shadows alike.
+LABEL_GAP = 0.01
 #: The attractors at rest (core.classify): the estimate is NaN there (module docstring).
 AT_REST = ("fixed-point", "unstable-fixed-point", "fast-branch", "variance-state", "divergent")
 
@@ -150,8 +153,7 @@ def dt_error(tr: Trajectory, summary: Summary) -> DtError:
             break
         coarse, fine = _joined(coarse, c_more), _joined(fine, f_more)
         relaxed = _relaxed(coarse, fine)
-    per_period = summary.maxima_per_period if summary.period_count > 0 else 0
-    a, b = _measures(coarse, p, per_period), _measures(fine, p, per_period)
+    a, b = (_measures(x, summary.period, continuum) for x in (coarse, fine))
     order = ORDER[s.method]
     amp, per = (_richardson(a[i], b[i], order) for i in (0, 1))
     value = max((abs(v) for v in (amp, per) if math.isfinite(v)), default=math.nan)
@@ -163,12 +165,12 @@ def dt_error(tr: Trajectory, summary: Summary) -> DtError:
 
 
 def shadow_span(summary: Summary, s: SolverSettings) -> float:
-    """The shadow's first span: see SPAN_PERIODS."""
+    """The shadow's first span: see SPAN_RETURNS."""
     period = summary.period
     if not math.isfinite(period):  # a continuum: its dominant frequency's period
         period = 1.0 / summary.frequency if summary.frequency > 0 else math.nan
-    span = 2.0 * SPAN_PERIODS * period if math.isfinite(period) and period > 0 else math.inf
-    return max(MIN_SPAN, min(span, s.window, COST_SHARE * s.t_end))
+    span = 2.0 * SPAN_RETURNS * period if math.isfinite(period) and period > 0 else math.inf
+    return max(MIN_SPAN, min(span, s.window))
 
 
 def start_of(tr: Trajectory) -> CarriedState | None:
@@ -240,23 +242,45 @@ def _relaxed(coarse: Trajectory, fine: Trajectory) -> bool:
     return abs(a4 - a3) <= max(RELAXED * abs(_amplitude(t_dt, w_dt[1]) - a4), RELAXED_FLOOR * abs(a4))
 
 
-def _measures(tr: Trajectory, p: Params, per_period: int) -> tuple[float, float, str]:
-    """Amplitude, period and label (regime, attractor) over the last half of a shadow.
+def _measures(tr: Trajectory, period: float, continuum: bool) -> tuple[float, float, str]:
+    """Amplitude, period and label over the last half of a shadow (``period``: the run's,
+    a guide to the returns; ``continuum``: the run has no return, so neither has the
+    shadow's label a count of maxima).
 
-    The period: the time over the most whole returns of ``per_period`` maxima (the run's
-    own count) the half holds, divided by their number; the classifier's return time
-    needs more cycles than a short half holds at large tau (NaN for a continuum)."""
+    Only major maxima count, those above the middle of the range of m_y: at k = 12,
+    tau = 20 Euler's stick phase grows a shallow local maximum at m_y = -0.75 in some
+    cycles and not in others, which a count of every maximum took for a change of the
+    period by 9 %. The period: the time over the most whole returns the half holds (a
+    return: as many major maxima as the run's period spans), divided by their number.
+    The label: "rest", or the number of distinct heights of the major maxima (apart by
+    more than LABEL_GAP of the amplitude; "continuum" for a run without a return); the
+    classifier itself needs more cycles than a short half holds (at k = tau = 10 a half of
+    100 was "mixed, 6 switches") and calls a shadow still relaxing by 1e-5 "complex"."""
     t, w = _late(tr)
-    summary = classify(t, w, tr.blew_up, None, None, None, p, follow_branch=False)
-    label = f"{summary.regime}, {summary.attractor}"
-    if tr.blew_up or len(t) < 3:
-        return math.nan, math.nan, label
-    period = math.nan
-    at, _ = find_peaks(t, w[1])
-    returns = (len(at) - 1) // per_period if per_period > 0 else 0
-    if returns > 0:
-        period = float(at[-1] - at[-1 - returns * per_period]) / returns
-    return _amplitude(t, w[1]), period, label
+    y = w[1]
+    if len(t) < 3:
+        return math.nan, math.nan, "too short"
+    amplitude = _amplitude(t, y)
+    if not amplitude >= AMPLITUDE_FLOOR * max(1.0, abs(float(np.mean(y)))):
+        return amplitude, math.nan, "rest"
+    at, top = find_peaks(t, y)
+    major = top > float(y.min()) + 0.5 * amplitude
+    at, top = at[major], top[major]
+    label = "continuum" if continuum else f"{_distinct(top, amplitude)} distinct maxima"
+    if len(at) < 2 or not math.isfinite(period):
+        return amplitude, math.nan, label
+    per_return = max(1, round(period * (len(at) - 1) / float(at[-1] - at[0])))  # mean spacing
+    returns = (len(at) - 1) // per_return
+    if returns == 0:
+        return amplitude, math.nan, label
+    return amplitude, float(at[-1] - at[-1 - returns * per_return]) / returns, label
+
+
+def _distinct(heights: np.ndarray, amplitude: float) -> int:
+    """How many heights differ by more than LABEL_GAP of the amplitude (sorted, gaps)."""
+    if heights.size == 0:
+        return 0
+    return 1 + int(np.count_nonzero(np.diff(np.sort(heights)) > LABEL_GAP * amplitude))
 
 
 def _richardson(q_dt: float, q_half: float, order: int) -> float:
