@@ -84,7 +84,7 @@ class DtError:
 
     amplitude, period: the Richardson estimates E / Q_ref of each (signed: positive when
     the run's value is too large), NaN where the quantity does not exist. labels: the
-    regime and attractor of the dt shadow, then of the dt / 2 shadow. reason: why the
+    label of the dt shadow, then of the dt / 2 shadow (_measures). reason: why the
     estimate is NaN, or what it rests on."""
 
     value: float
