@@ -74,6 +74,14 @@ MAX_DOUBLINGS = 2
 #: amplitude and drift (a slow modulation: core.classify): one height here, in both
 #: shadows alike.
 LABEL_GAP = 0.01
+#: The periods of a return's maxima, each over the same returns, may differ by this much
+#: (relative) before the shadow's period counts as undefined: an orbit whose slips are
+#: still spreading out (the multi-slip states are long transients, docs/numerics.md). At
+#: k = 16, tau = 20 (Euler, t_end 2e4) the dt / 2 shadow's two maxima returned after 20.407
+#: and 20.327 (4e-3 apart), the dt shadow's after 20.406 and 20.406 (5e-5); one maximum
+#: alone had made a period error of 0.7 % of it, where RK4's and Euler's periods agree to
+#: 2e-6. Settled orbits return alike to 1e-8 (k = tau = 10, two maxima).
+DRIFT = 1e-3
 #: The attractors at rest (core.classify): the estimate is NaN there (module docstring).
 AT_REST = ("fixed-point", "unstable-fixed-point", "fast-branch", "variance-state", "divergent")
 
@@ -234,12 +242,26 @@ def _amplitude(t: np.ndarray, y: np.ndarray) -> float:
 
 
 def _relaxed(coarse: Trajectory, fine: Trajectory) -> bool:
-    """Whether the dt / 2 shadow's amplitude has stopped moving (RELAXED)."""
+    """Whether the dt / 2 shadow has stopped moving (RELAXED): its amplitude and the mean
+    spacing of its major maxima, between the last two quarters of the span, against the
+    differences they measure. The spacing relaxes more slowly than the amplitude: at
+    k = 12, tau = 20 (Euler) the dt / 2 shadow's amplitude had settled within 400 time
+    units, its return time swung by 0.1 about its limit (20.469) for 1000."""
     t, w = _late(fine)
     h = len(t) // 2
-    a3, a4 = _amplitude(t[:h], w[1, :h]), _amplitude(t[h:], w[1, h:])
     t_dt, w_dt = _late(coarse)
-    return abs(a4 - a3) <= max(RELAXED * abs(_amplitude(t_dt, w_dt[1]) - a4), RELAXED_FLOOR * abs(a4))
+    for measure in (_amplitude, _spacing):
+        q3, q4, q_dt = measure(t[:h], w[1, :h]), measure(t[h:], w[1, h:]), measure(t_dt, w_dt[1])
+        if not abs(q4 - q3) <= max(RELAXED * abs(q_dt - q4), RELAXED_FLOOR * abs(q4)):
+            return math.isnan(q4 - q3)  # no spacing (rest, one maximum): nothing to wait for
+    return True
+
+
+def _spacing(t: np.ndarray, y: np.ndarray) -> float:
+    """The mean spacing of the major maxima of m_y (NaN with fewer than two)."""
+    at, top = find_peaks(t, y)
+    at = at[top > float(y.min()) + 0.5 * float(np.ptp(y))]
+    return float(at[-1] - at[0]) / (len(at) - 1) if len(at) > 1 else math.nan
 
 
 def _measures(tr: Trajectory, period: float, continuum: bool) -> tuple[float, float, str]:
@@ -252,7 +274,8 @@ def _measures(tr: Trajectory, period: float, continuum: bool) -> tuple[float, fl
     cycles and not in others, which a count of every maximum took for a change of the
     period by 9 %. The period: the time over the most whole returns the half holds (a
     return: as many major maxima as the run's period spans), divided by their number.
-    The label: "rest", or the number of distinct heights of the major maxima (apart by
+    A period of each kind of maximum that differs from another's by more than DRIFT: no
+    period (NaN). The label: "rest", or the number of distinct heights of the major maxima (apart by
     more than LABEL_GAP of the amplitude; "continuum" for a run without a return); the
     classifier itself needs more cycles than a short half holds (at k = tau = 10 a half of
     100 was "mixed, 6 switches") and calls a shadow still relaxing by 1e-5 "complex"."""
@@ -270,10 +293,15 @@ def _measures(tr: Trajectory, period: float, continuum: bool) -> tuple[float, fl
     if len(at) < 2 or not math.isfinite(period):
         return amplitude, math.nan, label
     per_return = max(1, round(period * (len(at) - 1) / float(at[-1] - at[0])))  # mean spacing
-    returns = (len(at) - 1) // per_return
-    if returns == 0:
+    returns = (len(at) - per_return) // per_return
+    if returns <= 0:
         return amplitude, math.nan, label
-    return amplitude, float(at[-1] - at[-1 - returns * per_return]) / returns, label
+    # each kind of maximum (its place in the return) gives a period; they differ while the
+    # spacings of a multi-slip orbit drift (a slow transient)
+    kinds = [float(at[-1 - j] - at[-1 - j - returns * per_return]) / returns
+             for j in range(per_return)]
+    spread = (max(kinds) - min(kinds)) / period
+    return amplitude, float(np.mean(kinds)) if spread <= DRIFT else math.nan, label
 
 
 def _distinct(heights: np.ndarray, amplitude: float) -> int:
