@@ -124,7 +124,7 @@ def test_a_shadow_still_relaxing_is_continued_and_called_a_lower_bound(monkeypat
     800) and the estimate says it is a lower bound; the continued shadows measure the same
     error (the dt / 2 shadow had relaxed: within 1e-3 of itself)."""
     import core.accuracy as accuracy
-    tr = run_point(FAST, SHORT)
+    tr = run_point(FAST, SolverSettings(t_end=2000.0, lyap=False))  # room: 2 windows of 1000
     monkeypatch.setattr(accuracy, "RELAXED", -1.0)
     monkeypatch.setattr(accuracy, "RELAXED_FLOOR", -1.0)
     e = accuracy.dt_error(tr.trajectory, tr.summary)
