@@ -108,6 +108,8 @@ def half_steps(x: np.ndarray) -> np.ndarray:
     n = x.size - 1
     out = np.empty(2 * n + 1)
     out[0::2] = x
+    if n == 0:  # tau = 0: the state alone, no delay to fill
+        return out
     if n == 1:
         out[1] = 0.5 * (x[0] + x[1])
         return out

@@ -16,6 +16,12 @@ semidefinite, so a violation is the scheme's: Euler at dt = 1e-3 leaves it at it
 step from eq. 19's singular covariance, at every point we tried; RK4 at dt = 1e-2 where
 the start is violent (a large delta). ``closure-breakdown`` says the same of a sample the
 labels rest on; the stiff fallback still follows the samples (``_negative_variance``).
+
+**The accuracy of every run.** After the classification a short shadow integration from
+the run's final state at dt and dt / 2 estimates the scheme's error at its step
+(core.accuracy: ``dt_error``); a run whose amplitude, period or label would change by more
+than 1 % carries the flag ``dt-sensitive``. The detail stays the classifier's (the report
+counts its words by kind: core.closure.classifier_detail); ``dt_error`` says how much.
 """
 
 from __future__ import annotations
@@ -27,6 +33,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from core.accuracy import DtError, dt_error
 from core.batch import simulate_batch
 from core.certify import NOT_ATTEMPTED, Certificate, certify, relabel
 from core.classify import Summary, classify
@@ -62,6 +69,8 @@ class PointResult:
     spectrum: Spectrum | None = None
     #: The attractor's certificate (core.certify), tried after the window's label.
     certificate: Certificate = NOT_ATTEMPTED
+    #: The scheme's error at its step (core.accuracy); None: not estimated.
+    accuracy: DtError | None = None
 
     def as_record(self) -> dict[str, object]:
         """The flat record the CLI prints with --json and the store keeps: the result
@@ -90,7 +99,7 @@ class PointResult:
             "certificate": self.certificate.text,
             "multipliers": self.certificate.pairs,
             "slips": self.certificate.slips,
-            "dt_error": math.nan,
+            "dt_error": self.accuracy.value if self.accuracy else math.nan,
             "spectrum": list(self.spectrum.values) if self.spectrum else [],
             "spectrum_err": list(self.spectrum.errors) if self.spectrum else [],
             "dt": self.trajectory.grid.dt,
@@ -167,12 +176,15 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False,
     if real is not None and not real.realisable:
         summary = replace(summary, detail=f"{summary.detail}; {real.text()}")
         flags += real.flags()
+    accuracy = dt_error(tr, summary)
+    if accuracy.sensitive:
+        flags += ("dt-sensitive",)
     summary = replace(summary, flags=flags)
     cert = certify(tr, summary)  # the labels then follow a certified orbit (core.certify)
     summary = relabel(summary, cert, tr.params)
     return PointResult(tr.params, s, summary, lyap, t_blowup,
                        integration_s + time.perf_counter() - t0, tr, spectrum=spectrum,
-                       certificate=cert)
+                       certificate=cert, accuracy=accuracy)
 
 
 def _negative_variance(tr: Trajectory) -> bool:

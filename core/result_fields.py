@@ -66,9 +66,11 @@ ATTRACTORS: tuple[str, ...] = ("fixed-point", "unstable-fixed-point", "fast-bran
 #: The flags a run can carry (core.point, core.classify, core.closure); the store's
 #: column holds them all at once. ``unrealisable``: some step of the run, not only a
 #: sample, left the possible covariances (core.closure.Realisability; the detail says when).
+#: ``dt-sensitive``: the run's amplitude, period or label would change by more than 1 % at
+#: half its step (core.accuracy; dt_error says by how much).
 FLAGS: tuple[str, ...] = ("stiff-fallback", "closure-breakdown", "unrealisable", "uphill",
                           "linear-transient", "not-departed", "slow-modulation",
-                          "decaying-alternation", "decaying")
+                          "decaying-alternation", "decaying", "dt-sensitive")
 
 RESULT_FIELDS: tuple[ResultField, ...] = (
     ResultField("regime", "text", "", "the regime of the analysis window (core.regimes); "
@@ -114,7 +116,8 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
     ResultField("slips", "count", "", "slips (maxima of m_y) in one period of the "
                 "certified orbit; 0 when nothing was certified or at rest", detail=True),
     ResultField("dt_error", "measure", "", "the estimated relative error of amplitude and "
-                "period of the run's scheme at its dt (NaN: not estimated)", detail=True,
+                "period of the run's scheme at its dt, from a shadow at dt/2 and Richardson's "
+                "extrapolation (core.accuracy; NaN: not estimated, as at rest)", detail=True,
                 label="dt error"),
     ResultField("spectrum", "list", "1/time", "the top Lyapunov exponents, the m_x shift "
                 "quotiented out (run --spectrum N; empty: not computed)"),

@@ -156,6 +156,8 @@ def render_text(r: PointResult) -> str:
     real = r.trajectory.realisability  # every step's covariance (core.closure)
     if real is not None:
         lines.append(f"covariance {real.text()}")
+    if r.accuracy is not None:  # the scheme's error at its step (core.accuracy)
+        lines.append(f"dt error   {r.accuracy.text()}")
     if r.t_blowup is not None:
         lines.append(f"blow-up    at t = {r.t_blowup:.6g}")
     lines.append(f"runtime    {r.runtime_s:.3f} s")
