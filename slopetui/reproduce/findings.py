@@ -234,8 +234,8 @@ MULTI_SLIP_TEXT = (
     "their Lyapunov spectra show 2(n - 1) near-neutral exponents besides the flow's and no "
     "positive one (an independent referee's check; slopetui run --spectrum shows such "
     "exponents in the run's detail). They are neither a period doubling, nor a torus, nor "
-    "chaos. Computing those equally spaced orbits belongs to issue 35, 'The whole "
-    "bifurcation picture'.")
+    "chaos. Computing those equally spaced orbits belongs to the open issue "
+    "35, 'The whole bifurcation picture'.")
 
 
 def fig4c(d: Diagrams) -> Finding:
