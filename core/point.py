@@ -12,9 +12,9 @@ equations (``unstable``, attractor ``divergent``).
 and s_x s_y - u^2 over every step (core.closure.Realisability); a run whose covariance
 left the positive semidefinite ones at some step carries the flag ``unrealisable``, and
 its detail says from when and how far. eqs. 6c-6e keep the exact covariance positive
-semidefinite, so a violation is the scheme's: Euler at dt = 1e-3 leaves it at its first
-step from eq. 19's singular covariance, at every point we tried; RK4 at dt = 1e-2 where
-the start is violent (a large delta). ``closure-breakdown`` says the same of a sample the
+semidefinite, so a violation is the scheme's: Euler at dt = 1e-3 leaves it right after
+eq. 19's singular start for delta >= 0.01 (36 of 36 points, none at delta = 1e-6:
+docs/numerics.md), RK4 at dt = 1e-2 only where the start is violent (delta = 1). ``closure-breakdown`` says the same of a sample the
 labels rest on; the stiff fallback still follows the samples (``_negative_variance``).
 
 **The accuracy of every run.** After the classification a short shadow integration from

@@ -6,8 +6,8 @@ rate of the model: d(6b)/dm_y = -G, and (6d), (6e) decay at 2G and G. On the fas
 branch of Fig. 7 (a = 0.035, k = 12, tau = 1: m_y = 203.25, G = 1419) Euler at dt = 1e-3
 is past its limit dt 2G < 2 and blows up at t = 0.5, although the model rests there. Eq. 19
 also starts on a singular covariance (s_x s_y = u^2): the exact s_y then grazes 0 (down to
-~2e-5), an explicit step overshoots below 0 (Euler's s_y < 0 at every point we tried, even
-the defaults), and at moderate b and small tau -6a s_y^2 then runs it away (below).
+~2e-5), an explicit step overshoots below 0 (Euler's s_y < 0 right after the start for delta >= 0.01,
+the defaults included), and at moderate b and small tau -6a s_y^2 then runs it away (below).
 
 The step. With G frozen at its value at t_n, (6c)-(6e) are the Lyapunov equation
 dS/dt = A S + S A^T + D of the covariance S = [[s_x, u], [u, s_y]], A = [[0, 1], [-k, -G]],
