@@ -73,6 +73,13 @@ ARNOLDI_RESTARTS = 10
 #: is ~1e-9 at dt = 0.01, and ARPACK's relative accuracy is 1e-10). An orbit closer to the
 #: circle than this is marginal: a fold, a period doubling or a torus nearby.
 STABLE_MARGIN = 1e-5
+#: The orbit Newton finds is the window's when their amplitudes and periods agree to this
+#: (relative): the dt-sensitive threshold of core.accuracy. Newton converges from the
+#: run's final state to RK4's orbit at CERTIFY_DT, which is the model's to ~1e-7
+#: (tests/integration/test_minimal_period.py); where the run's own scheme is farther off
+#: (Euler at tau = 0.5, k = 37.6: amplitude 0.790 against the orbit's 0.496), the orbit
+#: certified would not be the run's, and the run is not certified.
+MATCH_TOL = 0.01
 #: A shot over T / j closes (the period is T / j, not T) when its residual is below this
 #: fraction of the orbit's amplitude: Newton's tolerance is 1e-10, an orbit of period T that
 #: is not T / j-periodic misses by the difference of its distinct maxima (2e-4 A at the
@@ -103,11 +110,25 @@ class Certificate:
     slips: int = 0
     maxima: tuple[float, ...] = ()
     multipliers: tuple[complex, ...] = ()
+    #: The run's own scheme at its dt is measurably off the model here (a window that
+    #: grows where theory decays, or an orbit other than the model's): core.point then
+    #: flags the run dt-sensitive, whatever the shadow estimate said.
+    scheme_off: bool = False
 
     @property
     def pairs(self) -> list[list[float]]:
-        """The multipliers as [re, im] pairs (the result field ``multipliers``)."""
+        """The certified orbit's multipliers as [re, im] pairs (the result field
+        ``multipliers``; empty when nothing was certified: an unstable orbit's are in the
+        text)."""
+        if not self.certified:
+            return []
         return [[float(m.real), float(m.imag)] for m in self.multipliers]
+
+    @property
+    def certified_slips(self) -> int:
+        """Slips a period of the certified orbit (the result field ``slips``); 0 when
+        nothing was certified or at rest."""
+        return self.slips if self.certified else 0
 
 
 NOT_ATTEMPTED = Certificate(False, "not attempted")
@@ -153,6 +174,10 @@ def _fixed_point(tr: Trajectory, s: Summary) -> Certificate:
     if not math.isfinite(rate):
         return Certificate(False, f"leading root {root:+.3e}/t < 0, but the window's decay "
                                   "could not be measured")
+    if rate >= 0.0:  # Euler's O(dt) anti-damping next to a Hopf point: its rest is unstable
+        return Certificate(False, f"leading root {root:+.3e}/t < 0, but the window grows at "
+                                  f"{rate:+.3e}/t: the run's scheme at its dt does not rest "
+                                  "where the model does", scheme_off=True)
     if abs(rate - root) <= max(DECAY_RATE_REL * abs(root), DECAY_RATE_ABS):
         return Certificate(True, f"fixed point: leading root {root:+.3e}/t < 0, window decays "
                                  f"at {rate:+.3e}/t")
@@ -211,16 +236,22 @@ def _periodic(tr: Trajectory, s: Summary) -> Certificate:
                   f"{KRYLOV_BUDGET} Krylov products): " if "did not converge" in str(exc) else "")
         return Certificate(False, f"{budget}Newton from the final state ({where}): {exc}")
     sol = _minimal(pm, sol)
+    m_y = sol.shot.traj[1, g.n_delay:sol.shot.col + 1]
+    amplitude = float(np.ptp(m_y))
+    apart = _apart(s, sol.period, amplitude)
+    if apart:
+        return Certificate(False, f"the orbit Newton found from the final state ({where}: "
+                                  f"period {sol.period:.8g}, amplitude {amplitude:.6g}) is not "
+                                  f"the window's ({apart}): the run's scheme at its dt is off "
+                                  "the model's orbit (dt error)", scheme_off=True)
     try:
         mult = multipliers(pm, sol.shot, N_MULTIPLIERS, ARNOLDI_VECTORS, ARNOLDI_RESTARTS)
-    except OrbitError as exc:
+    except (OrbitError, ValueError) as exc:  # ValueError: ARPACK's sizes at a tiny delay
         return Certificate(False, f"not certified within the budget: an orbit of period "
                                   f"{sol.period:.6g} ({where}), its multipliers not found "
                                   f"({ARNOLDI_RESTARTS} Arnoldi restarts): {exc}")
-    m_y = sol.shot.traj[1, g.n_delay:sol.shot.col + 1]
     maxima = orbit_maxima(m_y)
     others = tuple(complex(m) for m in mult.nontrivial)
-    amplitude = float(np.ptp(m_y))
     top = max((abs(m) for m in others), default=0.0)
     said = (f"period {sol.period:.8g}, amplitude {amplitude:.6g}, {len(maxima)} "
             f"slip{'s' if len(maxima) != 1 else ''} a period, |multipliers| <= {top:.6f} ({where}; "
@@ -230,6 +261,22 @@ def _periodic(tr: Trajectory, s: Summary) -> Certificate:
                            len(maxima), maxima, others)
     return Certificate(True, f"stable orbit: {said}", sol.period, amplitude, len(maxima),
                        maxima, others)
+
+
+def _apart(s: Summary, period: float, amplitude: float) -> str:
+    """How the orbit Newton found differs from the window's, if by more than MATCH_TOL
+    (empty: it is the window's orbit). The window may return after a multiple of the
+    orbit's period (a flat maximum's timing noise), so its period is compared with the
+    nearest multiple."""
+    if not (math.isfinite(s.amplitude) and s.amplitude > 0.0):
+        return "the window has no amplitude"
+    far = []
+    if abs(amplitude / s.amplitude - 1.0) > MATCH_TOL:
+        far.append(f"amplitude {s.amplitude:.6g}")
+    j = max(1, round(s.period / period)) if math.isfinite(s.period) else 1
+    if math.isfinite(s.period) and abs(s.period / (j * period) - 1.0) > MATCH_TOL:
+        far.append(f"period {s.period:.8g}")
+    return ", ".join(far)
 
 
 def _minimal(pm: PeriodMap, sol: Solution) -> Solution:

@@ -14,8 +14,9 @@ left the positive semidefinite ones at some step carries the flag ``unrealisable
 its detail says from when and how far. eqs. 6c-6e keep the exact covariance positive
 semidefinite, so a violation is the scheme's: Euler at dt = 1e-3 leaves it right after
 eq. 19's singular start for delta >= 0.01 (36 of 36 points, none at delta = 1e-6:
-docs/numerics.md), RK4 at dt = 1e-2 only where the start is violent (delta = 1). ``closure-breakdown`` says the same of a sample the
-labels rest on; the stiff fallback still follows the samples (``_negative_variance``).
+docs/numerics.md), RK4 at dt = 1e-2 only where the start is violent (delta = 1).
+``closure-breakdown`` says the same of a sample the labels rest on; the stiff fallback
+still follows the samples (``_negative_variance``).
 
 **The accuracy of every run.** After the classification a short shadow integration from
 the run's final state at dt and dt / 2 estimates the scheme's error at its step
@@ -98,7 +99,7 @@ class PointResult:
             "certified": self.certificate.certified,
             "certificate": self.certificate.text,
             "multipliers": self.certificate.pairs,
-            "slips": self.certificate.slips,
+            "slips": self.certificate.certified_slips,
             "dt_error": self.accuracy.value if self.accuracy else math.nan,
             "spectrum": list(self.spectrum.values) if self.spectrum else [],
             "spectrum_err": list(self.spectrum.errors) if self.spectrum else [],
@@ -182,6 +183,8 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False,
     summary = replace(summary, flags=flags)
     cert = certify(tr, summary)  # the labels then follow a certified orbit (core.certify)
     summary = relabel(summary, cert, tr.params)
+    if cert.scheme_off and "dt-sensitive" not in summary.flags:
+        summary = replace(summary, flags=(*summary.flags, "dt-sensitive"))
     return PointResult(tr.params, s, summary, lyap, t_blowup,
                        integration_s + time.perf_counter() - t0, tr, spectrum=spectrum,
                        certificate=cert, accuracy=accuracy)

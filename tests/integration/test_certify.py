@@ -100,3 +100,32 @@ def test_a_blow_up_is_not_certified():
     r = run_point(p, SolverSettings(t_end=100))
     assert r.summary.attractor == "fast-branch"
     assert not r.certificate.certified and "fast-branch" in r.certificate.text
+
+
+def test_an_orbit_other_than_the_runs_is_not_certified_for_it():
+    """Euler at tau = 0.5, k = 37.6 (dt 1e-3) rides a cycle of amplitude 0.79 where the
+    model's (RK4 at dt 1e-4: 0.496; Newton's from the run's final state: 0.4957) is 0.50:
+    the run is not certified with the model's orbit, nor relabelled by it, carries no
+    multipliers or slips of it, and is dt-sensitive. Before, it read "certified yes" with
+    the RK4 orbit's period in place of its own."""
+    r = run_point(Params(k=37.6, tau=0.5), SolverSettings(t_end=3000.0, lyap=False))
+    rec = r.as_record()
+    assert not r.certificate.certified and r.certificate.scheme_off
+    assert "is not the window's (amplitude 0.78" in r.certificate.text
+    assert rec["multipliers"] == [] and rec["slips"] == 0
+    assert "dt-sensitive" in r.summary.flags and "(certified)" not in r.summary.detail
+    ref = run_point(Params(k=37.6, tau=0.5), SolverSettings(method="rk4", dt=1e-4,
+                                                            t_end=300.0, window=100.0,
+                                                            lyap=False))
+    assert abs(rec["amplitude"] / ref.summary.amplitude - 1) > 0.5  # Euler's own error
+
+
+def test_a_window_that_grows_where_theory_decays_is_not_a_certified_rest():
+    """Next to the Hopf point (k = 6.145 < k_H(10) = 6.1462, root -1.0e-6 with the noise)
+    Euler's O(dt) anti-damping makes the window grow (+8.9e-6/t): before, the certificate
+    said "fixed point ... window decays at +8.881e-06/t"."""
+    p = Params(k=6.145, tau=10.0, delta=1e-6)
+    assert leading_exponent(p) < 0
+    r = run_point(p, SolverSettings(t_end=2e4, lyap=False))
+    assert not r.certificate.certified and "window grows" in r.certificate.text
+    assert "dt-sensitive" in r.summary.flags
