@@ -32,6 +32,7 @@ from slopetui.tui.app import SlopeApp
 from slopetui.tui.screens.run_detail import (
     MATCH_TEXT,
     RECOMPUTED_NOTE,
+    TAB_CERT,
     TAB_LYAP,
     TAB_PHASE,
     TAB_SPECTRUM,
@@ -110,6 +111,7 @@ def test_a_done_run_shows_its_summary_four_plots_and_the_match(db_url, done_stor
     with db.sessions() as s:
         stored = s.get(Run, done_store[-1])
         regime, k = stored.regime, stored.k
+        stored_multipliers = stored.multipliers
     db.dispose()
 
     async def scenario(app: SlopeApp, pilot: Pilot) -> None:
@@ -120,7 +122,7 @@ def test_a_done_run_shows_its_summary_four_plots_and_the_match(db_url, done_stor
         assert RECOMPUTED_NOTE in str(screen.sub_title)  # in the header, beside the run's id
         assert status(screen).startswith(MATCH_TEXT)
         tabs = screen.query_one("#run-tabs", TabbedContent)
-        assert tabs.tab_count == 4
+        assert tabs.tab_count == 5
         for key, tab in zip("tpsl", (TAB_TIME, TAB_PHASE, TAB_SPECTRUM, TAB_LYAP), strict=True):
             await pilot.press(key)
             await pilot.pause()
@@ -130,6 +132,13 @@ def test_a_done_run_shows_its_summary_four_plots_and_the_match(db_url, done_stor
             drawn = str(plot.content)
             assert plot.size.height >= 12, "the plot must keep its room at 80x24"
             assert "┌" in drawn and "too small" not in drawn, f"{tab}: {drawn[:200]}"
+        # the certificate in full, and a certified orbit's multipliers against the circle
+        await pilot.press("c")
+        await pilot.pause()
+        assert tabs.active == TAB_CERT
+        shown = text_of(screen, "#certificate-text")
+        assert shown.startswith(("certified: ", "not certified: "))
+        assert ("inside the unit circle" in shown) == bool(stored_multipliers)
         await pilot.press("escape")
         await pilot.pause()
         assert not isinstance(app.screen, RunDetailScreen)

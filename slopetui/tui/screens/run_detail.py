@@ -92,6 +92,10 @@ ZOOMS: tuple[int | None, ...] = (TIME_PERIODS, 50, None)
 
 #: Tab pane ids, in tab order.
 TAB_TIME, TAB_PHASE, TAB_SPECTRUM, TAB_LYAP = "tab-time", "tab-phase", "tab-spectrum", "tab-lyap"
+TAB_CERT = "tab-certificate"
+#: The header shows a certificate up to its first clause (the rest, often 200 characters,
+#: would push the plots off an 80 x 24 screen); the Certificate tab shows it whole.
+CERTIFICATE_HEAD = 40
 
 
 # -- messages from the workers ------------------------------------------------------------
@@ -144,13 +148,33 @@ def _peaks_text(peaks: list[float] | None) -> str:
     return f"{len(values)}" + (f" ({shown}{more})" if values else "")
 
 
-def _multipliers_text(pairs: list[list[float]] | None) -> str:
-    """Complex numbers with their modulus: a multiplier's place against the unit circle."""
+def _largest_modulus(pairs: list[list[float]] | None) -> str:
     values = pairs or []
-    shown = ", ".join(f"{re:.3g}{im:+.3g}i (|{abs(complex(re, im)):.3g}|)"
-                      for re, im in values[:PEAKS_SHOWN])
-    more = f", … {len(values) - PEAKS_SHOWN} more" if len(values) > PEAKS_SHOWN else ""
-    return f"{len(values)}" + (f" ({shown}{more})" if values else "")
+    if not values:
+        return "0"
+    return f"{len(values)} (|μ| ≤ {max(abs(complex(re, im)) for re, im in values):.3g})"
+
+
+def certificate_text(run: StoredRun, width: int) -> str:
+    """The Certificate tab: whether and how the attractor was certified, in full, and a
+    certified orbit's Floquet multipliers, each against the unit circle. Escaped: the
+    certificate is stored text."""
+    if not run.done:
+        return "no stored result"
+    if run.certified is None:
+        return "computed before certification: never tried (press r to recompute)"
+    said = "certified" if run.certified else "not certified"
+    lines = textwrap.wrap(f"{said}: {run.certificate or '–'}", width)
+    pairs = run.multipliers or []
+    if pairs:
+        lines += ["", f"Floquet multipliers (the flow's and the translation's, both 1, "
+                      f"apart), {run.slips} slip{'s' if run.slips != 1 else ''} a period:"]
+        for i, (re, im) in enumerate(pairs, 1):
+            mod = abs(complex(re, im))
+            lines.append(f"  μ{i} = {re:+.6f} {im:+.6f}i   |μ| = {mod:.6f}   "
+                         f"{'inside' if mod < 1 else 'ON or OUTSIDE'} the unit circle "
+                         f"(by {abs(1 - mod):.2g})")
+    return terminal_safe_lines("\n".join(lines))
 
 
 def packed(items: Sequence[str], width: int) -> list[str]:
@@ -206,7 +230,11 @@ def result_item(run: StoredRun, field: ResultField) -> str:
     elif field.kind == "list":
         shown = _peaks_text(value)
     elif field.kind == "pairs":
-        shown = _multipliers_text(value)
+        shown = _largest_modulus(value)
+    elif field.name == "certificate" and value:
+        head = str(value).split(":")[0]
+        shown = (head if len(head) <= CERTIFICATE_HEAD else head[:CERTIFICATE_HEAD - 1] + "…")
+        shown += " (tab c)"
     elif field.kind == "measure":
         shown = _num(value, ".3g")
     elif field.kind == "optional":
@@ -279,6 +307,8 @@ class RunDetailScreen(SlopeScreen[None]):
         Binding("s", f"show_tab('{TAB_SPECTRUM}')", "Spectrum", id="run_detail.tab_spectrum",
                 show=False),
         Binding("l", f"show_tab('{TAB_LYAP}')", "λmax", id="run_detail.tab_lyap", show=False),
+        Binding("c", f"show_tab('{TAB_CERT}')", "Certificate", id="run_detail.tab_certificate",
+                show=False),
     ]
 
     def __init__(self, run_id: int) -> None:
@@ -306,6 +336,8 @@ class RunDetailScreen(SlopeScreen[None]):
                 yield PlotView(id="plot-spectrum")
             with TabPane("λmax", id=TAB_LYAP):
                 yield PlotView(id="plot-lyap")
+            with TabPane("Certificate", id=TAB_CERT):
+                yield Static("", id="certificate-text", markup=False)
         yield SteadyFooter()
 
     def on_mount(self) -> None:
@@ -441,6 +473,8 @@ class RunDetailScreen(SlopeScreen[None]):
             summary = self.query_one("#run-summary", Static)
             width = self.size.width - summary.styles.gutter.width
             summary.update(summary_text(self.run, max(width, 20)))
+            self.query_one("#certificate-text", Static).update(
+                certificate_text(self.run, max(width - 2, 20)))
 
     def _status(self, text: str, kind: str = "") -> None:
         status = self.query_one("#run-status", Static)
