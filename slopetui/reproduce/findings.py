@@ -88,10 +88,13 @@ def large_delay_text(runs: list[RunPoint]) -> str:
     if not big:
         return ""
     words = Counter(r.attractor for r in big)
-    shown = [r for r in big if r.attractor not in ("torus", "chaotic")]
-    text = (f"At tau >= {LARGE_DELAY:g} the paper's window shows complex oscillations whose "
-            f"maxima do not return; the attractors the evidence supports there: "
-            f"{_attractor_counts(big)} (of {len(big)} runs). ")
+    # a periodic or resting run is a shown attractor of its own, not an unshown torus
+    shown = [r for r in big if r.attractor not in ("torus", "chaotic", "periodic",
+                                                     "fixed-point")]
+    wandering = len(big) - sum(r.attractor in ("periodic", "fixed-point") for r in big)
+    text = (f"At tau >= {LARGE_DELAY:g} the paper's window shows complex oscillations; in "
+            f"{wandering} of {len(big)} runs their maxima do not return. The attractors the "
+            f"evidence supports there: {_attractor_counts(big)} (of {len(big)} runs). ")
     if words["torus"] or words["chaotic"]:
         text += (f"{words['torus']} torus and {words['chaotic']} chaotic rest on the exponents "
                  "(two zero besides the shift's and a negative third; a positive one at 3 "
