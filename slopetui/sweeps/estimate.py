@@ -28,8 +28,11 @@ if TYPE_CHECKING:
 REFERENCE_S_PER_STEP = {("euler", False): 2.82e-9, ("euler", True): 6.59e-9,
                         ("rk4", False): 27.9e-9, ("rk4", True): 32.4e-9,
                         ("stiff", False): 13.6e-9, ("stiff", True): 15.3e-9}
-#: Per-run costs outside the kernel: classification, the queue, the cache (s).
-OVERHEAD_S = 0.01
+#: Per-run costs outside the kernel (s): classification, the queue and the cache (~0.01),
+#: certification (0.006-0.076 at the paper's settings, benchmarks/bench_certify.py) and the
+#: accuracy estimate (0-0.1, benchmarks/bench_accuracy.py; docs/speed.md): their typical
+#: sum. A sweep with measured runs in the store uses their speed instead.
+OVERHEAD_S = 0.06
 
 Speeds = Mapping[tuple[str, bool], float]
 
