@@ -105,12 +105,12 @@ def test_a_blow_up_is_not_certified():
 def test_an_orbit_other_than_the_runs_is_not_certified_for_it():
     """Euler at tau = 0.5, k = 37.6 (dt 1e-3) rides a cycle of amplitude 0.79 where the
     model's (RK4 at dt 1e-4: 0.496; Newton's from the run's final state: 0.4957) is 0.50:
-    the run is not certified with the model's orbit, nor relabelled by it, carries no
-    multipliers or slips of it, and is dt-sensitive. Before, it read "certified yes" with
-    the RK4 orbit's period in place of its own."""
+    the run is not certified with the model's orbit, nor relabelled by it, and carries no
+    multipliers or slips of it (its own dt_error flags it dt-sensitive). Before, it read
+    "certified yes" with the RK4 orbit's period in place of its own."""
     r = run_point(Params(k=37.6, tau=0.5), SolverSettings(t_end=3000.0, lyap=False))
     rec = r.as_record()
-    assert not r.certificate.certified and r.certificate.scheme_off
+    assert not r.certificate.certified and not r.certificate.scheme_off
     assert "is not the window's (amplitude 0.78" in r.certificate.text
     assert rec["multipliers"] == [] and rec["slips"] == 0
     assert "dt-sensitive" in r.summary.flags and "(certified)" not in r.summary.detail
@@ -118,6 +118,18 @@ def test_an_orbit_other_than_the_runs_is_not_certified_for_it():
                                                             t_end=300.0, window=100.0,
                                                             lyap=False))
     assert abs(rec["amplitude"] / ref.summary.amplitude - 1) > 0.5  # Euler's own error
+
+
+def test_a_mismatch_the_certifiers_own_step_makes_blames_not_the_run():
+    """At b = 24, k = 12, tau = 7.43 (sharp slips) RK4 at the certifier's dt 0.01 gives an
+    amplitude of 10.237 where RK4 at dt 1e-3 gives 9.771 and the run's Euler 9.773: the
+    run is not certified, and not flagged dt-sensitive for the certifier's error."""
+    p = Params(k=12.0, tau=7.43157894736842, b=24.0)
+    r = run_point(p, SolverSettings(t_end=2e4, lyap=False))
+    ref = run_point(p, SolverSettings(method="rk4", dt=1e-3, t_end=2e4, lyap=False))
+    assert abs(r.summary.amplitude / ref.summary.amplitude - 1) < 1e-3
+    assert not r.certificate.certified and "is not the window's" in r.certificate.text
+    assert "dt-sensitive" not in r.summary.flags
 
 
 def test_a_window_that_grows_where_theory_decays_is_not_a_certified_rest():
