@@ -18,6 +18,7 @@ core.stability.leading_exponent itself.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -64,6 +65,9 @@ def _carry(lam: complex, j0: np.ndarray, jt: np.ndarray, tau: float) -> complex 
     return None
 
 
+#: Memoised: the classifier's linear-theory check and the certificate both ask it of a
+#: run at rest, and past the gate it carries every root by Newton.
+@lru_cache(maxsize=64)
 def rest_exponent(p: Params) -> float:
     """The real part of the leading nonzero root at the rest state of p (with its noise d):
     its growth rate of small perturbations. Negative: stable; positive: a window that sits

@@ -20,6 +20,7 @@ For k < F'^2/2 the sliding state is stable for every tau.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -109,6 +110,9 @@ def variance_roots(p: Params) -> np.ndarray:
     return np.concatenate(([complex(-p.F1)], quad))
 
 
+#: Memoised: a run's analysis asks it of one Params up to three times (the classifier's
+#: linear-transient reading, its linear-theory check and the certificate), ~20 ms each.
+@lru_cache(maxsize=64)
 def leading_exponent(p: Params) -> float:
     """Real part of the leading nonzero root of the *full* characteristic function.
 
