@@ -46,7 +46,7 @@ def test_the_backlog_counts_paused_runs_apart_and_every_kind_of_job(store):
     control.pause(store, sub.sweep_id)
     paused = backlog(store)
     assert paused == Backlog(claimable=0, running=0, paused=3)
-    assert paused.idle and not paused.drained  # what --exit-when-idle used to leave on
+    assert paused.idle and not paused.drained  # paused runs alone: --exit-when-idle leaves
     control.resume(store, sub.sweep_id)
     jobs.claim(store, "w1")
     assert backlog(store) == Backlog(claimable=2, running=1, paused=0)
