@@ -29,7 +29,7 @@ def test_a_branch_survives_kill_9_and_a_stop_and_finishes_once(tmp_path, db, db_
     assert done["status"] == "done" and done["n_points"] == SPEC.max_points
     # the kill cost an attempt; the stop gave its attempt back
     assert done["attempts"] == 2
-    assert [p["idx"] for p in branch_rows.points(db, cid)] == list(range(SPEC.max_points))
+    assert [p.idx for p in branch_rows.points(db, cid)] == list(range(SPEC.max_points))
     text = log.read_text()
     assert text.count(f"continuation {cid} done") == 1
     assert "died (exit code -9): 1 jobs requeued" in text
