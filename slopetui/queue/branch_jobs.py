@@ -198,7 +198,8 @@ class Continuations(JobKind[BranchJob]):
     """Continuations (module docstring)."""
 
     name = "continuation"
-    plural = "continuations"
+    label = "branch"
+    plural = key = "continuations"
     id_key = "continuation_id"
     shown_by = "slopetui branch"
     lease = branch_rows.lease

@@ -287,8 +287,10 @@ def compute(db: Database, wid: str, job: HysteresisJob, run: Runner, control: St
 class HysteresisSweeps(JobKind[HysteresisJob]):
     """Hysteresis sweeps (module docstring)."""
 
-    name = "hysteresis"
+    name = "hysteresis sweep"
+    label = "hysteresis"
     plural = "hysteresis sweeps"
+    key = "hysteresis_sweeps"
     id_key = "hysteresis_id"
     shown_by = "slopetui hysteresis --show ID"
     lease = hysteresis_rows.lease

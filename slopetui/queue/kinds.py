@@ -54,11 +54,16 @@ class JobKind(ABC, Generic[J]):
     worker claims, computes and writes one. ``J`` is what a claim hands to compute (a
     run's batch, a continuation, a sweep)."""
 
-    #: The kind's name in the log and in ``workers`` ("continuation").
+    #: The kind's name in the log ("continuation").
     name: str
-    #: Its name in ``status`` (plural) and in its JSON ("continuations").
+    #: The word before a job's id in a worker's line of ``status`` and ``workers``
+    #: ("branch 5").
+    label: str
+    #: Its name in ``status`` ("continuations"), and the key of its counts in the JSON
+    #: of ``status`` ("continuations").
     plural: str
-    #: The key naming the job each worker computes, in the JSON of ``status``
+    key: str
+    #: The key of the job each worker computes, in the JSON of ``status``
     #: ("continuation_id").
     id_key: str
     #: The command that shows its jobs, for ``status`` ("slopetui branch").

@@ -159,8 +159,8 @@ def _together(c: Computing, batch: list[jobs.Job]) -> None:
 class Runs(JobKind[list[jobs.Job]]):
     """Runs of sweeps, claimed and computed in batches (module docstring)."""
 
-    name = "run"
-    plural = "runs"
+    name = label = "run"
+    plural = key = "runs"
     id_key = "run_id"
     shown_by = "slopetui status"
     lease = claims.lease

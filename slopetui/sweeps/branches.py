@@ -57,8 +57,3 @@ def branch_of(db: Database, cid: int) -> StoredBranch | None:
     bifs = [bifurcation_record(b.type, b.value, b.period, complex(b.mu_re, b.mu_im))
             for b in branch_rows.bifurcations(db, cid)]
     return StoredBranch(row, points, bifs)
-
-
-def activity(db: Database) -> tuple[dict[str, int], dict[str, int]]:
-    """Continuations per status, and the one each worker computes (by worker id)."""
-    return branch_rows.status_counts(db), branch_rows.held(db)

@@ -65,10 +65,5 @@ def hysteresis_of(db: Database, sid: int) -> StoredHysteresis | None:
     return StoredHysteresis(row, [warm_record(p) for p in hysteresis_rows.points(db, sid)])
 
 
-def activity(db: Database) -> tuple[dict[str, int], dict[str, int]]:
-    """Hysteresis sweeps per status, and the one each worker computes (by worker id)."""
-    return hysteresis_rows.status_counts(db), hysteresis_rows.held(db)
-
-
-__all__ = ["HysteresisRow", "HysteresisSpec", "StoredHysteresis", "WarmRecord", "activity", "hysteresis_of",
+__all__ = ["HysteresisRow", "HysteresisSpec", "StoredHysteresis", "WarmRecord", "hysteresis_of",
            "listing", "submit"]
