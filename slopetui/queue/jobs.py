@@ -29,7 +29,7 @@ from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
-from core.params import PARAM_NAMES, Params
+from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.queue import stored_inputs
 from slopetui.queue.defaults import MAX_ATTEMPTS
 from slopetui.store import cached_results, claims, initial_states
@@ -69,7 +69,6 @@ def _job(m: ClaimedRow, started: bool, states: Mapping[str, bytes]) -> Job:
     from core import SolverSettings
     from core.history import STATE_PREFIX, CarriedState
     from core.history import start as history_start
-    from core.params import ParameterError
     from core.solve import make_grid
     stored_inputs.present(m, _INPUTS)
     params = Params(**{n: getattr(m, n) for n in PARAM_NAMES})

@@ -18,7 +18,7 @@ import logging
 from collections.abc import Callable, Iterable
 from typing import Any, Protocol, TypeVar
 
-from core.params import ParameterError, Params
+from core.params import ParameterError, Params, check_positive
 from slopetui.queue.thread_steps import LeaseRows
 from slopetui.store.database import Database
 
@@ -70,7 +70,6 @@ def orbit_step(params: Params, dt: Any) -> float:
     """The grid step of an orbit computation (continuations, hysteresis sweeps), checked as
     the command line checks it: tau > 0, 0 < dt <= tau, tau / dt at most MAX_ORBIT_STEPS
     (a tiny step would lay out a state of any size in the worker's main thread)."""
-    from core.params import check_positive
     if params.tau <= 0.0:
         raise ParameterError("tau", params.tau, "tau > 0 (periodic orbits of this model need "
                                                 "a delay)")
