@@ -33,6 +33,7 @@ from slopetui.store.models import Base, LeasedJob
 JobT = TypeVar("JobT")
 PointT = TypeVar("PointT")
 SavedT = TypeVar("SavedT")
+T = TypeVar("T")
 
 
 @dataclass(frozen=True, slots=True)
@@ -163,7 +164,7 @@ class PointJobs(Generic[JobT, PointT, SavedT]):
         """A job's saved points as the faces read them, in order."""
         return self._points(db, job_id, self.point_type)
 
-    def _points(self, db: Database, job_id: int, record: type[Any]) -> list[Any]:
+    def _points(self, db: Database, job_id: int, record: type[T]) -> list[T]:
         with db.sessions() as s:
             return [record_of(record, r) for r in s.execute(
                 select(*columns(self.point, record)).where(self._point_parent == job_id)
