@@ -3,10 +3,12 @@ compute one (``Computing``). The kinds themselves, in the order a worker claims 
 in slopetui.queue.registry; the lease every kind is held under is one implementation,
 slopetui.store.leases.
 
-In the style of procrastinate's job manager: the worker knows no kind by name. It asks
-each kind of the registry in turn for a claim, hands what it got to that kind's compute,
-and heartbeats and requeues every kind's lease at once; ``status`` and ``workers`` print
-each kind's ``describe``.
+In the style of procrastinate, whose ``manager.JobManager`` holds a job's statements
+(fetch, finish, retry) apart from the worker, which knows no task by name: here the
+store's ``Lease`` and rows modules hold the statements, and the worker asks each kind of
+the registry in turn for a claim, hands what it got to that kind's compute, and
+heartbeats and requeues every kind's lease at once; ``status`` and ``workers`` print each
+kind's ``describe``.
 """
 
 from __future__ import annotations

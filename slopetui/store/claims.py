@@ -144,7 +144,7 @@ def claim_batch(db: Database, worker_id: str, limit: int,
         oldest = conn.execute(_OLDEST_SETTINGS).first()
         if oldest is None:
             return []
-        key = {column.key: value for column, value in zip(_BATCH_KEY, oldest, strict=False)}
+        key = {name: value for name, value in oldest._mapping.items() if name != "id"}
         if any(value is None for value in key.values()):
             rows = conn.execute(_CLAIM_ALONE, {"wid": worker_id, "rid": oldest.id}).all()
             return [record_of(ClaimedRow, row) for row in rows]
