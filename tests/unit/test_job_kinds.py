@@ -6,6 +6,7 @@ of its own, never a SQLAlchemy row."""
 from __future__ import annotations
 
 import dataclasses
+import json
 from datetime import datetime
 
 import pytest
@@ -117,3 +118,30 @@ def test_the_store_reads_jobs_into_frozen_dataclasses_of_its_own(store):
     assert (row.status, row.n_points, row.param, row.k) == ("done", 1, "k", Params(tau=2.0).k)
     assert branch_rows.bifurcations(store, cid)[0].type == "fold"
     assert hysteresis_rows.saved_points(store, sid)[0].state == sweep_point(0)["state"]
+
+
+def test_status_and_workers_print_every_kind_of_the_registry(db, db_url, capsys):
+    """What `status` and `workers` print of the kinds other than runs, read through the
+    registry: the counts of each kind, and the job each live worker computes."""
+    from slopetui.cli import main
+
+    _one_of_each(db)
+    submit_branch(db, BRANCH)
+    for wid in ("h:1", "h:2", "h:3"):
+        register_worker(db, wid, "h", int(wid[-1]))
+    branch_rows.claim(db, "h:1")
+    hysteresis_rows.claim(db, "h:2")
+    assert main(["status", "--json", "--db", db_url]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["continuations"] == {"queued": 1, "running": 1}
+    assert out["hysteresis_sweeps"] == {"running": 1}
+    assert [(w["id"], w["continuation_id"], w["hysteresis_id"]) for w in out["workers"]] == [
+        ("h:1", 1, None), ("h:2", None, 1), ("h:3", None, None)]
+    assert main(["status", "--db", db_url]) == 0
+    text = capsys.readouterr().out
+    assert "continuations: 1 queued, 1 running (slopetui branch)" in text
+    assert "hysteresis sweeps: 1 running (slopetui hysteresis --show ID)" in text
+    assert main(["workers", "--db", db_url]) == 0
+    doing = [line.split()[2:4] for line in capsys.readouterr().out.splitlines()
+             if line.strip().startswith("worker ")]
+    assert doing == [["branch", "1"], ["hysteresis", "1"], ["idle", "0"]]
