@@ -75,7 +75,9 @@ def backlog(db: Database) -> Backlog:
     other kind's queued and running jobs."""
     runs = run_backlog(db)
     claimable, running = runs.claimable, runs.running
-    for _, seen in activity(db):
-        claimable += seen.counts.get("queued", 0)
-        running += seen.counts.get("running", 0)
+    for kind in KINDS:
+        if kind is not RUNS:  # a run's backlog depends on its sweep's status
+            counts = kind.lease.status_counts(db)
+            claimable += counts.get("queued", 0)
+            running += counts.get("running", 0)
     return Backlog(claimable=claimable, running=running, paused=runs.paused)
