@@ -87,8 +87,9 @@ def time_origin(lo: float, hi: float) -> float:
 
     formatter = ScalarFormatter()
     formatter.create_dummy_axis()
+    assert formatter.axis is not None  # create_dummy_axis set it
     formatter.axis.set_view_interval(lo, hi)
-    formatter.set_locs(MaxNLocator().tick_values(lo, hi))
+    formatter.set_locs(list(MaxNLocator().tick_values(lo, hi)))
     return float(formatter.offset)
 
 
