@@ -158,15 +158,15 @@ def _round_ticks(series: Sequence[Series], width: int, height: int, *, x_log: bo
                  x_label: bool) -> None:
     """Ticks at round numbers (slopetui.plots.ticks) in place of plotext's, for the
     ranges plotext will draw: the pinned one, else the data's."""
-    def span(values: list[float], log: bool, pinned: tuple[float, float] | None) -> tuple[float, float]:
+    def span(values: np.ndarray, log: bool, pinned: tuple[float, float] | None) -> tuple[float, float]:
         if pinned is not None and pinned[0] < pinned[1]:
             return pinned
         return ticks.data_range(values, log)
 
     if not series:
         return
-    xs = [float(v) for s in series for v in s.xs]
-    ys = [float(v) for s in series for v in s.ys]
+    xs = np.concatenate([s.xs for s in series])
+    ys = np.concatenate([s.ys for s in series])
     y_lo, y_hi = span(ys, y_log, y_range)
     # the canvas: the plot less its frame (2), the x ticks' row and the x label's
     rows = height - 3 - (1 if x_label else 0)

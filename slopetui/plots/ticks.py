@@ -19,6 +19,8 @@ import itertools
 import math
 from collections.abc import Sequence
 
+import numpy as np
+
 #: Columns between the starts of two x tick labels, at least: the widest label and two
 #: spaces (plotext drops a label that would touch its neighbour, check_space).
 X_LABEL_GAP = 2
@@ -32,11 +34,14 @@ MAX_DECIMALS = 6
 MAX_PLAIN = 1e6
 
 
-def data_range(values: Sequence[float], log: bool = False) -> tuple[float, float]:
+def data_range(values: Sequence[float] | np.ndarray, log: bool = False) -> tuple[float, float]:
     """The axis range plotext gives these values (module docstring), in data units;
     (-1, 1) without any (on a log axis: 0.1 to 10)."""
-    shown = [math.log10(v) if log else v for v in values if math.isfinite(v) and (v > 0 or not log)]
-    lo, hi = min(shown, default=0.0), max(shown, default=0.0)
+    arr = np.asarray(values, dtype=float).ravel()
+    arr = arr[np.isfinite(arr) & ((arr > 0) if log else True)]
+    lo, hi = (float(arr.min()), float(arr.max())) if len(arr) else (0.0, 0.0)
+    if log and len(arr):
+        lo, hi = math.log10(lo), math.log10(hi)
     if lo == hi:
         lo, hi = (0.5 * lo, 1.5 * lo) if lo != 0 else (-1.0, 1.0)
         lo, hi = min(lo, hi), max(lo, hi)
