@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from core.classify import Summary, find_peaks
+from core.classify import Summary, find_peaks, maxima_words
 from core.params import Params
 from core.returns import distinct_maxima
 from core.solve import Trajectory
@@ -338,7 +338,7 @@ def relabel(s: Summary, c: Certificate, p: Params) -> Summary:
     basic = hopf_period(p.tau, p.F1)
     ratio = c.period / basic if basic > 0.0 else math.nan
     count = max(1, round(ratio)) if math.isfinite(ratio) else 1
-    words = f"period-{count}, {c.slips} maxima" + (f", {ratio:.2f} T_H" if math.isfinite(ratio) else "")
+    words = f"period-{count}, {maxima_words(c.slips)}" + (f", {ratio:.2f} T_H" if math.isfinite(ratio) else "")
     head = s.detail.split(";")[0]
     tail = s.detail[len(head):]
     detail = f"{words} (certified){tail}" if head.startswith("period-") else f"{s.detail}; {words} (certified)"

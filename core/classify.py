@@ -367,6 +367,11 @@ def _settled(early_peaks: tuple[np.ndarray, np.ndarray], amplitude: float, basic
     return moved <= SETTLE_TOL * amplitude and abs(then.time - ret.time) <= SETTLE_TOL * ret.time
 
 
+def maxima_words(n: int) -> str:
+    """"1 maximum", "3 maxima": the maxima of a return, in a detail."""
+    return f"{n} maximum" if n == 1 else f"{n} maxima"
+
+
 def _periodic(peak_t: np.ndarray, peak_y: np.ndarray, ret: Return, early_peaks: tuple[np.ndarray, np.ndarray],
               amplitude: float, basic: float, frequency: float, drift: float, step: float = 0.0) -> Summary:
     """An orbit that returns: oscillatory after one basic period, complex after n >= 2,
@@ -390,10 +395,10 @@ def _periodic(peak_t: np.ndarray, peak_y: np.ndarray, ret: Return, early_peaks: 
                            flags=("decaying-alternation",))
     ratio = f", {ret.ratio:.2f} T_H" if math.isfinite(ret.ratio) else ""
     if count == 1:
-        return Summary("oscillatory", f"period-1, {n} maxima{ratio}", amplitude, ret.time, 1, late,
+        return Summary("oscillatory", f"period-1, {maxima_words(n)}{ratio}", amplitude, ret.time, 1, late,
                        frequency, drift, maxima_per_period=n, attractor="periodic",
                        settled=settled, flags=flags)
-    return Summary("complex", f"period-{count}, {n} maxima{ratio}", amplitude, ret.time, count, late,
+    return Summary("complex", f"period-{count}, {maxima_words(n)}{ratio}", amplitude, ret.time, count, late,
                    frequency, drift, maxima_per_period=n, attractor="periodic", settled=settled,
                    flags=flags)
 

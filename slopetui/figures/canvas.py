@@ -76,6 +76,32 @@ def log_scale(ax: Axes, axis: str) -> None:
     target.set_minor_formatter(PlainLogFormatter(minor_thresholds=LOG_MINOR_THRESHOLDS))
 
 
+def time_origin(lo: float, hi: float) -> float:
+    """The origin a linear time axis over [lo, hi] is drawn from: 0, or the offset
+    matplotlib's ScalarFormatter would print beside the axis for those ticks ("+1e5":
+    the last periods of a long run, 99 950 to 100 000). That offset text sits at the
+    axis' right end, at the height of the x label, and in the constrained layout the two
+    overprint; the caller draws t − origin instead and names the origin in the label
+    (labels.time_label)."""
+    from matplotlib.ticker import MaxNLocator, ScalarFormatter
+
+    formatter = ScalarFormatter()
+    formatter.create_dummy_axis()
+    assert formatter.axis is not None  # create_dummy_axis set it
+    formatter.axis.set_view_interval(lo, hi)
+    formatter.set_locs(list(MaxNLocator().tick_values(lo, hi)))
+    return float(formatter.offset)
+
+
+def no_offset(ax: Axes) -> None:
+    """Tick labels of the x axis as the numbers they are, never a shared offset text
+    (time_origin: it would overprint the label)."""
+    from matplotlib.ticker import ScalarFormatter
+
+    formatter = ScalarFormatter(useOffset=False)
+    ax.xaxis.set_major_formatter(formatter)
+
+
 def empty_panel(ax: Axes, message: str) -> None:
     """A panel with nothing to plot says why, in its middle, without axes ticks."""
     ax.text(0.5, 0.5, message, ha="center", va="center", wrap=True, transform=ax.transAxes,

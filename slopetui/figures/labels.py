@@ -41,6 +41,16 @@ LAMBDA_LABEL = "running λ(t) (1 / time unit)"
 POWER_LABEL = "log$_{10}$ power of $m_y$"
 
 
+def time_label(origin: float = 0.0) -> str:
+    """TIME_LABEL, or for a time axis drawn from ``origin`` (canvas.time_origin)
+    "t − 100000 (model time units)"."""
+    if origin == 0.0:
+        return TIME_LABEL
+    shown = str(int(origin)) if origin.is_integer() and abs(origin) < 1e15 else f"{origin:.10g}"
+    sign = "−" if origin > 0 else "+"
+    return f"t {sign} {shown.lstrip('-')} (model time units)"
+
+
 def symbol(param: str) -> str:
     """The parameter's symbol as the paper writes it (τ for tau: run_labels.SHOWN_AS);
     any other name as it is, made plain."""

@@ -17,9 +17,10 @@ Decisions (as on the screen, slopetui.plots.run_plots, whose reasons hold here t
   window and give the slope removed. ``detrend``, the fixed-point test and which samples
   and spectrum bins are drawn are the terminal's (slopetui.plots.run_plots), imported.
 * **A fixed point** (sliding) has an orbit that round-off spreads over ~1e-16; its phase
-  portrait marks the point and says so (core.classify.AMPLITUDE_FLOOR) rather than
-  magnifying the noise to the whole panel, and its spectrum, of round-off too, is not
-  drawn (the terminal draws it).
+  portrait marks the point with a marker named in the legend, and says why
+  (core.classify.AMPLITUDE_FLOOR), rather than magnifying the noise to the whole panel
+  or drawing a line no wider than a pixel (in a comparison, beside orbits); its
+  spectrum, of round-off too, is not drawn (the terminal draws it).
 * **The time series shows the last TIME_PERIODS periods** of the dominant frequency (the
   spectrum's largest peak), not the whole window as the terminal does: the paper's window
   of 1000 time units holds ~400 periods at k = 12, τ = 2, which on paper is a solid band
@@ -50,7 +51,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from core.classify import AMPLITUDE_FLOOR
-from slopetui.figures.canvas import empty_panel, new_figure, set_title
+from slopetui.figures.canvas import empty_panel, new_figure, no_offset, set_title, time_origin
 from slopetui.figures.labels import (
     FREQUENCY_LABEL,
     LAMBDA_LABEL,
@@ -60,6 +61,7 @@ from slopetui.figures.labels import (
     TIME_LABEL,
     plain,
     symbol,
+    time_label,
 )
 from slopetui.figures.output import Drawing, Table
 from slopetui.figures.style import GUIDE_COLOR, MX_COLOR, MY_COLOR, PEAK_COLOR, TRACE_COLOR, run_style
@@ -98,6 +100,9 @@ EQUALS = "\u00a0=\u00a0"
 #: A legend line of a quarter panel wraps at about this many characters.
 LEGEND_WRAP = 48
 TRACE_WIDTH = 0.8
+#: A run at rest in a phase portrait: a filled circle of this size (points), about
+#: three times a trace's width, so that it reads as a point on an orbit's scale.
+FIXED_MARKER, FIXED_SIZE = "o", 7.0
 
 #: The panels of the data table.
 PANEL_MX, PANEL_MY, PANEL_PHASE = "time_m_x_detrended", "time_m_y", "phase"
@@ -117,11 +122,18 @@ def run_drawing(runs: Sequence[tuple[StoredRun, Traces]], *, title: str | None =
     return _comparison(runs, title)
 
 
-def _time_label(t: np.ndarray, start: float) -> str:
-    if start <= float(t[0]):
-        return TIME_LABEL
-    return (f"{TIME_LABEL}: the last {TIME_PERIODS} periods, {float(t[-1]) - start:.4g} "
-            f"of {float(t[-1] - t[0]):.4g}")
+def _time_axis(ax: Axes, t: np.ndarray, start: float) -> float:
+    """Label the time axis of a window ``t`` (its first and last time) shown from
+    ``start``, and return the origin its samples are drawn from (canvas.time_origin:
+    0, or a round time named in the label, so that no offset text overprints it)."""
+    origin = time_origin(max(start, float(t[0])), float(t[-1]))
+    no_offset(ax)
+    label = time_label(origin)
+    if start > float(t[0]):
+        label += (f": the last {TIME_PERIODS} periods, {float(t[-1]) - start:.4g} "
+                  f"of {float(t[-1] - t[0]):.4g}")
+    ax.set_xlabel(label)
+    return origin
 
 
 def _rows(run_id: int, panel: str, x: np.ndarray, y: np.ndarray) -> list[tuple[Any, ...]]:
@@ -170,10 +182,10 @@ def _time_and_phase(ax_time: Axes, ax_phase: Axes, run_id: int,
     fixed = is_fixed_point(x_rel, m_y)
     start = recent_start([t], [None if fixed else period_of(t, m_x, m_y, traces.summary.frequency)])
     shown = t >= start
-    _line(ax_time, t[shown], x_rel[shown], color=MX_COLOR,
+    origin = _time_axis(ax_time, t, start)
+    _line(ax_time, t[shown] - origin, x_rel[shown], color=MX_COLOR,
           label=f"{MX_LABEL} (slope {slope:.4g} removed)")
-    _line(ax_time, t[shown], m_y[shown], color=MY_COLOR, label=MY_LABEL)
-    ax_time.set_xlabel(_time_label(t, start))
+    _line(ax_time, t[shown] - origin, m_y[shown], color=MY_COLOR, label=MY_LABEL)
     # the legend names the panel, above it: inside it would hide the oscillation
     ax_time.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncols=2, frameon=False,
                    fontsize=9)
@@ -181,17 +193,26 @@ def _time_and_phase(ax_time: Axes, ax_phase: Axes, run_id: int,
     ax_phase.set_ylabel(MY_LABEL)
     if fixed:
         # the orbit is round-off: mark the point, do not magnify the noise
-        ax_phase.plot([0.0], [float(np.mean(m_y))], "o", color=TRACE_COLOR)
-        ax_phase.legend(handles=[_note(
-            f"a fixed point: m_x − trend and m_y vary by less than {AMPLITUDE_FLOOR:g} "
-            f"(m_y = {float(np.mean(m_y)):.6g}, m_x slope {slope:.4g})", safe=True)],
-            loc="upper left", fontsize=8, handlelength=0, handletextpad=0)
+        point = _fixed_point(ax_phase, m_y, TRACE_COLOR,
+                             f"a fixed point: $m_y$ = {float(np.mean(m_y)):.6g}")
+        ax_phase.legend(handles=[point, _note(
+            f"m_x − trend and m_y vary by less than {AMPLITUDE_FLOOR:g} over the window "
+            f"(m_x slope {slope:.4g})", safe=True)], loc="upper left", fontsize=8)
     else:
         _line(ax_phase, x_rel, m_y, color=TRACE_COLOR)
         ax_phase.legend(handles=[_note(f"$m_x$ detrended: slope {slope:.4g} removed", safe=True)],
                         loc="upper right", fontsize=8, handlelength=0, handletextpad=0)
     return (_rows(run_id, PANEL_MX, t, x_rel) + _rows(run_id, PANEL_MY, t, m_y)
             + _rows(run_id, PANEL_PHASE, x_rel, m_y))
+
+
+def _fixed_point(ax: Axes, m_y: np.ndarray, color: str, label: str | None = None) -> Artist:
+    """A run at rest drawn as the point it rests at, (0, mean m_y), in a marker large
+    enough to see beside orbits: as a line its round-off samples span ~1e-16, less than a
+    pixel, and nothing at all would show. Returns the marker, for a legend."""
+    (point,) = ax.plot([0.0], [float(np.mean(m_y))], linestyle="none", marker=FIXED_MARKER,
+                       markersize=FIXED_SIZE, color=color, label=label, zorder=4)
+    return point
 
 
 def _spectrum(ax: Axes, run_id: int, traces: Traces) -> list[tuple[Any, ...]]:
@@ -280,20 +301,26 @@ def _comparison(runs: Sequence[tuple[StoredRun, Traces]], title: str | None) -> 
                          [period_of(t, m_x, m_y, traces.summary.frequency)
                           for (_, traces), (t, m_x, m_y) in zip(runs, series, strict=True)])
     ends = [float(t[i]) for t, _, _ in series if len(t) >= 2 for i in (0, -1)]
+    origin = _time_axis(ax_time, np.array([min(ends, default=0.0), max(ends, default=0.0)]), start)
     for i, (run, _) in enumerate(runs):
         color, dash = run_style(i)
         t, m_x, m_y = series[i]
         label = labels[i]
+        marker = "none"
         if len(t) >= 2:
             x_rel, _ = detrend(t, m_x)
             shown = t >= start
-            _line(ax_time, t[shown], m_y[shown], color=color, linestyle=dash)
-            _line(ax_phase, x_rel, m_y, color=color, linestyle=dash)
+            _line(ax_time, t[shown] - origin, m_y[shown], color=color, linestyle=dash)
+            if is_fixed_point(x_rel, m_y):
+                _fixed_point(ax_phase, m_y, color)
+                marker, label = FIXED_MARKER, f"{label}: a fixed point, marked"
+            else:
+                _line(ax_phase, x_rel, m_y, color=color, linestyle=dash)
             rows += _rows(run.id, PANEL_MY, t, m_y) + _rows(run.id, PANEL_PHASE, x_rel, m_y)
         else:
             label += " (no samples)"
-        handles.append(Line2D([], [], color=color, linestyle=dash, linewidth=1.5, label=label))
-    ax_time.set_xlabel(_time_label(np.array([min(ends, default=0.0), max(ends, default=0.0)]), start))
+        handles.append(Line2D([], [], color=color, linestyle=dash, linewidth=1.5, marker=marker,
+                              markersize=FIXED_SIZE, label=label))
     ax_time.set_ylabel(MY_LABEL)
     ax_phase.set_xlabel(MX_LABEL)
     ax_phase.set_ylabel(MY_LABEL)

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import plotext as plt
 
+from slopetui.plots import ticks
 from slopetui.plots.regime_colors import (
     REGIME_STYLES,
     THEME_COLOR,
@@ -142,12 +143,39 @@ def render(series: Sequence[Series], legend: Sequence[LegendEntry], *, x_label: 
             plt.ylim(*y_range)
         if y_log:
             plt.yscale("log")
+        _round_ticks(series, width, plot_height, x_log=x_log, y_log=y_log, x_range=x_range,
+                     y_range=y_range, x_label=bool(x_label))
         text = plt.build()
         plt.clear_figure()           # leave no data behind in plotext's global figure
     if not color:
         # even theme "clear" ends every line with a reset code
         text = plt.uncolorize(text)
     return "\n".join(above + text.rstrip("\n").split("\n") + below)
+
+
+def _round_ticks(series: Sequence[Series], width: int, height: int, *, x_log: bool, y_log: bool,
+                 x_range: tuple[float, float] | None, y_range: tuple[float, float] | None,
+                 x_label: bool) -> None:
+    """Ticks at round numbers (slopetui.plots.ticks) in place of plotext's, for the
+    ranges plotext will draw: the pinned one, else the data's."""
+    def span(values: np.ndarray, log: bool, pinned: tuple[float, float] | None) -> tuple[float, float]:
+        if pinned is not None and pinned[0] < pinned[1]:
+            return pinned
+        return ticks.data_range(values, log)
+
+    if not series:
+        return
+    xs = np.concatenate([s.xs for s in series])
+    ys = np.concatenate([s.ys for s in series])
+    y_lo, y_hi = span(ys, y_log, y_range)
+    # the canvas: the plot less its frame (2), the x ticks' row and the x label's
+    rows = height - 3 - (1 if x_label else 0)
+    y_ticks, y_labels = ticks.axis_ticks(y_lo, y_hi, log=y_log, length=rows, label_room=False)
+    x_lo, x_hi = span(xs, x_log, x_range)
+    columns = width - max(map(len, y_labels), default=0) - 2  # the y labels and the frame
+    x_ticks, x_labels = ticks.axis_ticks(x_lo, x_hi, log=x_log, length=columns, label_room=True)
+    plt.yticks(y_ticks, y_labels)
+    plt.xticks(x_ticks, x_labels)
 
 
 def _fresh_figure(width: int, height: int, color: bool) -> None:

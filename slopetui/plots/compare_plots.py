@@ -6,7 +6,8 @@ a whole window of hundreds of periods is a solid band), and the phase portraits
 The single-run plots (slopetui.plots.run_plots) draw every trace in braille dots; here
 the runs must stay apart with colour off too, so the first run keeps braille and the
 others take ASCII markers, each in its own colour. m_x is detrended as in the run
-detail (run_plots.detrend: on an orbit m_x is a ramp), each run by its own line.
+detail (run_plots.detrend: on an orbit m_x is a ramp), each run by its own line. A run
+at rest is the point it rests at, in a mark of its own named in the legend.
 Time series keep the min/max envelope of run_plots (peaks at their true height).
 """
 
@@ -19,6 +20,7 @@ import numpy as np
 
 from slopetui.plots.canvas import LegendEntry, Series, message_block, render
 from slopetui.plots.run_plots import (
+    FIXED_MARKER,
     MX_LABEL,
     MY_LABEL,
     TIME_PERIODS,
@@ -28,6 +30,7 @@ from slopetui.plots.run_plots import (
     envelope,
     envelope_points,
     finite,
+    is_fixed_point,
     period_of,
     recent_start,
     stride,
@@ -60,9 +63,24 @@ def style(i: int) -> tuple[str, str]:
     return STYLES[i % len(STYLES)]
 
 
-def _legend(runs: Sequence[Overlay]) -> list[LegendEntry]:
-    return [LegendEntry(TRACE_LEGEND_MARKER if style(i)[0] == TRACE_MARKER else style(i)[0] * 2,
-                        style(i)[1], run.label) for i, run in enumerate(runs)]
+def _legend(runs: Sequence[Overlay], at_rest: Sequence[bool] = ()) -> list[LegendEntry]:
+    """One entry per run; a run at rest (``at_rest``) by the mark its point is drawn in."""
+    entries = []
+    for i, run in enumerate(runs):
+        marker, colour = style(i)
+        if i < len(at_rest) and at_rest[i]:
+            entries.append(LegendEntry(fixed_marker(i), colour, f"{run.label}: a fixed point"))
+        else:
+            entries.append(LegendEntry(TRACE_LEGEND_MARKER if marker == TRACE_MARKER else marker * 2,
+                                       colour, run.label))
+    return entries
+
+
+def fixed_marker(i: int) -> str:
+    """The mark of the i-th run when it rests: its own ASCII marker, or for the run drawn
+    in braille (one dot, lost beside orbits) run_plots.FIXED_MARKER."""
+    marker = style(i)[0]
+    return FIXED_MARKER if marker == TRACE_MARKER else marker
 
 
 def _finite(run: Overlay) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -101,14 +119,22 @@ def render_compare_phase(runs: Sequence[Overlay], *, title: str = "", width: int
     """The phase portraits (m_x − trend, m_y) of every run, overlaid (each m_x detrended
     by its own least-squares line). Same size rules as render_compare_time."""
     series = []
+    at_rest = []
     for i, run in enumerate(runs):
         t, m_x, m_y = _finite(run)
+        rests = False
         if len(t) >= 2:
             x_rel, _ = detrend(t, m_x)
-            keep = stride(len(t))
             marker, colour = style(i)
-            series.append(Series(x_rel[keep], m_y[keep], marker=marker, color=colour, line=True))
+            rests = is_fixed_point(x_rel, m_y)
+            if rests:  # its round-off as a line would be one dot: the point, marked
+                series.append(Series(np.zeros(1), np.array([float(np.mean(m_y))]),
+                                     marker=fixed_marker(i), color=colour))
+            else:
+                keep = stride(len(t))
+                series.append(Series(x_rel[keep], m_y[keep], marker=marker, color=colour, line=True))
+        at_rest.append(rests)
     if not series:
         return message_block("No samples in the analysis windows to plot.", width, height)
-    return render(series, _legend(runs), x_label=MX_LABEL, y_label=MY_LABEL, x_log=False,
+    return render(series, _legend(runs, at_rest), x_label=MX_LABEL, y_label=MY_LABEL, x_log=False,
                   y_log=False, title=title, width=width, height=height, color=color)

@@ -26,7 +26,9 @@ Decisions:
   1000-unit window holds ~400 periods at k = 12, τ = 2, a solid wall of braille at any
   terminal size. A fixed point has no period: it is shown whole.
 * **A fixed point** (the sliding regime) has an orbit that round-off alone spreads over
-  ~1e-16: the phase portrait says so instead of magnifying it to the whole canvas.
+  ~1e-16: the phase portrait marks the point (FIXED_MARKER, named in the legend) on a
+  frame of the size of a cycle and says why, instead of magnifying the round-off to the
+  whole canvas.
 * **Markers.** Traces are drawn in braille dots (the finest plotext has); a second
   series in the same plot uses an ASCII marker, so the two stay apart with colour off.
 
@@ -61,6 +63,13 @@ TRACE_COLOR = "green"
 #: curve converging onto zero (a limit cycle) stays visible on top of it.
 ZERO_MARKER = "-"
 ZERO_COLOR = "default"
+
+#: A run at rest in a phase portrait: one full-cell mark (a braille dot would be lost),
+#: on a frame of ±FIXED_FRAME model units around it, the scale of the paper's cycles
+#: (k = 12, τ = 2: m_x − trend spans ~0.8, m_y ~2), so that the point reads as a point
+#: and its round-off is not magnified.
+FIXED_MARKER = "●"
+FIXED_FRAME = 1.0
 
 MX_LABEL = "m_x − trend"
 MY_LABEL = "m_y"
@@ -222,10 +231,15 @@ def render_phase_portrait(t: np.ndarray, m_x: np.ndarray, m_y: np.ndarray, *,
         return message_block("No samples in the analysis window to plot.", width, height)
     x_rel, slope = detrend(t, m_x)
     if is_fixed_point(x_rel, m_y):
-        return message_block(
-            f"The orbit is a fixed point: m_x − trend and m_y vary by less than "
-            f"{AMPLITUDE_FLOOR:g} over the window (m_y = {float(np.mean(m_y)):.6g}, "
-            f"m_x slope {slope:.4g}).", width, height)
+        rest = float(np.mean(m_y))
+        point = Series(np.zeros(1), np.array([rest]), marker=FIXED_MARKER, color=TRACE_COLOR)
+        legend = [LegendEntry(FIXED_MARKER, TRACE_COLOR, f"a fixed point: m_y = {rest:.6g}"),
+                  note(f"m_x − trend and m_y vary by less than {AMPLITUDE_FLOOR:g} over the "
+                       f"window (m_x slope {slope:.4g})")]
+        return render([point], legend, x_label=MX_LABEL, y_label=MY_LABEL, x_log=False,
+                      y_log=False, title=title, width=width, height=height, color=color,
+                      x_range=(-FIXED_FRAME, FIXED_FRAME),
+                      y_range=(rest - FIXED_FRAME, rest + FIXED_FRAME))
     keep = stride(len(t))
     series = [Series(x_rel[keep], m_y[keep], marker=TRACE_MARKER, color=TRACE_COLOR, line=True)]
     legend = [note(f"m_x detrended: slope {slope:.4g} removed")]

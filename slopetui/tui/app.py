@@ -123,9 +123,9 @@ class SlopeApp(App[None], inherit_bindings=False):
         self.fold_curves: dict[int, Curve] = {}
         #: Runs marked with m for the compare screen (v), in the order marked.
         self.marked: list[int] = []
-        #: Where the figure key (f) and the palette's exports write: the folder the
-        #: application was started in.
-        self.figure_folder = Path.cwd()
+        #: Where the figure key (f) and the palette's exports write: $SLOPETUI_FIGURES,
+        #: else the user data folder's figures/ (figure_writing.default_folder).
+        self.figure_folder = figure_writing.default_folder()
         #: Why the store could not be opened (None: it is open, or being opened).
         self.store_error: str | None = None
         #: The modes whose screen is built (the default one from the start), and whether
@@ -344,7 +344,7 @@ class SlopeApp(App[None], inherit_bindings=False):
         def export() -> export_files.Exported:
             if db is None:
                 raise RuntimeError("the database is not open yet")
-            return export_files.export_sweep(db, sweep_id, fmt, folder)
+            return export_files.export_sweep(db, sweep_id, fmt, figure_writing.ready_folder(folder))
 
         # an unknown sweep, an unwritable folder: shown; a path may hold brackets
         self.background.start(

@@ -51,7 +51,7 @@ def test_an_orbit_seeded_at_twice_its_period_is_certified_at_its_period():
     # and the label follows the certified orbit, not the window's return
     s = relabel(dataclasses.replace(doubled, regime="complex", detail="period-2, 2 maxima"), c, p)
     assert (s.regime, s.period_count, s.maxima_per_period) == ("oscillatory", 1, 1)
-    assert s.detail.startswith("period-1, 1 maxima, 0.99 T_H (certified)")
+    assert s.detail.startswith("period-1, 1 maximum, 0.99 T_H (certified)")
 
 
 def test_batched_runs_are_certified_as_single_ones():

@@ -89,7 +89,7 @@ def test_large_b_orbits_are_period_1(b, k, tau, old):
     s = r.summary
     assert s.regime == "oscillatory", f"was {old}: {s.detail}"
     assert (s.period_count, s.maxima_per_period) == (1, 1), s.detail
-    assert s.detail.startswith("period-1, 1 maxima")
+    assert s.detail.startswith("period-1, 1 maximum")
     # certified on RK4 at dt 0.01: the reference's period to RK4's accuracy
     assert r.certificate.certified, r.certificate.text
     assert r.certificate.slips == 1
