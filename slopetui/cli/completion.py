@@ -33,30 +33,8 @@ from collections.abc import Callable, Iterator
 
 #: Options that take a run id but predate the RUN metavar convention.
 RUN_OPTIONS = frozenset({"--from-run"})
-#: The shells argcomplete writes code for.
-SHELLS = ("bash", "zsh", "fish", "tcsh", "powershell")
 #: The longest sweep name shown as a description (a menu line, not the whole name).
 NAME_WIDTH = 60
-
-INSTALL = """\
-Install it once, in your shell's start-up file:
-  bash  (~/.bashrc):   eval "$(slopetui completion bash)"
-  zsh   (~/.zshrc, after compinit):   eval "$(slopetui completion zsh)"
-  fish  (~/.config/fish/config.fish):   slopetui completion fish | source
-then open a new shell. `slopetui show <TAB>` lists the sweep ids (zsh and fish with
-their names), `slopetui continue --from-run <TAB>` the newest run ids."""
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("completion", help="print the shell code that completes slopetui's "
-                                          "commands, options and sweep or run ids",
-                       description="Print the code that makes SHELL complete slopetui's "
-                                   "subcommands, options,\nand the sweep and run ids of the "
-                                   "store (with argcomplete).",
-                       epilog=INSTALL, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("shell", choices=SHELLS, metavar="SHELL",
-                   help="one of " + ", ".join(SHELLS))
-    p.set_defaults(handler=handle)
 
 
 def handle(args: argparse.Namespace) -> int:

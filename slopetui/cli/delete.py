@@ -13,19 +13,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from slopetui.cli.options import UsageError, add_db_option, open_db, sweep_arg
+from slopetui.cli.options import UsageError, open_db, sweep_arg
 from slopetui.display_text import terminal_safe
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    help_ = "delete a sweep and its runs (asks first; refused while runs of it are running)"
-    p = sub.add_parser("delete", help=help_, description=help_ + ". Runs of other sweeps "
-                       "that copied a result from its runs keep it.")
-    p.add_argument("sweep", metavar="SWEEP", help="sweep id")
-    p.add_argument("--yes", "-y", action="store_true",
-                   help="do not ask (needed when stdin is not a terminal)")
-    add_db_option(p)
-    p.set_defaults(handler=handle)
 
 
 def handle(args: argparse.Namespace) -> int:

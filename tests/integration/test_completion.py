@@ -19,7 +19,8 @@ from pathlib import Path
 import pytest
 
 from slopetui.cli import build_parser
-from slopetui.cli.completion import SHELLS, attach, complete_runs, complete_sweeps, walk
+from slopetui.cli.arguments.completion import SHELLS
+from slopetui.cli.completion import attach, complete_runs, complete_sweeps, walk
 from slopetui.store.database import parse_url, sqlite_path
 from slopetui.store.id_lists import sqlite_file
 from slopetui.sweeps.spec import parse_spec
