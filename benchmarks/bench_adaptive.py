@@ -44,7 +44,7 @@ from pathlib import Path
 
 from sqlalchemy import select
 
-from core import run_point
+from core.point import run_point
 from slopetui.queue import jobs
 from slopetui.store import Database, open_store
 from slopetui.store.models import Run, Sweep

@@ -70,7 +70,7 @@ def pg_database(server: str, name: str):
 
 def compute_cpu_ms(runs: int) -> float:
     """CPU per run of computing the plane's runs as a worker does (batches of 8), here (ms)."""
-    from core import run_batch
+    from core.point import run_batch
     spec = _plane(runs)
     params = [p for _, _, p in spec.points()]
     settings = spec.solver

@@ -77,7 +77,7 @@ def new_sqlite_store(url: str, template: Path) -> None:
 
 def finish_all(db: Database, worker: str = "test") -> int:
     """Compute every queued run in this process, as a worker would; returns how many."""
-    from core import run_point
+    from core.point import run_point
     from slopetui.queue import jobs
 
     n = 0

@@ -16,37 +16,16 @@ from typing import cast
 
 from slopetui import __version__
 from slopetui.cli import completion
-from slopetui.cli.arguments import (
-    branch,
-    cluster,
-    continuation,
-    control,
-    db,
-    delete,
-    example,
-    figure,
-    hysteresis,
-    nblock,
-    orbit,
-    reproduce,
-    run,
-    runs,
-    show,
-    sql,
-    status,
-    submit,
-    worker,
-    workers,
-)
-from slopetui.cli.arguments import completion as completion_arguments
 from slopetui.store.failures import DatabaseFailure, StoreError
 from slopetui.store.location import checked_url
 from slopetui.store.url_text import holds_password
 
-#: The argument declarations, in the order ``slopetui --help`` lists the commands.
-ARGUMENTS = (run, orbit, continuation, branch, hysteresis, submit, example, status, show, figure,
-             runs, control, delete, sql, worker, workers, db, cluster, nblock, reproduce,
-             completion_arguments)
+#: The modules of slopetui.cli.arguments that declare the commands' arguments, in the
+#: order ``slopetui --help`` lists the commands (imported by name: bound here, `run` or
+#: `sql` would hide the handlers' modules of the same names).
+ARGUMENTS = ("run", "orbit", "continuation", "branch", "hysteresis", "submit", "example",
+             "status", "show", "figure", "runs", "control", "delete", "sql", "worker",
+             "workers", "db", "cluster", "nblock", "reproduce", "completion")
 
 #: Each command's handler, ``module:function``: the module is imported on dispatch only.
 HANDLERS = {
@@ -61,7 +40,7 @@ HANDLERS = {
     "show": "slopetui.cli.show:handle",
     "figure": "slopetui.cli.figure:handle",
     "runs": "slopetui.cli.runs:handle_runs",
-    "export": "slopetui.cli.runs:handle_export",
+    "export": "slopetui.cli.export:handle",
     "cancel": "slopetui.cli.control:handle",
     "pause": "slopetui.cli.control:handle",
     "resume": "slopetui.cli.control:handle",
@@ -111,8 +90,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-workers", action="store_true",
                         help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for module in ARGUMENTS:
-        module.declare(sub)
+    for name in ARGUMENTS:
+        importlib.import_module(f"slopetui.cli.arguments.{name}").declare(sub)
     return parser
 
 

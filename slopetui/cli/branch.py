@@ -11,6 +11,8 @@ from slopetui.cli.continuation import print_bifurcations, print_point
 from slopetui.cli.options import UsageError, int_arg, open_db
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
+from slopetui.plots.branch_plot import render_branch
+from slopetui.sweeps.branches import branch_of, listing
 
 if TYPE_CHECKING:
     from slopetui.sweeps.branches import StoredBranch
@@ -25,7 +27,6 @@ def _found(branch: StoredBranch) -> str:
 
 
 def _listing(args: argparse.Namespace) -> int:
-    from slopetui.sweeps.branches import listing
     branches = listing(open_db(args))
     if args.json:
         print(json_text({"continuations": [b.summary() for b in branches]}))
@@ -44,7 +45,6 @@ def _listing(args: argparse.Namespace) -> int:
 
 
 def _one(args: argparse.Namespace) -> int:
-    from slopetui.sweeps.branches import branch_of
     branch = branch_of(open_db(args), args.id)
     if branch is None:
         raise UsageError(f"no continuation {args.id} in this store (slopetui branch lists them)")
@@ -55,7 +55,6 @@ def _one(args: argparse.Namespace) -> int:
                          "bifurcations": branch.bifurcations}))
         return 0
     if args.plot:
-        from slopetui.plots.branch_plot import render_branch
         size = shutil.get_terminal_size((100, 30))
         print(render_branch(branch.param, branch.points, branch.bifurcations,
                             title=f"continuation {branch.id} in {branch.param}",

@@ -31,6 +31,10 @@ import sys
 import warnings
 from collections.abc import Callable, Iterator
 
+from slopetui.display_text import terminal_safe
+from slopetui.store.id_lists import newest_run_ids, sweep_ids
+from slopetui.store.location import default_url
+
 #: Options that take a run id but predate the RUN metavar convention.
 RUN_OPTIONS = frozenset({"--from-run"})
 #: The longest sweep name shown as a description (a menu line, not the whole name).
@@ -78,7 +82,6 @@ def walk(parser: argparse.ArgumentParser) -> Iterator[argparse.Action]:
 def complete_sweeps(prefix: str, parsed_args: argparse.Namespace, **_: object) -> dict[str, str]:
     """Sweep id -> the sweep's name."""
     def read(url: str) -> dict[str, str]:
-        from slopetui.store.id_lists import sweep_ids
         return {str(i): shorten(name) for i, name in sweep_ids(url, prefix)}
 
     return quietly(read, parsed_args)
@@ -87,7 +90,6 @@ def complete_sweeps(prefix: str, parsed_args: argparse.Namespace, **_: object) -
 def complete_runs(prefix: str, parsed_args: argparse.Namespace, **_: object) -> dict[str, str]:
     """Run id -> "sweep N, regime" (or its status while it has no regime)."""
     def read(url: str) -> dict[str, str]:
-        from slopetui.store.id_lists import newest_run_ids
         return {str(i): shorten(f"sweep {sweep}, {regime or status}")
                 for i, sweep, regime, status in newest_run_ids(url, prefix)}
 
@@ -107,8 +109,6 @@ def quietly(read: Callable[[str], dict[str, str]], parsed_args: argparse.Namespa
 
 def store_url(parsed_args: argparse.Namespace) -> str:
     """The store the command being completed would open: its --db, else the default."""
-    from slopetui.store.location import default_url
-
     return getattr(parsed_args, "db", None) or default_url()
 
 
@@ -116,8 +116,6 @@ def shorten(text: str) -> str:
     """Stored text as one safe menu line: control characters escaped (a stored escape
     sequence must not drive the terminal, a newline or tab would break the shell's list),
     at most NAME_WIDTH characters."""
-    from slopetui.display_text import terminal_safe
-
     safe = terminal_safe(text)
     return safe if len(safe) <= NAME_WIDTH else safe[:NAME_WIDTH - 3] + "..."
 

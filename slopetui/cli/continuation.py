@@ -10,13 +10,19 @@ import time
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from core.branch_start import MIN_STEP, BranchSpec, past_end, start
+from core.continuation import bifurcations, criticality, walk
+from core.orbit import OrbitError
 from core.params import PARAM_NAMES, ParameterError, Params
+from core.periodic_orbit import SEED_T_END
 from slopetui.cli.arguments.continuation import MAX_STEP
-from slopetui.cli.options import float_arg, int_arg
+from slopetui.cli.options import float_arg, int_arg, open_db, say_queued
 from slopetui.cli.orbit import check_seed_steps, point_of
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
+from slopetui.store.queries import run_by_id
 from slopetui.sweeps.branch_records import bifurcation_record, point_record
+from slopetui.sweeps.branches import submit
 
 if TYPE_CHECKING:
     from core.branch_start import BranchSpec
@@ -56,8 +62,6 @@ def _check(args: argparse.Namespace) -> None:
 
 def _params_of_run(args: argparse.Namespace, params: Params) -> Params:
     """The stored run's parameters (flags given explicitly still win)."""
-    from slopetui.cli.options import open_db
-    from slopetui.store.queries import run_by_id
     run = run_by_id(open_db(args), args.from_run)
     if run is None:
         raise ParameterError("from-run", args.from_run, "the id of a run in this store")
@@ -90,8 +94,6 @@ def print_bifurcations(param: str, found: Sequence[Mapping[str, Any]]) -> None:
 
 
 def _submit(args: argparse.Namespace, spec: BranchSpec) -> int:
-    from slopetui.cli.options import open_db, say_queued
-    from slopetui.sweeps.branches import submit
     cid = submit(open_db(args), spec, args.from_run)
     return say_queued(args.json, "continuation", cid, f"slopetui branch {cid}")
 
@@ -105,17 +107,13 @@ def handle(args: argparse.Namespace) -> int:
             params = _params_of_run(args, params)
         _not_the_start(args, params, end)
         if not args.from_hopf:  # a simulated orbit's seed, held in memory
-            from core.periodic_orbit import SEED_T_END
             check_seed_steps(params, dt, SEED_T_END)
     except ParameterError as exc:
         print(f"slopetui continue: error: {exc}", file=sys.stderr)
         return 2
-    from core.branch_start import MIN_STEP, BranchSpec, past_end, start
     spec = BranchSpec(params, args.param, dt, args.from_hopf, end, args.points, args.max_step)
     if args.submit:
         return _submit(args, spec)
-    from core.continuation import bifurcations, criticality, walk
-    from core.orbit import OrbitError
     t0 = time.process_time()
     try:
         branch, hopf = start(spec)

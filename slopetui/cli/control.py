@@ -7,11 +7,10 @@ import argparse
 
 from slopetui.cli.options import open_db, sweep_arg
 from slopetui.display_text import terminal_safe
+from slopetui.sweeps import control
 
 
 def handle(args: argparse.Namespace) -> int:
-    from slopetui.sweeps import control
-
     sweep = sweep_arg(args.sweep)  # before the database opens
     print(terminal_safe(control.apply(open_db(args), args.action, sweep)))  # a stored status
     return 0

@@ -13,7 +13,13 @@ from typing import TYPE_CHECKING
 from slopetui.cli.arguments.db import MAX_CONNECTIONS_RANGE
 from slopetui.cli.options import UsageError, int_arg
 from slopetui.ops import local_server
+from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe
+from slopetui.store.database import Database
 from slopetui.store.failures import StoreError
+from slopetui.store.integrity import integrity_problems
+from slopetui.store.migrate import alembic_config, current_revision, downgrade, head_revision, plan_downgrade, upgrade
+from slopetui.store.open import open_store
+from slopetui.store.server_dump import find_pg_dump
 
 if TYPE_CHECKING:
     from slopetui.store.database import Database
@@ -64,8 +70,6 @@ def _say_started(server: local_server.Server) -> None:
 
 def _serve_foreground(folder: Path, settings: local_server.Settings,
                       pg_bin: Path | None, default_dir: bool) -> int:
-    from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe
-
     local_server.check_not_root()  # before looking for programs root could not run
     local_server.check_driver()
     binaries = local_server.find_binaries(pg_bin)
@@ -165,8 +169,6 @@ def _confirm(db: Database, plan: DowngradePlan, no_backup: bool, assume_yes: boo
 
 
 def _check(db: Database) -> int:
-    from slopetui.store.integrity import integrity_problems
-
     problems = integrity_problems(db)
     if db.path is None:
         print(f"{db.display_url}: not a SQLite file; PostgreSQL checks its own pages")
@@ -186,15 +188,6 @@ def handle(args: argparse.Namespace) -> int:
     if args.db_action == "serve":
         return _serve(args)
     # Alembic here, not at the top: it costs ~0.2 s that `slopetui --help` should not pay
-    from slopetui.store.database import Database
-    from slopetui.store.migrate import (
-        alembic_config,
-        current_revision,
-        downgrade,
-        head_revision,
-        plan_downgrade,
-        upgrade,
-    )
 
     if args.db_action == "upgrade":
         db = Database(args.db)
@@ -202,7 +195,6 @@ def handle(args: argparse.Namespace) -> int:
         print(f"{db.display_url}: {before or 'empty'} -> {after}"
               if before != after else f"{db.display_url}: already at {after}")
     elif args.db_action == "downgrade":
-        from slopetui.store.server_dump import find_pg_dump
 
         db = Database(args.db)
         plan = plan_downgrade(db, args.revision)
@@ -229,7 +221,6 @@ def handle(args: argparse.Namespace) -> int:
     else:
         from alembic import command
 
-        from slopetui.store.open import open_store
         db = open_store(args.db)  # autogenerate compares the models with the head schema
         command.revision(alembic_config(db), message=args.message, autogenerate=True)
     return 0

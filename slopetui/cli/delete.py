@@ -15,12 +15,11 @@ import sys
 
 from slopetui.cli.options import UsageError, open_db, sweep_arg
 from slopetui.display_text import terminal_safe
+from slopetui.sweeps import control
+from slopetui.sweeps.progress import sweep_progress
 
 
 def handle(args: argparse.Namespace) -> int:
-    from slopetui.sweeps import control
-    from slopetui.sweeps.progress import sweep_progress
-
     sweep = sweep_arg(args.sweep)  # before the database opens
     db = open_db(args)
     found = sweep_progress(db, [sweep])

@@ -22,7 +22,12 @@ from typing import TYPE_CHECKING
 
 from slopetui.cli.arguments.figure import FORMATS_TEXT, MAX_RUNS
 from slopetui.cli.options import UsageError, int_arg, open_db, sweep_arg
+from slopetui.cli.show import fold_curve_of
 from slopetui.display_text import terminal_safe
+from slopetui.figures.figure_files import DEFAULT_FORMAT, runs_figure, runs_stem, sweep_figure, sweep_stem
+from slopetui.figures.output import FigureError, check_output, write
+from slopetui.sweeps.diagram import load_diagram
+from slopetui.sweeps.recompute import load_run
 
 if TYPE_CHECKING:
     from slopetui.figures.output import Drawing
@@ -31,9 +36,6 @@ if TYPE_CHECKING:
 
 
 def handle(args: argparse.Namespace) -> int:
-    from slopetui.figures.figure_files import DEFAULT_FORMAT, runs_stem, sweep_stem
-    from slopetui.figures.output import FigureError, check_output
-
     if (args.sweep is None) == (not args.run):
         raise UsageError("give a SWEEP or one or more --run RUN (not both)")
     if args.run and (args.fold or not args.hopf):
@@ -58,7 +60,6 @@ def handle(args: argparse.Namespace) -> int:
     else:
         drawing = _runs_drawing(db, run_ids)
     try:
-        from slopetui.figures.output import write
         written = write(drawing, path)
     except FigureError as exc:  # the folder changed since the check: still nothing partial
         raise UsageError(str(exc)) from None
@@ -67,18 +68,11 @@ def handle(args: argparse.Namespace) -> int:
 
 
 def _sweep_drawing(db: Database, sweep: int, *, hopf: bool, fold: bool) -> Drawing:
-    from slopetui.cli.show import fold_curve_of
-    from slopetui.figures.figure_files import sweep_figure
-    from slopetui.sweeps.diagram import load_diagram
-
     diagram = load_diagram(db, sweep)  # UnknownSweep: exit 2, nothing written
     return sweep_figure(diagram, hopf=hopf, fold=fold_curve_of(diagram.spec) if fold else None)
 
 
 def _runs_drawing(db: Database, run_ids: list[int]) -> Drawing:
-    from slopetui.figures.figure_files import runs_figure
-    from slopetui.sweeps.recompute import load_run
-
     runs = []
     for run_id in run_ids:
         run = load_run(db, run_id)

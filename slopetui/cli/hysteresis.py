@@ -12,11 +12,16 @@ import time
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from core.hysteresis import T_SETTLE, TOL, WINDOW, hysteresis
 from core.params import ParameterError, Params
+from core.solve import MAX_RUN_BYTES, MAX_STEPS
 from slopetui.cli.options import UsageError, int_arg, open_db, say_queued
 from slopetui.cli.orbit import point_of
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
+from slopetui.plots.hysteresis_plot import render_hysteresis
+from slopetui.queue.hysteresis_jobs import TOL_MAX, transition_fields
+from slopetui.sweeps.hysteresis_runs import HysteresisSpec, hysteresis_of, submit
 
 if TYPE_CHECKING:
     from core.hysteresis import WarmPoint
@@ -43,9 +48,6 @@ def _number(flag: str, text: str, params: Params | None = None, name: str = "") 
 
 def _checked(args: argparse.Namespace
              ) -> tuple[Params, float, float, float, float, float, float]:
-    from core.hysteresis import T_SETTLE, TOL, WINDOW
-    from core.solve import MAX_RUN_BYTES, MAX_STEPS
-    from slopetui.queue.hysteresis_jobs import TOL_MAX
     params, dt = point_of(args)
     start = _number("from", args.start, params, args.param)
     stop = _number("to", args.stop, params, args.param)
@@ -120,7 +122,6 @@ def _changes(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping
 
 def _plot(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping[str, Any]],
           title: str) -> None:
-    from slopetui.plots.hysteresis_plot import render_hysteresis
     size = shutil.get_terminal_size((100, 30))
     print(render_hysteresis(param, up, down, title=title, width=size.columns,
                             height=max(size.lines - 2, 12)))
@@ -128,14 +129,12 @@ def _plot(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping[st
 
 def _submit(args: argparse.Namespace, params: Params, dt: float, start: float, stop: float,
             t_settle: float, window: float, tol: float) -> int:
-    from slopetui.sweeps.hysteresis_runs import HysteresisSpec, submit
     sid = submit(open_db(args), HysteresisSpec(params, args.param, start, stop, args.points,
                                                dt, t_settle, window, tol))
     return say_queued(args.json, "hysteresis sweep", sid, f"slopetui hysteresis --show {sid}")
 
 
 def _show(args: argparse.Namespace) -> int:
-    from slopetui.sweeps.hysteresis_runs import hysteresis_of
     args.show = int_arg("show", args.show, 1, note=" (a hysteresis sweep id)")
     sweep = hysteresis_of(open_db(args), args.show)
     if sweep is None:
@@ -186,7 +185,6 @@ def handle(args: argparse.Namespace) -> int:
         return 2
     if args.submit:
         return _submit(args, params, dt, start, stop, t_settle, window, tol)
-    from core.hysteresis import hysteresis
     t0 = time.process_time()
 
     def say(direction: str, pt: WarmPoint) -> None:
@@ -197,7 +195,6 @@ def handle(args: argparse.Namespace) -> int:
                         tol)
     took = time.process_time() - t0
     up, down = [fields(p) for p in result.up], [fields(p) for p in result.down]
-    from slopetui.queue.hysteresis_jobs import transition_fields
     found = {**transition_fields("onset_up", result.onset),
              **transition_fields("offset_down", result.offset)}
     if args.json:

@@ -6,9 +6,11 @@ import argparse
 import shutil
 from typing import TYPE_CHECKING
 
+from core.nblock import VARIABLES, compare_with_mean_field
 from core.params import PARAM_NAMES, Params
 from slopetui.cli.options import UsageError, int_arg
 from slopetui.cli.show import use_color
+from slopetui.plots.nblock_plots import render_side_by_side
 
 if TYPE_CHECKING:
     from core.nblock import Comparison
@@ -48,9 +50,6 @@ def _check(args: argparse.Namespace) -> tuple[list[int], list[float]]:
 
 
 def handle(args: argparse.Namespace) -> int:
-    from core.nblock import VARIABLES, compare_with_mean_field
-    from slopetui.plots.nblock_plots import render_side_by_side
-
     ns, ds = _check(args)
     given = {n: getattr(args, n) for n in PARAM_NAMES if n != "d" and getattr(args, n) is not None}
     base = Params(**given)  # ParameterError names the field

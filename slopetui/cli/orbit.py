@@ -9,6 +9,7 @@ import time
 from typing import TYPE_CHECKING
 
 from core.params import PARAM_NAMES, ParameterError, Params
+from core.periodic_orbit import SEED_SPAN, OrbitError, find_orbit
 from slopetui.cli.arguments.orbit import MAX_SEED_STEPS, MIN_T_SEED
 from slopetui.json_text import json_text
 
@@ -54,7 +55,6 @@ def seed_length(text: str, params: Params, dt: float) -> float:
 def check_seed_steps(params: Params, dt: float, t_seed: float) -> None:
     """A ParameterError naming dt when the seed simulation (t_seed, and at least 4 tau +
     600: core.periodic_orbit.find_orbit) would take more than MAX_SEED_STEPS of it."""
-    from core.periodic_orbit import SEED_SPAN
     length = max(t_seed, 4 * params.tau + SEED_SPAN)
     if length > MAX_SEED_STEPS * dt:
         raise ParameterError("dt", dt, f"at least {length:g} / {MAX_SEED_STEPS:g} = "
@@ -111,7 +111,6 @@ def handle(args: argparse.Namespace) -> int:
     except ParameterError as exc:
         print(f"slopetui orbit: error: {exc}", file=sys.stderr)
         return 2
-    from core.periodic_orbit import OrbitError, find_orbit
     t0 = time.process_time()
     try:
         orbit = find_orbit(params, dt, t_seed)

@@ -8,12 +8,14 @@ from pathlib import Path
 
 from slopetui.cli.arguments.reproduce import REPORT_RESOLUTION
 from slopetui.cli.options import UsageError, open_db
+from slopetui.reproduce.report import write_report
 from slopetui.sweeps.presets import BY_KEY, PRESETS
 from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
+from slopetui.sweeps.spec import parse_spec
+from slopetui.sweeps.submit import submit
 
 
 def preset_specs(keys: list[str], resolution: int | None, t_end: float | None) -> list:
-    from slopetui.sweeps.spec import parse_spec
     return [parse_spec(BY_KEY[k].at_resolution(resolution, t_end)) for k in keys]
 
 
@@ -34,14 +36,12 @@ def _check(args: argparse.Namespace) -> list[str]:
 
 def handle(args: argparse.Namespace) -> int:
     if args.list:
-        from slopetui.sweeps.spec import parse_spec
         for p in PRESETS:
             spec = parse_spec(p.spec)
             print(f"{p.key:7} {p.figure:9} {p.title}  [{spec.n_runs} runs at full resolution]")
         return 0
     keys = _check(args)
     if args.report:
-        from slopetui.reproduce.report import write_report
         resolution = args.resolution or REPORT_RESOLUTION
         path, complete = write_report(open_db(args), resolution, args.t_end, Path(args.out),
                                       args.jobs, args.orbits, say=progress_line)
@@ -56,7 +56,6 @@ def handle(args: argparse.Namespace) -> int:
     if total > CONFIRM_ABOVE_RUNS and not args.yes:
         raise UsageError(f"this would queue {total} runs (more than {CONFIRM_ABOVE_RUNS}); add "
                          "--yes, or lower --resolution")
-    from slopetui.sweeps.submit import submit
 
     db = open_db(args)
     for key, spec in zip(keys, specs, strict=True):

@@ -8,9 +8,16 @@ import sys
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
+from core import jit_cache
+from core.lyapunov_bias import bias_note
 from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
+from core.point import run_point
 from core.result_fields import JSON_KEYS as RECORD_JSON_KEYS
+from core.solve import SolverSettings, validate_run
+from core.spectrum import check_count, check_spectrum
+from slopetui.cli.options import open_db
 from slopetui.json_text import json_text as strict_json
+from slopetui.sweeps.carried import final_state_of, parse_history
 
 if TYPE_CHECKING:  # core.point loads numba and the kernels: only `run` itself needs them;
     # core.solve and core.lyapunov_bias load numpy (~0.1 s), which no parser needs
@@ -27,8 +34,6 @@ JSON_KEYS = RECORD_JSON_KEYS
 def parse_inputs(args: argparse.Namespace) -> tuple[Params, SolverSettings]:
     """Build validated Params and SolverSettings from the flags; raises ParameterError.
     A history run:ID is checked for its form here and resolved by ``carried_of``."""
-    from core.solve import SolverSettings, validate_run
-    from slopetui.sweeps.carried import parse_history
     given = {n: getattr(args, n) for n in PARAM_NAMES if getattr(args, n) is not None}
     params = Params(**given)  # strings are checked and coerced
     name, _ = parse_history(getattr(args, "history", "constant"))
@@ -44,7 +49,6 @@ def spectrum_count(args: argparse.Namespace, params: Params, settings: SolverSet
     given = getattr(args, "spectrum", "0")
     if str(given).strip() == "0":
         return 0
-    from core.spectrum import check_count, check_spectrum
     n = check_count(given)
     check_spectrum(params, settings, n)
     return n
@@ -53,11 +57,9 @@ def spectrum_count(args: argparse.Namespace, params: Params, settings: SolverSet
 def carried_of(args: argparse.Namespace, settings: SolverSettings
                ) -> tuple[SolverSettings, CarriedState | None]:
     """The settings naming the carried state of --history run:ID, and that state."""
-    from slopetui.sweeps.carried import final_state_of, parse_history
     _, run_id = parse_history(args.history)
     if run_id is None:
         return settings, None
-    from slopetui.cli.options import open_db
     end = final_state_of(open_db(args), run_id)
     return replace(settings, history=end.name), end
 
@@ -113,7 +115,6 @@ def lambda_text(r: PointResult) -> str:
         interval = r.trajectory.grid.renorm_interval
         return (f"not estimated (the run is too short: one log-growth every {interval:g} "
                 "time units, and the first half of the run is discarded)")
-    from core.lyapunov_bias import bias_note
     note = bias_note(r.params, r.summary.attractor, r.settings.method, r.trajectory.grid.dt,
                      r.lyap.value)
     if not math.isfinite(r.lyap.error):
@@ -131,10 +132,8 @@ def handle(args: argparse.Namespace) -> int:
         return 2
     for w in friction_warnings(params):
         print(f"slopetui run: warning: {w}", file=sys.stderr)
-    from core.jit_cache import compiled
-    from core.point import run_point
 
-    if not compiled(settings.method):  # a silent pause of seconds looks like a hang
+    if not jit_cache.compiled(settings.method):  # a silent pause of seconds looks like a hang
         print(f"slopetui run: compiling the {settings.method} kernel (first use after an "
               "install or a change of the engine; about 4 s, cached after)", file=sys.stderr)
     try:

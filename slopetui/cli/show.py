@@ -15,6 +15,8 @@ from typing import TYPE_CHECKING
 
 from slopetui.cli.arguments.show import MAX_SIZE, MIN_HEIGHT, MIN_WIDTH
 from slopetui.cli.options import UsageError, int_arg, sweep_arg
+from slopetui.plots import render_sweep
+from slopetui.sweeps.diagram import load_drawing
 
 if TYPE_CHECKING:
     from slopetui.sweeps.fold_overlay import Curve
@@ -28,9 +30,6 @@ def use_color(choice: str) -> bool:
 
 
 def handle(args: argparse.Namespace) -> int:
-    from slopetui.plots import render_sweep
-    from slopetui.sweeps.diagram import load_drawing
-
     size = shutil.get_terminal_size((100, 30))
     width = (int_arg("--width", args.width, MIN_WIDTH, MAX_SIZE) if args.width is not None
              else min(size.columns, MAX_SIZE))
@@ -54,6 +53,7 @@ def handle(args: argparse.Namespace) -> int:
 
 def fold_curve_of(spec: SweepSpec) -> Curve | None:
     """The sweep's fold curve, with a line on stderr per tau (it takes a while)."""
+    # here: the continuation loads numba's kernels, which `show` without --fold never needs
     from slopetui.sweeps.fold_overlay import fold_overlay, has_fold_plane
     if not has_fold_plane(spec):
         raise UsageError("--fold draws over a (k, tau), (a, tau), (b, tau) or (c, tau) phase "

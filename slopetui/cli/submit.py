@@ -11,6 +11,8 @@ from core.params import PARAM_NAMES
 from slopetui.cli.options import open_db
 from slopetui.json_text import json_text
 from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
+from slopetui.sweeps.spec import SpecError, parse_axis_flag, parse_spec, read_spec
+from slopetui.sweeps.submit import submit
 
 
 def _merge(data: dict[str, Any], key: str, flags: Mapping[str, Any]) -> None:
@@ -26,7 +28,6 @@ def _merge(data: dict[str, Any], key: str, flags: Mapping[str, Any]) -> None:
 
 def _condition(i: int, text: str) -> dict[str, Any]:
     """One --initial: comma-separated key=value pairs (delta, history)."""
-    from slopetui.sweeps.spec import SpecError
     out: dict[str, Any] = {}
     for part in text.split(","):
         key, sep, value = part.partition("=")
@@ -39,7 +40,6 @@ def _condition(i: int, text: str) -> dict[str, Any]:
 
 def spec_data(args: argparse.Namespace) -> dict[str, Any]:
     """The spec as a mapping: the file's tables, then the flags on top."""
-    from slopetui.sweeps.spec import SpecError, parse_axis_flag, read_spec
     data = read_spec(args.spec) if args.spec else {}
     if args.x:
         data["x"] = parse_axis_flag("--x", args.x)
@@ -64,7 +64,6 @@ def spec_data(args: argparse.Namespace) -> dict[str, Any]:
 def handle(args: argparse.Namespace) -> int:
     # every check happens before the database opens, the admission checks of a new sweep
     # (the engine's limits, the name's characters) included
-    from slopetui.sweeps.spec import parse_spec
     spec = parse_spec(spec_data(args), submitting=True)
     if spec.first_runs > CONFIRM_ABOVE_RUNS and not args.yes:
         what = (f"{spec.first_runs} coarse runs (of a {spec.n_runs}-point lattice)"
@@ -73,7 +72,6 @@ def handle(args: argparse.Namespace) -> int:
               f"{CONFIRM_ABOVE_RUNS}); add --yes to queue it", file=sys.stderr)
         return 2
     db = open_db(args)
-    from slopetui.sweeps.submit import submit
 
     out = submit(db, spec)
     if args.json:

@@ -26,7 +26,14 @@ from slopetui.cli.arguments.worker import (
     MEMORY_RANGE,
 )
 from slopetui.cli.options import UsageError
-from slopetui.queue.local_pool import default_log
+from slopetui.cli.workers import stop_pools
+from slopetui.queue.idle_exit import Owner
+from slopetui.queue.local_pool import PoolRunning, default_log, local_pools, start_detached_pool, store_key
+from slopetui.queue.pool import run_pool
+from slopetui.queue.worker_process import WorkerOptions
+from slopetui.store.open import open_store
+from slopetui.sweeps.adaptive import advance_all
+from slopetui.sweeps.progress import PoolProgress
 
 if TYPE_CHECKING:
     from slopetui.queue.local_pool import LocalPool
@@ -110,7 +117,6 @@ def _already_running(pools: list[LocalPool]) -> UsageError:
 
 
 def _detach(args: argparse.Namespace, db: Database, log: Path) -> int:
-    from slopetui.queue.local_pool import PoolRunning, start_detached_pool
     extra = ["--lease", str(args.lease), "--heartbeat", str(args.heartbeat),
              "--max-attempts", str(args.max_attempts), "--batch", str(args.batch),
              "--memory", str(args.memory), "--connections", str(args.connections)]
@@ -139,36 +145,27 @@ def _detach(args: argparse.Namespace, db: Database, log: Path) -> int:
 def handle(args: argparse.Namespace) -> int:
     _check(args)
     given_log = _log_file(args.log) if args.log is not None else None
-    from slopetui.store.open import open_store
     # read first, while the owner (which has just started this pool) surely still runs
     owner = None
     if args.owner_pid is not None and not args.stop:
-        from slopetui.queue.idle_exit import Owner
         owner = Owner.of(args.owner_pid)
     db = open_store(args.db)  # open (and migrate) now: a bad URL fails here, in the foreground
     if args.stop:
-        from slopetui.cli.workers import stop_pools
         return stop_pools(db, now=args.now)
     url = db.url.render_as_string(hide_password=False)
     if owner is not None:  # the store's other applications count as its owner too
         from dataclasses import replace
 
-        from slopetui.queue.local_pool import store_key
         owner = replace(owner, store=store_key(url))
     log = given_log or default_log()
     log.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
     if args.detach:
         return _detach(args, db, log)
     if not args.another_pool:
-        from slopetui.queue.local_pool import local_pools
         pools, _ = local_pools(db)
         if pools:
             raise _already_running(pools)
     db.dispose()
-    from slopetui.queue.pool import run_pool
-    from slopetui.queue.worker_process import WorkerOptions
-    from slopetui.sweeps.adaptive import advance_all
-    from slopetui.sweeps.progress import PoolProgress
     if sys.stderr.isatty():
         print(f"worker pool: {args.jobs} workers on {db.display_url}; log {log}; Ctrl-C stops",
               file=sys.stderr)

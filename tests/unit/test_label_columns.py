@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from sqlalchemy import text
 
-from core import run_point
+from core.point import run_point
 from core.regimes import REGIMES
 from core.result_fields import ATTRACTORS, FLAGS
 from slopetui.queue import jobs

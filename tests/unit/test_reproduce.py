@@ -52,7 +52,7 @@ def test_bad_reproduce_input(tmp_path, capsys, args, message):
     {"c": 8.0, "k": 12.0, "tau": 1.0}, {"k": 0.0},
 ])
 def test_the_fast_stability_test_matches_the_roots(changes):
-    from core import Params
+    from core.params import Params
     from core.stability import leading_exponent
     from slopetui.reproduce.measures import linearly_stable
 

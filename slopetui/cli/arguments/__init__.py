@@ -7,3 +7,16 @@ without numpy, numba or SQLAlchemy: ``core.params``, ``core.methods``,
 ``slopetui.sweeps.sizes``...), never a handler's module. A range that the help states and
 the handler checks is defined here, and the handler imports it.
 """
+
+from __future__ import annotations
+
+import argparse
+
+from slopetui.store.location import DB_ENV
+
+
+def add_db_option(parser: argparse.ArgumentParser) -> None:
+    """The ``--db URL`` option of the commands that open the store."""
+    parser.add_argument("--db", metavar="URL",
+                        help=f"SQLAlchemy database URL (default: ${DB_ENV}, else SQLite in "
+                             "the user data folder, ~/.local/share/slopetui/slopetui.db)")

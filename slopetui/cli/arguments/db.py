@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from slopetui.cli.options import add_db_option
+from slopetui.cli.arguments import add_db_option
 from slopetui.ops import local_server
 
 #: PostgreSQL needs a few connections for itself (superuser_reserved_connections = 3);

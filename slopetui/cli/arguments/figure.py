@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from slopetui.cli.options import add_db_option
+from slopetui.cli.arguments import add_db_option
 
 #: Runs one comparison overlays at most: beyond this the lines are no longer told apart.
 MAX_RUNS = 8

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 
 from core.params import PARAM_NAMES
+from slopetui.cli.arguments import add_db_option
 from slopetui.cli.arguments.orbit import add_point_options
-from slopetui.cli.options import add_db_option
 
 #: Parameters a warm-started sweep can follow: not tau (the state's history is one delay
 #: long and would change size) nor delta (which only places the first point's start).

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from slopetui.cli.options import add_db_option
+from slopetui.cli.arguments import add_db_option
 from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
 
 #: The report's default: every phase diagram at 20 x 20 at the paper's t_end, about

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from core.regimes import REGIMES
-from slopetui.cli.options import add_db_option
+from slopetui.cli.arguments import add_db_option
 from slopetui.store.statuses import RUN_STATUSES
 
 

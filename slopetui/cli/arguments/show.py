@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from slopetui.cli.options import add_db_option
+from slopetui.cli.arguments import add_db_option
 
 #: The smallest diagram that still has room for its axes, ticks and legend.
 MIN_WIDTH, MIN_HEIGHT = 30, 12

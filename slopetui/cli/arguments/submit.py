@@ -6,8 +6,8 @@ import argparse
 
 from core.methods import METHODS
 from core.params import PARAM_NAMES
+from slopetui.cli.arguments import add_db_option
 from slopetui.cli.arguments.run import PARAM_HELP, accept_negative_numbers
-from slopetui.cli.options import add_db_option
 from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from slopetui.cli.options import add_db_option
+from slopetui.cli.arguments import add_db_option
 from slopetui.ops.connection_slots import DEFAULT_CONNECTIONS
 from slopetui.queue import defaults
 from slopetui.queue.local_pool import default_jobs, default_log
