@@ -39,7 +39,8 @@ from pathlib import Path
 from sqlalchemy import create_engine, func, select
 from sqlalchemy.engine import make_url
 
-from slopetui.store import Run, open_store
+from slopetui.store.models import Run
+from slopetui.store.open import open_store
 from slopetui.sweeps.spec import SweepSpec, parse_spec
 from slopetui.sweeps.submit import submit
 

@@ -31,7 +31,7 @@ from core.params import Params
 from core.point import run_point
 from core.solve import SolverSettings
 from slopetui.queue import jobs
-from slopetui.store import open_store
+from slopetui.store.open import open_store
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from sqlalchemy import Engine
 
-    from slopetui.store import Database
+    from slopetui.store.database import Database
     from slopetui.sweeps.submit import Submitted
 
 #: A cheap point: RK4, tau = 2, t_end = 200, a few ms per run.
@@ -160,7 +160,7 @@ class PgServer:
     def template(self) -> str:
         """The template database at the current schema, made on first use."""
         if self._template is None:
-            from slopetui.store import open_store
+            from slopetui.store.open import open_store
 
             name = f"{self.prefix}_template"
             # (one of the same name is a leftover of a killed pytest with the same pid)

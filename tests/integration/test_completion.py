@@ -95,7 +95,7 @@ def test_sweep_ids_from_slopetui_db(db, db_url, tmp_path):
 
 
 def test_sweep_ids_from_the_default_store(tmp_path):
-    from slopetui.store import open_store
+    from slopetui.store.open import open_store
 
     default = tmp_path / "home" / "data" / "slopetui" / "slopetui.db"
     default.parent.mkdir(parents=True)

@@ -18,7 +18,7 @@ from slopetui.queue.batch_memory import MIB, OVERHEAD, REDO, charge, fitting, fi
 from slopetui.queue.jobs import Job, claim_batch
 from slopetui.queue.pool import Pool
 from slopetui.queue.worker_process import BATCHED_METHODS, WorkerOptions, _within_memory
-from slopetui.store import Run
+from slopetui.store.models import Run
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 

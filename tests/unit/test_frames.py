@@ -24,7 +24,7 @@ import slopetui
 from core.result_fields import RESULT_NAMES
 from slopetui.cli import export as export_cli
 from slopetui.cli import main
-from slopetui.store import Database
+from slopetui.store.database import Database
 from slopetui.store.models import Run
 from slopetui.sweeps.control import UnknownSweep, cancel
 from slopetui.sweeps.export import COLUMNS

@@ -65,7 +65,8 @@ def test_an_interrupted_report_draws_no_verdict_from_missing_runs(tmp_path, caps
     """Ctrl-C after a few hundred runs once wrote "5381 runs" and DISAGREE verdicts for
     figures that had no runs at all ("nan% of 0 runs agree")."""
     from slopetui.reproduce import report
-    from slopetui.store import Run, Sweep, open_store
+    from slopetui.store.models import Run, Sweep
+    from slopetui.store.open import open_store
     from tests.support import finish_all
 
     url = f"sqlite:///{tmp_path / 's.db'}"
