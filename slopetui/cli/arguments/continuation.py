@@ -1,4 +1,4 @@
-"""The arguments of ``slopetui continuation``."""
+"""The arguments of ``slopetui continue``."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The arguments of ``slopetui control``."""
+"""The arguments of ``slopetui cancel``, ``pause`` and ``resume``."""
 
 from __future__ import annotations
 

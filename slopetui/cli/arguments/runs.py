@@ -1,4 +1,4 @@
-"""The arguments of ``slopetui runs``."""
+"""The arguments of ``slopetui runs`` and ``slopetui export``."""
 
 from __future__ import annotations
 
