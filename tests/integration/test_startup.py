@@ -5,8 +5,9 @@ A one-second `slopetui run` took ~5 s of wall time, most of it imports: every su
 module loaded numba, Alembic, SQLAlchemy and the plots at the top. The rule now: the
 parser is built from the light modules of slopetui.cli.arguments, and a command's handler
 module, which imports what it needs at its top, is imported only when it runs
-(slopetui.cli); the commands that compute nothing load neither numba nor numpy (the targets: `--help` ≤ 0.5 s, `status` ≤ 1 s, `show` of a 100 x 100 sweep
-≤ 1 s; benchmarks/bench_startup.py times them), and `show` reads a SQLite store without
+(slopetui.cli); the commands that compute nothing load neither numba nor numpy (the
+targets: `--help` ≤ 0.5 s, `status` ≤ 1 s, `show` of a 100 x 100 sweep ≤ 1 s;
+benchmarks/bench_startup.py times them), and `show` reads a SQLite store without
 SQLAlchemy. These tests keep it from drifting back: each command runs in a fresh
 process, which then names the heavy modules it loaded.
 """
