@@ -2,7 +2,7 @@
 """The ``slopetui`` command line, built from a table: each command's arguments are declared
 by a light module of ``slopetui.cli.arguments`` (``--help`` and shell completion build the
 whole parser from them), and its handler's module, which imports at its top whatever the
-command needs (SQLAlchemy, numpy, numba's kernels), is imported only when that command runs.
+command needs (the store, numpy, numba's kernels), is imported only when that command runs.
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ APPLICATION = "slopetui.tui.app:run_app"
 #: not loaded then cannot have been raised, and the check is exact. Importing the classes
 #: here instead would give every command, `example` and `completion` included, the
 #: imports of the heaviest: core.orbit loads numba (0.5 s), slopetui.sweeps.spec numpy
-#: (0.15 s), slopetui.sweeps.control SQLAlchemy (0.3 s) (python -c "import M", this host).
+#: (0.15 s), slopetui.sweeps.control the store (0.3 s) (python -c "import M", this host).
 USER_ERRORS = (("core.params", "ParameterError"), ("core.orbit", "OrbitError"),
                ("slopetui.sweeps.spec", "SpecError"), ("slopetui.store.failures", "StoreError"),
                ("slopetui.sweeps.control", "UnknownSweep"), ("slopetui.cli.options", "UsageError"))
