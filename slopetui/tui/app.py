@@ -2,50 +2,59 @@
 continuations (branches).
 
 ``slopetui`` with no arguments opens it on the default database and starts a detached
-local worker pool, or attaches to the one already running on this host. The pool lives
-on after the application quits: queued work is never lost by quitting.
+local worker pool, or attaches to the one already running on this host
+(``slopetui.tui.worker_pool``).
 
-The app's thread workers (opening the store, the pool, pausing a sweep) report back as the
-screens' do: with a message, handled on the UI thread.
+What takes time (opening the store, the pool, pausing a sweep, writing a figure or an
+export) is a background action: a function run in a thread worker, whose outcome comes
+back to the UI thread in one way (``slopetui.tui.background``).
 
 Keys: the footer of every screen shows the app's two (? help, ctrl+q quit) besides the
 screen's own; the others (1-4, n, v) are in the help (? or F1, generated from the
 bindings) and in the command palette (ctrl+p, ``slopetui.tui.commands``), which also
 takes what a key cannot (open run 12, new sweep from a preset, export a sweep).
+
+The run detail and compare screens are imported when first opened: they recompute runs
+(``slopetui.sweeps.recompute``), which loads numba and scipy, 0.28 s of CPU (241 modules;
+``python -X importtime``, measured after the application's own imports) that an
+application showing only stored results never needs.
 """
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from rich.text import Text
-from textual import on, work
+from textual import on
 from textual.app import App, SystemCommand
 from textual.binding import Binding
-from textual.message import Message
 from textual.screen import Screen
 from textual.widget import AwaitMount
 from textual.widgets import Select
+from textual.worker import Worker
 
 from slopetui.display_text import terminal_safe_lines
 from slopetui.store.database import Database
 from slopetui.store.open import open_store
+from slopetui.sweeps import control, export_files
 from slopetui.sweeps.fold_overlay import Curve
+from slopetui.tui import figure_writing
+from slopetui.tui.background import BackgroundActions
 from slopetui.tui.commands import SlopeCommands
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.screens.branches import BranchesScreen
 from slopetui.tui.screens.error import StoreChoice, StoreErrorScreen
 from slopetui.tui.screens.help import HelpScreen
+from slopetui.tui.screens.new_sweep import NewSweepScreen
 from slopetui.tui.screens.queue import QueueScreen
 from slopetui.tui.screens.sql import SqlScreen
 from slopetui.tui.screens.sweeps import SweepsScreen
+from slopetui.tui.worker_pool import attach_pool
 
-if TYPE_CHECKING:  # matplotlib is loaded by the first figure, not by the application
-    from slopetui.figures.output import Drawing
+if TYPE_CHECKING:
     from slopetui.sweeps.diagram import SweepDiagram
     from slopetui.sweeps.recompute import StoredRun, Traces
 
@@ -123,6 +132,7 @@ class SlopeApp(App[None], inherit_bindings=False):
         #: the switch under way goes to one of them (``switch_mode``).
         self._built_modes = {self.DEFAULT_MODE}
         self._switching_to_built = False
+        self.background = BackgroundActions(self)
 
     # -- switching modes --
 
@@ -151,57 +161,12 @@ class SlopeApp(App[None], inherit_bindings=False):
         if not self._switching_to_built:  # switch_mode says why
             super().delay_update(delay)
 
-    # -- messages from the app's workers --
-
-    @dataclass
-    class StoreOpened(Message):
-        db: Database
-
-    @dataclass
-    class StoreOpenFailed(Message):
-        cause: str
-
-    @dataclass
-    class PoolAttached(Message):
-        """Attached to this host's worker pool, or started one: what to tell the user."""
-
-        text: str
-
-    @dataclass
-    class PoolFailed(Message):
-        cause: str
-
-    @dataclass
-    class SweepControlled(Message):
-        """A sweep was paused, resumed or cancelled: ``text`` says so (control.apply)."""
-
-        text: str
-
-    @dataclass
-    class SweepControlFailed(Message):
-        action: str
-        sweep_id: int
-        cause: str
-
-    @dataclass
-    class FigureWritten(Message):
-        paths: list[Path]
-
-    @dataclass
-    class FigureFailed(Message):
-        cause: str
-
-    @dataclass
-    class SweepExported(Message):
-        text: str
-
-    @dataclass
-    class ExportFailed(Message):
-        sweep_id: int
-        cause: str
-
     def on_mount(self) -> None:
         self.open_store()
+
+    @on(Worker.StateChanged)
+    def _worker_state_changed(self, event: Worker.StateChanged) -> None:
+        self.background.ended(event)  # a background action's outcome (slopetui.tui.background)
 
     # -- keys, help and the palette --
 
@@ -225,52 +190,28 @@ class SlopeApp(App[None], inherit_bindings=False):
             if command.title != "Quit":
                 yield command
 
-    @work(thread=True, exclusive=True, group="store")
+    # -- the store and the worker pool --
+
     def open_store(self) -> None:
         """Open (and migrate) the store off the UI thread; then attach to or start a pool."""
-        try:
-            db = open_store(self.db_url)  # the store module's function, not this method
-        except Exception as exc:  # any failure to open is shown, never a traceback
-            self.post_message(self.StoreOpenFailed(f"{type(exc).__name__}: {exc}"))
-            return
-        self.post_message(self.StoreOpened(db))
-        if self.start_workers:
-            self.attach_pool(db)
+        url = self.db_url
+        # the store module's open_store, not this method
+        self.background.start(lambda: open_store(url), done=self._store_opened,
+                              failed=self._store_open_failed, group="store", exclusive=True)
 
-    def attach_pool(self, db: Database) -> None:
-        """In the store's worker: find or start the pool (it may take a few seconds)."""
-        from slopetui.queue.defaults import IDLE_GRACE_S
-        from slopetui.queue.local_pool import local_pools, start_detached_pool, store_key
-        from slopetui.queue.open_apps import record_app
-        try:
-            # open on this store: a pool another application started stays while it is
-            record_app(store_key(db.url.render_as_string(hide_password=False)), os.getpid())
-            pools, _ = local_pools(db)  # a pool still warming up has no workers yet
-            if pools:
-                n = sum(len(p.workers) for p in pools)
-                message = (f"attached to the worker pool of this host (pid "
-                           f"{', '.join(str(p.pid) for p in pools)}, {n} workers)")
-            else:
-                # its owner is this process: it leaves once the application has quit and
-                # the store has been idle for the grace period (slopetui.queue.idle_exit)
-                pid, log = start_detached_pool(db, extra=("--owner-pid", str(os.getpid())))
-                message = (f"worker pool started (pid {pid}, log {log}); after you quit it "
-                           f"finishes the queue, then leaves once the store has been idle "
-                           f"for {IDLE_GRACE_S:g} s")
-        except Exception as exc:
-            self.post_message(self.PoolFailed(str(exc)))
-            return
-        self.post_message(self.PoolAttached(message))
-
-    @on(StoreOpened)
-    def _store_opened(self, message: StoreOpened) -> None:
-        self.db = message.db  # on the UI thread, before the screen in view is told
+    def _store_opened(self, db: Database) -> None:
+        self.db = db  # before the screen in view is told
         self.store_error = None
         self.refresh_active_screen()
+        if self.start_workers:
+            self.background.start(
+                partial(attach_pool, db), group="pool",
+                done=lambda text: self.notify_text(text, timeout=6),
+                failed=lambda exc: self.notify_text(f"could not start workers: {exc}",
+                                                    severity="error", timeout=10))
 
-    @on(StoreOpenFailed)
-    def _store_open_failed(self, message: StoreOpenFailed) -> None:
-        self.store_error = message.cause
+    def _store_open_failed(self, exc: Exception) -> None:
+        self.store_error = f"{type(exc).__name__}: {exc}"
         self.refresh_bindings()  # ctrl+o is active now
         self.action_store_dialog()
 
@@ -306,14 +247,6 @@ class SlopeApp(App[None], inherit_bindings=False):
         self.refresh_active_screen()  # "Opening the store…" again
         self.open_store()
 
-    @on(PoolAttached)
-    def _pool_attached(self, message: PoolAttached) -> None:
-        self.notify_text(message.text, timeout=6)
-
-    @on(PoolFailed)
-    def _pool_failed(self, message: PoolFailed) -> None:
-        self.notify_text(f"could not start workers: {message.cause}", severity="error", timeout=10)
-
     def notify_text(self, text: str, **kwargs: Any) -> None:
         """A notification whose text may quote stored text, a database's message or a path:
         its control characters escaped (slopetui.display_text) and never read as markup (a
@@ -325,28 +258,25 @@ class SlopeApp(App[None], inherit_bindings=False):
         if isinstance(self.screen, SlopeScreen):  # not an error or the command palette
             self.screen.refresh_data()
 
-    @work(thread=True, group="sweep-control")
     def control_sweep(self, action: str, sweep_id: int) -> None:
         """Pause, resume or cancel a sweep (from any screen), then refresh the view."""
-        from slopetui.sweeps import control
-        try:
-            if self.db is None:  # the screens offer the keys once the store is open
+        db = self.db
+
+        def apply() -> str:
+            if db is None:  # the screens offer the keys once the store is open
                 raise RuntimeError("the database is not open yet")
-            text = control.apply(self.db, action, sweep_id)
-        except Exception as exc:
-            self.post_message(self.SweepControlFailed(action, sweep_id, str(exc)))
-            return
-        self.post_message(self.SweepControlled(text))
+            return control.apply(db, action, sweep_id)
 
-    @on(SweepControlled)
-    def _sweep_controlled(self, message: SweepControlled) -> None:
-        self.notify_text(message.text)
-        self.refresh_active_screen()
+        def done(text: str) -> None:
+            self.notify_text(text)
+            self.refresh_active_screen()
 
-    @on(SweepControlFailed)
-    def _sweep_control_failed(self, message: SweepControlFailed) -> None:
-        self.notify_text(f"{message.action} sweep {message.sweep_id}: {message.cause}",
-                         severity="error", timeout=8)
+        self.background.start(
+            apply, done=done, group="sweep-control",
+            failed=lambda exc: self.notify_text(f"{action} sweep {sweep_id}: {exc}",
+                                                severity="error", timeout=8))
+
+    # -- screens pushed on top --
 
     async def action_new_sweep(self) -> None:
         await self.new_sweep()
@@ -354,17 +284,16 @@ class SlopeApp(App[None], inherit_bindings=False):
     async def new_sweep(self, preset: str | None = None) -> None:
         """The new-sweep form, filled with ``preset`` (a key of sweeps.presets) if given:
         choosing it in the form's preset list fills the fields, as a click would."""
-        from slopetui.tui.screens.new_sweep import NewSweepScreen
         screen = NewSweepScreen()
         await self.push_screen(screen)  # mounted: its fields exist
         if preset is not None:
             screen.query_one("#preset", Select).value = preset
 
     def open_run(self, run_id: int) -> None:
-        from slopetui.tui.screens.run_detail import RunDetailScreen
+        from slopetui.tui.screens.run_detail import RunDetailScreen  # numba: module docstring
         self.push_screen(RunDetailScreen(run_id))
 
-    # -- runs marked for comparison, and figures --
+    # -- runs marked for comparison, figures and exports --
 
     def toggle_mark(self, run_id: int) -> None:
         """Mark a run for the compare screen, or unmark it; say what is marked."""
@@ -383,69 +312,49 @@ class SlopeApp(App[None], inherit_bindings=False):
             self.notify("mark two or more runs with m (in a diagram or a run's detail), "
                         "then press v", severity="warning")
             return
-        from slopetui.tui.screens.compare import CompareScreen
+        from slopetui.tui.screens.compare import CompareScreen  # numba: module docstring
         self.push_screen(CompareScreen(self.marked))
 
     def write_sweep_figure(self, diagram: SweepDiagram) -> None:
         """Write the sweep's figure (its diagram, with the fold curve if computed)."""
-        from slopetui.figures.figure_files import sweep_figure, sweep_stem
-        fold = self.fold_curves.get(diagram.id)
-        self.write_figure(lambda: sweep_figure(diagram, fold=fold), sweep_stem(diagram.id))
+        fold, folder = self.fold_curves.get(diagram.id), self.figure_folder
+        self._write_figure(lambda: figure_writing.write_sweep_figure(diagram, fold, folder))
 
     def write_runs_figure(self, runs: Sequence[tuple[StoredRun, Traces]]) -> None:
         """Write the figure of runs already recomputed: one run's four panels, or the
         comparison of several."""
-        from slopetui.figures.figure_files import runs_stem
-        from slopetui.figures.run_figure import run_drawing
-        pairs = list(runs)
-        self.write_figure(lambda: run_drawing(pairs), runs_stem([r.id for r, _ in pairs]))
+        pairs, folder = list(runs), self.figure_folder
+        self._write_figure(lambda: figure_writing.write_runs_figure(pairs, folder))
 
-    @work(thread=True, group="figure")
-    def write_figure(self, make: Callable[[], Drawing], stem: str) -> None:
-        """Draw and write a figure off the UI thread (matplotlib takes ~1 s to load and
-        a second or two to draw), under a name not yet taken in ``figure_folder``."""
-        from slopetui.figures.figure_files import unused_path
-        from slopetui.figures.output import write
-        try:
-            paths = write(make(), unused_path(self.figure_folder, stem))
-        except Exception as exc:  # an unwritable folder, a full disk: shown, never a traceback
-            self.post_message(self.FigureFailed(f"{type(exc).__name__}: {exc}"))
-            return
-        self.post_message(self.FigureWritten(paths))
+    def _write_figure(self, write: Callable[[], list[Path]]) -> None:
+        """Draw and write a figure in ``figure_folder`` off the UI thread
+        (slopetui.tui.figure_writing); an unwritable folder, a full disk: shown."""
+        self.background.start(
+            write, group="figure",
+            done=lambda paths: self.notify_text(figure_writing.written_text(paths), timeout=10),
+            failed=lambda exc: self.notify_text(
+                f"could not write the figure: {type(exc).__name__}: {exc}", severity="error",
+                timeout=10))
 
-    @on(FigureWritten)
-    def _figure_written(self, message: FigureWritten) -> None:
-        figure, *data = message.paths
-        beside = f" (its data: {', '.join(p.name for p in data)})" if data else ""
-        self.notify_text(f"figure written: {figure}{beside}", timeout=10)
-
-    @on(FigureFailed)
-    def _figure_failed(self, message: FigureFailed) -> None:
-        self.notify_text(f"could not write the figure: {message.cause}", severity="error", timeout=10)
-
-    @work(thread=True, group="export")
     def export_sweep(self, sweep_id: int, fmt: str) -> None:
         """Write the sweep's runs as CSV or JSON (``slopetui export``'s formats) into a new
         file in ``figure_folder``, off the UI thread."""
-        from slopetui.sweeps.export_files import export_sweep
-        try:
-            if self.db is None:
+        db, folder = self.db, self.figure_folder
+
+        def export() -> export_files.Exported:
+            if db is None:
                 raise RuntimeError("the database is not open yet")
-            exported = export_sweep(self.db, sweep_id, fmt, self.figure_folder)
-        except Exception as exc:  # an unknown sweep, an unwritable folder: shown
-            self.post_message(self.ExportFailed(sweep_id, f"{type(exc).__name__}: {exc}"))
-            return
-        self.post_message(self.SweepExported(
-            f"{exported.runs} runs of sweep {sweep_id} written to {exported.path}"))
+            return export_files.export_sweep(db, sweep_id, fmt, folder)
 
-    @on(SweepExported)
-    def _sweep_exported(self, message: SweepExported) -> None:
-        self.notify_text(message.text, timeout=10)  # a path may hold brackets
-
-    @on(ExportFailed)
-    def _export_failed(self, message: ExportFailed) -> None:
-        self.notify_text(f"could not export sweep {message.sweep_id}: {message.cause}",
-                         severity="error", timeout=10)
+        # an unknown sweep, an unwritable folder: shown; a path may hold brackets
+        self.background.start(
+            export, group="export",
+            done=lambda exported: self.notify_text(
+                f"{exported.runs} runs of sweep {sweep_id} written to {exported.path}",
+                timeout=10),
+            failed=lambda exc: self.notify_text(
+                f"could not export sweep {sweep_id}: {type(exc).__name__}: {exc}",
+                severity="error", timeout=10))
 
 
 def run_app(db_url: str | None = None, *, start_workers: bool = True) -> int:

@@ -308,3 +308,39 @@ def test_the_form_takes_a_history_and_a_list_of_deltas(db):
         assert {r.history for r in runs} == {"consistent"} and len(runs) == 24
 
     run(scenario)
+
+
+def test_a_background_action_ends_in_done_or_failed_and_a_replaced_one_in_neither(db):
+    """The app's one pattern for what takes time (slopetui.tui.background): the action's
+    return value reaches done, its exception failed (the application runs on), and an
+    action of an exclusive group replaced by a newer one reaches neither."""
+    import threading
+
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            ended: list[object] = []
+            release = threading.Event()
+
+            def slow() -> str:
+                release.wait(10)
+                return "replaced"
+
+            def fail() -> str:
+                raise OSError("disk full")
+
+            app.background.start(slow, done=ended.append, failed=ended.append, group="t",
+                                 exclusive=True)
+            app.background.start(lambda: "newer", done=ended.append, failed=ended.append,
+                                 group="t", exclusive=True)
+            app.background.start(fail, done=ended.append, failed=ended.append, group="u")
+            await wait_until(pilot, lambda: len(ended) == 2)
+            release.set()
+            await app.workers.wait_for_complete()
+            await pilot.pause(0.2)
+            assert "newer" in ended and "replaced" not in ended and len(ended) == 2
+            failure = next(e for e in ended if e != "newer")
+            assert isinstance(failure, OSError) and str(failure) == "disk full"
+            assert app.is_running
+
+    run(scenario)

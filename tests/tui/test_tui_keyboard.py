@@ -214,6 +214,45 @@ def test_the_palette_exports_the_selected_sweep_and_pauses_a_sweep_by_id(db, tmp
     run(scenario)
 
 
+def test_cancel_by_id_asks_about_a_known_sweep_and_says_a_failed_read(db, monkeypatch):
+    """"cancel sweep 3" from the palette reads the sweep's progress in the background:
+    a known sweep gets the question, an unknown one a notice, and a read that fails a
+    notice too (a failed read ended the application with a traceback)."""
+    from slopetui.tui.screens import confirm
+
+    sweep = submit_quick(db, 3).sweep_id
+    status = _status(db, sweep)
+
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await wait_until(pilot, lambda: app.db is not None)
+            confirm.ask_then_control_id(app, "cancel", sweep)
+            await wait_until(pilot, lambda: isinstance(app.screen, confirm.ConfirmScreen))
+            await pilot.press("n")
+            await wait_until(pilot, lambda: isinstance(app.screen, SweepsScreen))
+
+            def notice_after(start) -> str:
+                before = len(app._notifications)
+                start()
+                return wait_until(pilot, lambda: len(app._notifications) > before)
+
+            await notice_after(lambda: confirm.ask_then_control_id(app, "cancel", sweep + 9))
+            assert list(app._notifications)[-1].message == f"cancel sweep {sweep + 9}: no such sweep"
+
+            def fail(*_args):
+                raise OSError("disk I/O error")
+            monkeypatch.setattr(confirm, "sweep_progress", fail)
+            monkeypatch.setattr("slopetui.sweeps.progress.sweep_progress", fail)  # where it was read
+            await notice_after(lambda: confirm.ask_then_control_id(app, "cancel", sweep))
+            assert list(app._notifications)[-1].message \
+                == f"cancel sweep {sweep}: OSError: disk I/O error"
+            monkeypatch.undo()
+            assert app.is_running and _status(db, sweep) == status  # not cancelled
+
+    run(scenario)
+
+
 def _status(db, sweep_id: int) -> str:
     from slopetui.sweeps.progress import sweep_progress
     return next(p.status for p in sweep_progress(db) if p.id == sweep_id)

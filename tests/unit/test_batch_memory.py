@@ -156,9 +156,9 @@ def test_a_batch_writes_its_re_integrations_over_the_lanes_samples():
 
 def test_a_batch_holds_its_runs_and_one_run_more():
     """The memory a batch takes (numpy's arrays, traced) is its runs' (memory_of) and at
-    most one run's more, however many lanes are re-integrated: each re-integrated lane
-    used to keep arrays of its own beside the batch's (4 runs' more here), and the flags
-    concatenated every sample of a lane (2 runs' at once)."""
+    most one run's more, however many lanes are re-integrated: a re-integrated lane that
+    kept arrays of its own beside the batch's would take 4 runs' more here, and flags that
+    concatenated every sample of a lane 2 runs' at once."""
     sizes = [memory_of(make_grid(p, REDO_SETTINGS), REDO_SETTINGS).total for p in REDONE]
     padded = sum(sizes) + -len(sizes) % VECTOR * sizes[-1]
     run_batch(REDONE[:MIN_LANES], SolverSettings(method="euler", t_end=20.0, window=10.0))

@@ -2,9 +2,10 @@
 transition comes with its grid bracket (the last value on the old attractor, the first on
 the new) and is bisected inside it, from the carried state, to a relative tolerance. Up
 from rest it lands on the Hopf point (the exact formula, core.stability.hopf_k); down from
-the cycle on the fold of cycles (continuation, an independent method). On the old code the
-grid gave 6.269 and 1.077 on the default 40 points, one step beyond both, and 1.077 on the
-wrong side of the fold."""
+the cycle on the fold of cycles (continuation, an independent method). The grid alone
+cannot say more than its bracket: on the default 40 points its first values on the new
+attractor, 6.269 and 1.077, are one step beyond both, and 1.077 is on the wrong side of
+the fold."""
 
 from __future__ import annotations
 
@@ -89,9 +90,9 @@ def test_the_default_sweep_at_tau_10_gives_the_hopf_point_and_the_fold():
     step = 7.5 / 39
     assert h.onset is not None and h.offset is not None
     assert h.onset.before == pytest.approx(6.0769, abs=1e-4)
-    assert h.onset.after == pytest.approx(6.2692, abs=1e-4)  # the old code's 6.269
+    assert h.onset.after == pytest.approx(6.2692, abs=1e-4)  # the grid's end of the bracket, not the transition
     assert h.offset.before == pytest.approx(1.2692, abs=1e-4)
-    assert h.offset.after == pytest.approx(1.0769, abs=1e-4)  # the old code's 1.077
+    assert h.offset.after == pytest.approx(1.0769, abs=1e-4)  # the grid's end, beyond the fold
     assert abs(h.onset.before - h.onset.after) == pytest.approx(step)
     for k_h in (HOPF_TAU10, hopf_k(10.0, Params().F1)):
         assert h.onset_up is not None and abs(h.onset_up - k_h) <= TOL * k_h

@@ -46,7 +46,7 @@ def test_the_backlog_counts_paused_runs_apart_and_every_kind_of_job(store):
     control.pause(store, sub.sweep_id)
     paused = backlog(store)
     assert paused == Backlog(claimable=0, running=0, paused=3)
-    assert paused.idle and not paused.drained  # what --exit-when-idle used to leave on
+    assert paused.idle and not paused.drained  # paused runs alone: --exit-when-idle leaves
     control.resume(store, sub.sweep_id)
     jobs.claim(store, "w1")
     assert backlog(store) == Backlog(claimable=2, running=1, paused=0)
@@ -228,7 +228,7 @@ def test_the_application_starts_its_pool_as_its_owner_and_says_when_it_leaves(db
                                                                                tmp_path):
     monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path / "state"))
     from slopetui.queue import local_pool
-    from slopetui.tui.app import SlopeApp
+    from slopetui.tui.worker_pool import attach_pool
 
     started: dict[str, object] = {}
 
@@ -237,14 +237,11 @@ def test_the_application_starts_its_pool_as_its_owner_and_says_when_it_leaves(db
         return 4242, local_pool.default_log()
     monkeypatch.setattr(local_pool, "local_pools", lambda _db: ([], []))
     monkeypatch.setattr(local_pool, "start_detached_pool", start)
-    app = SlopeApp(db.display_url, start_workers=False)
-    said: list[object] = []
-    monkeypatch.setattr(app, "post_message", said.append)
-    app.attach_pool(db)
+    said = attach_pool(db)
     assert started["extra"] == ("--owner-pid", str(os.getpid()))
     assert open_apps(local_pool.store_key(db.url.render_as_string(hide_password=False))) \
         == [os.getpid()]
-    assert "leaves once the store has been idle for 60 s" in said[0].text  # type: ignore[attr-defined]
+    assert "leaves once the store has been idle for 60 s" in said
 
 
 def test_a_pool_the_application_finds_gets_no_owner(db, monkeypatch, tmp_path):
@@ -253,14 +250,10 @@ def test_a_pool_the_application_finds_gets_no_owner(db, monkeypatch, tmp_path):
     only a pool started by an application reads)."""
     monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path / "state"))
     from slopetui.queue import local_pool
-    from slopetui.tui.app import SlopeApp
+    from slopetui.tui.worker_pool import attach_pool
 
     monkeypatch.setattr(local_pool, "local_pools",
                         lambda _db: ([local_pool.LocalPool(4242)], []))
     monkeypatch.setattr(local_pool, "start_detached_pool",
                         lambda *_, **__: pytest.fail("started a second pool"))
-    app = SlopeApp(db.display_url, start_workers=False)
-    said: list[object] = []
-    monkeypatch.setattr(app, "post_message", said.append)
-    app.attach_pool(db)
-    assert "attached to the worker pool of this host (pid 4242" in said[0].text  # type: ignore[attr-defined]
+    assert "attached to the worker pool of this host (pid 4242" in attach_pool(db)

@@ -10,8 +10,8 @@ A screen with live data (sweeps, queue, branches) reloads it every ``app.refresh
 seconds while it is in view, and not at all while another screen covers it (a mode
 switched away from, a screen pushed on top): ``refresh_while_shown`` starts the timer, the
 screen's suspend pauses it, and its resume restarts it and catches up as soon as the
-screen is drawn. A hidden sweeps screen used to re-read its 10,000 runs every 2 s behind
-the queue screen.
+screen is drawn: a hidden sweeps screen would otherwise re-read its 10,000 runs every 2 s
+behind the queue screen.
 
 Textual declares its own ``app`` this way (``textual.getters.app``) for the type checker
 only; at run time Screen's property already returns the SlopeApp. (Declared for real,

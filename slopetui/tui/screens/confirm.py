@@ -25,9 +25,9 @@ from textual.screen import ModalScreen
 from textual.widgets import Button, Static
 
 from slopetui.display_text import terminal_safe
+from slopetui.sweeps.progress import SweepProgress, sweep_progress
 
 if TYPE_CHECKING:
-    from slopetui.sweeps.progress import SweepProgress
     from slopetui.tui.app import SlopeApp
 
 
@@ -117,20 +117,25 @@ def ask_then_control(app: SlopeApp, action: str, sweep: SweepProgress) -> None:
 
 def ask_then_control_id(app: SlopeApp, action: str, sweep_id: int) -> None:
     """ask_then_control for a sweep known by its id only (the command palette's "cancel
-    sweep 3"): its progress (what the question counts) is read in a thread worker, then
-    the question is asked on the UI thread; an unknown sweep is said, not asked about."""
+    sweep 3"): its progress (what the question counts) is read in a background action
+    (slopetui.tui.background), then the question is asked on the UI thread; an unknown
+    sweep is said, not asked about, and so is a failed read."""
     if action not in QUESTIONS:
         app.control_sweep(action, sweep_id)
         return
 
-    def read() -> None:
-        from slopetui.sweeps.progress import sweep_progress
-        db = app.db
-        found = sweep_progress(db, [sweep_id]) if db is not None else []
-        if found:
-            app.call_from_thread(ask_then_control, app, action, found[0])
-        else:
-            app.call_from_thread(app.notify, f"{action} sweep {sweep_id}: no such sweep",
-                                 severity="error")
+    db = app.db
 
-    app.run_worker(read, thread=True, group="confirm-read")
+    def read() -> list[SweepProgress]:
+        return sweep_progress(db, [sweep_id]) if db is not None else []
+
+    def asked(found: list[SweepProgress]) -> None:
+        if found:
+            ask_then_control(app, action, found[0])
+        else:
+            app.notify(f"{action} sweep {sweep_id}: no such sweep", severity="error")
+
+    app.background.start(
+        read, done=asked, group="confirm-read",
+        failed=lambda exc: app.notify_text(f"{action} sweep {sweep_id}: {type(exc).__name__}: "
+                                           f"{exc}", severity="error", timeout=8))

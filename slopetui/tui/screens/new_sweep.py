@@ -42,8 +42,10 @@ from textual.widgets import (
 from core.history import HISTORIES
 from core.methods import METHODS
 from core.params import PARAM_NAMES, Params, friction_warnings
-from slopetui.sweeps.estimate import describe
+from slopetui.queue.local_pool import default_jobs
+from slopetui.sweeps.estimate import describe, measured_speeds
 from slopetui.sweeps.presets import BY_KEY, PRESETS
+from slopetui.sweeps.progress import live_workers
 from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
 from slopetui.sweeps.spec import SpecError, SweepSpec, parse_spec
 from slopetui.sweeps.submit import submit
@@ -216,9 +218,6 @@ class NewSweepScreen(SlopeScreen[int | None]):
         db = self.db
         if db is None:
             return
-        from slopetui.queue.pool import default_jobs
-        from slopetui.sweeps.estimate import measured_speeds
-        from slopetui.sweeps.progress import live_workers
         try:
             n = len(live_workers(db)) or default_jobs()
             speeds = measured_speeds(db)
