@@ -3,6 +3,10 @@
 by a light module of ``slopetui.cli.arguments`` (``--help`` and shell completion build the
 whole parser from them), and its handler's module, which imports at its top whatever the
 command needs (the store, numpy, numba's kernels), is imported only when that command runs.
+
+A new command is a module of ``slopetui.cli.arguments`` with ``declare(sub)`` (named in
+ARGUMENTS), and its handler, ``handle(args) -> exit status``, in a module of its own
+(named in HANDLERS); tests/unit/test_cli.py checks that the two tables agree.
 """
 
 from __future__ import annotations
