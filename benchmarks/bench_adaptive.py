@@ -93,9 +93,10 @@ def compute_queued(db: Database, path: Path, workers: int) -> int:
                        check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         return 0
     n = 0
-    while (job := jobs.claim(db, "bench")) is not None:
-        jobs.complete(db, job, "bench", run_point(job.params, job.settings).as_record())
-        n += 1
+    while batch := jobs.claim_batch(db, "bench", 1):
+        for job in jobs.begin(db, batch, "bench"):
+            jobs.complete(db, job, "bench", run_point(job.params, job.settings).as_record())
+            n += 1
     return n
 
 

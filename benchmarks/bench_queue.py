@@ -50,9 +50,11 @@ def overhead_worker(url: str, worker_id: str, out: mp.Queue) -> None:
     times = []
     while True:
         t0 = time.perf_counter()
-        job = jobs.claim(db, worker_id)
-        if job is None:
+        # one run claimed and begun: the batch claim with a batch of 1
+        batch = jobs.begin(db, jobs.claim_batch(db, worker_id, 1), worker_id)
+        if not batch:
             break
+        job = batch[0]
         jobs.cached_result(db, job)
         jobs.complete(db, job, worker_id, record)
         times.append(time.perf_counter() - t0)

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from sqlalchemy import Engine
 
+    from slopetui.queue.jobs import Job
     from slopetui.store.database import Database
     from slopetui.sweeps.submit import Submitted
 
@@ -75,13 +76,22 @@ def new_sqlite_store(url: str, template: Path) -> None:
             shutil.copy2(source, path.with_name(path.name + source.name[len(template.name):]))
 
 
+def claim_one(db: Database, worker: str) -> Job | None:
+    """The oldest queued run of an active sweep, claimed and begun (one attempt charged,
+    the worker pointed at it), or None: the batch claim with a batch of 1, as a worker
+    claims a run computed alone."""
+    from slopetui.queue import jobs
+
+    return next(iter(jobs.begin(db, jobs.claim_batch(db, worker, 1), worker)), None)
+
+
 def finish_all(db: Database, worker: str = "test") -> int:
     """Compute every queued run in this process, as a worker would; returns how many."""
     from core.point import run_point
     from slopetui.queue import jobs
 
     n = 0
-    while (job := jobs.claim(db, worker)) is not None:
+    while (job := claim_one(db, worker)) is not None:
         record = run_point(job.params, job.settings, job.carried).as_record()
         jobs.complete(db, job, worker, record)
         n += 1

@@ -23,7 +23,7 @@ def _found(branch: StoredBranch) -> str:
     if branch.bifurcations:
         return ", ".join(f"{terminal_safe(b['type'])} {terminal_safe(branch.param)}={b['value']:.6g}"
                          for b in branch.bifurcations)
-    return "none" if branch.row["status"] == "done" else ""
+    return "none" if branch.row.status == "done" else ""
 
 
 def _listing(args: argparse.Namespace) -> int:
@@ -37,10 +37,10 @@ def _listing(args: argparse.Namespace) -> int:
     print(f"{'id':>4}  {'param':5} {'start':14} {'status':9} {'points':>6}  found")
     for b in branches:
         row = b.row
-        start = f"{row['start']} tau={row['tau']:g}" if b.param != "tau" else \
-            f"{row['start']} k={row['k']:g}"
-        print(f"{b.id:>4}  {terminal_safe(b.param):5} {start:14} {terminal_safe(row['status']):9} "
-              f"{row['n_points']:>6}  {_found(b)}")  # stored text, escaped
+        start = f"{row.start} tau={row.tau:g}" if b.param != "tau" else \
+            f"{row.start} k={row.k:g}"
+        print(f"{b.id:>4}  {terminal_safe(b.param):5} {start:14} {terminal_safe(row.status):9} "
+              f"{row.n_points:>6}  {_found(b)}")  # stored text, escaped
     return 0
 
 
@@ -61,19 +61,19 @@ def _one(args: argparse.Namespace) -> int:
                             width=size.columns, height=max(size.lines - 2, 12)))
         return 0
     print(f"continuation {branch.id} in {param} from "
-          f"{'the Hopf point' if row['start'] == 'hopf' else 'a simulated orbit'}: "
-          f"{terminal_safe(row['status'])}, {row['n_points']} points, {row['runtime_s']:.1f} s")
+          f"{'the Hopf point' if row.start == 'hopf' else 'a simulated orbit'}: "
+          f"{terminal_safe(row.status)}, {row.n_points} points, {row.runtime_s:.1f} s")
     for point in branch.points:
         print_point(param, point)
-    if row["hopf_value"] is not None:
-        print(f"Hopf point: {param} = {row['hopf_value']:.10g}, period "
-              f"{row['hopf_period']:.10g}" + (f"; {terminal_safe(row['criticality'])}"
-                                              if row["criticality"] else ""))
-    if row["status"] == "done":
-        print(f"end: {terminal_safe(row['end_reason'])}")
+    if row.hopf_value is not None:
+        print(f"Hopf point: {param} = {row.hopf_value:.10g}, period "
+              f"{row.hopf_period:.10g}" + (f"; {terminal_safe(row.criticality)}"
+                                              if row.criticality else ""))
+    if row.status == "done":
+        print(f"end: {terminal_safe(row.end_reason)}")
         print_bifurcations(param, branch.bifurcations)
-    elif row["error"]:
-        print(f"{terminal_safe(row['status'])}: {terminal_safe(row['error'].splitlines()[-1])}")
+    elif row.error:
+        print(f"{terminal_safe(row.status)}: {terminal_safe(row.error.splitlines()[-1])}")
     return 0
 
 

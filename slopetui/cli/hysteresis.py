@@ -10,6 +10,7 @@ import shutil
 import sys
 import time
 from collections.abc import Mapping, Sequence
+from dataclasses import asdict
 from typing import TYPE_CHECKING, Any
 
 from core.hysteresis import T_SETTLE, TOL, WINDOW, hysteresis
@@ -144,9 +145,9 @@ def _show(args: argparse.Namespace) -> int:
         print(json_text({**sweep.summary(), "up": [record(p) for p in sweep.up],
                          "down": [record(p) for p in sweep.down]}))
         return 0
-    print(f"hysteresis sweep {sweep.id} in {param} from {row['start']:g} to {row['stop']:g}, "
-          f"{row['n_points']} points each way: {terminal_safe(row['status'])}, {row['n_done']} points, "
-          f"{row['runtime_s']:.1f} s")
+    print(f"hysteresis sweep {sweep.id} in {param} from {row.start:g} to {row.stop:g}, "
+          f"{row.n_points} points each way: {terminal_safe(row.status)}, {row.n_done} points, "
+          f"{row.runtime_s:.1f} s")
     for pt in sweep.points:
         print(_line(pt["direction"], param, pt))
     _status(sweep)
@@ -159,14 +160,14 @@ def _status(sweep: StoredHysteresis) -> None:
     """Where each branch changes regime once done; else the status and the error's last
     line (what went wrong)."""
     row = sweep.row
-    if row["status"] == "done":
-        step = abs(row["stop"] - row["start"]) / (row["n_points"] - 1)
-        _changes(terminal_safe(sweep.param), sweep.up, sweep.down, row, row["tol"], step)
-    elif row["error"]:
-        print(f"{terminal_safe(row['status'])}: "
-              f"{terminal_safe(str(row['error']).strip().splitlines()[-1])}")
+    if row.status == "done":
+        step = abs(row.stop - row.start) / (row.n_points - 1)
+        _changes(terminal_safe(sweep.param), sweep.up, sweep.down, asdict(row), row.tol, step)
+    elif row.error:
+        print(f"{terminal_safe(row.status)}: "
+              f"{terminal_safe(str(row.error).strip().splitlines()[-1])}")
     else:
-        print(f"{terminal_safe(row['status'])}: {row['n_done']} of {2 * row['n_points']} points so far")
+        print(f"{terminal_safe(row.status)}: {row.n_done} of {2 * row.n_points} points so far")
 
 
 def handle(args: argparse.Namespace) -> int:

@@ -32,10 +32,9 @@ if TYPE_CHECKING:
 
 
 def handle(args: argparse.Namespace) -> int:
+    from slopetui.queue import registry
     from slopetui.queue.local_pool import local_pools
     from slopetui.queue.workers_table import live_workers
-    from slopetui.sweeps import branches as branch_service
-    from slopetui.sweeps import hysteresis_runs
     from slopetui.sweeps.control import UnknownSweep
     from slopetui.sweeps.progress import sweep_progress
 
@@ -49,8 +48,7 @@ def handle(args: argparse.Namespace) -> int:
         sweeps = [p for p in sweeps if p.status in ("active", "paused")] or sweeps[:5]
     workers = live_workers(db)
     starting = [p for p in local_pools(db)[0] if not p.workers]  # warming up (docstring)
-    branches, computing = branch_service.activity(db)
-    sweeps_h, computing_h = hysteresis_runs.activity(db)
+    kinds = list(registry.activity(db))  # continuations, hysteresis sweeps
     if args.json:  # json_text escapes control and non-ASCII characters: safe as it is
         print(json_text({
             "sweeps": [{"id": p.id, "name": p.name, "axes": p.axes, "status": p.status,
@@ -59,10 +57,9 @@ def handle(args: argparse.Namespace) -> int:
                         "adaptive_levels": p.adaptive_levels, "level": p.level,
                         "refined": p.refined, "computed": p.computed, "inferred": p.inferred}
                        for p in sweeps],
-            "continuations": branches,
-            "hysteresis_sweeps": sweeps_h,
-            "workers": [{"id": w.id, "run_id": w.run_id, "continuation_id": computing.get(w.id),
-                         "hysteresis_id": computing_h.get(w.id),
+            **{kind.key: seen.counts for kind, seen in kinds},
+            "workers": [{"id": w.id, "run_id": w.run_id,
+                         **{kind.id_key: seen.held.get(w.id) for kind, seen in kinds},
                          "jobs_done": w.jobs_done, "heartbeat_age_s": w.heartbeat_age_s}
                         for w in workers],
             "starting_pools": [{"pid": p.pid, "uptime_s": p.uptime_s, "log": p.log}
@@ -82,12 +79,11 @@ def handle(args: argparse.Namespace) -> int:
                   f"{p.cancelled:>4} {p.runs_per_min:>8.1f} "
                   f"{duration_text(p.eta_s if workers else None):>7}  {adaptive_stage(p)}"
                   f"{terminal_safe(p.name)}")
-    for what, counts, where in (("continuations", branches, "slopetui branch"),
-                                ("hysteresis sweeps", sweeps_h, "slopetui hysteresis --show ID")):
-        waiting = {k: n for k, n in counts.items() if k in ("queued", "running")}
+    for kind, seen in kinds:
+        waiting = {k: n for k, n in seen.counts.items() if k in ("queued", "running")}
         if waiting:
-            print(f"{what}: " + ", ".join(f"{n} {k}" for k, n in sorted(waiting.items()))
-                  + f" ({where})")
+            print(f"{kind.plural}: " + ", ".join(f"{n} {k}" for k, n in sorted(waiting.items()))
+                  + f" ({kind.shown_by})")
     print()
     for pool in starting:
         up = "" if pool.uptime_s is None else f", up {duration_text(pool.uptime_s)}"
@@ -96,7 +92,7 @@ def handle(args: argparse.Namespace) -> int:
     if not workers and not starting:
         print("no live workers: start a pool with `slopetui worker --detach`")
     for w in workers:
-        print(worker_line(w, computing, computing_h))
+        print(worker_line(w, {kind.label: seen.held for kind, seen in kinds}))
     return 0
 
 

@@ -14,12 +14,11 @@ if TYPE_CHECKING:
     from slopetui.queue.workers_table import WorkerInfo
 
 
-def worker_line(w: WorkerInfo, branches: Mapping[str, int], hysteresis: Mapping[str, int]) -> str:
-    """``branches`` and ``hysteresis``: the continuation and hysteresis sweep each worker
-    computes, by worker id (``sweeps.branches.activity``, ``sweeps.hysteresis_runs.activity``).
-    Stored text (the id) goes through terminal_safe."""
-    doing = (f"run {w.run_id}" if w.run_id else
-             f"branch {branches[w.id]}" if w.id in branches else
-             f"hysteresis {hysteresis[w.id]}" if w.id in hysteresis else "idle")
+def worker_line(w: WorkerInfo, held: Mapping[str, Mapping[str, int]]) -> str:
+    """``held``: by a kind of job's label (slopetui.queue.registry.activity: "branch",
+    "hysteresis"), the job of that kind each worker computes, by worker id. Stored text
+    (the id) goes through terminal_safe."""
+    doing = f"run {w.run_id}" if w.run_id else next(
+        (f"{label} {jobs[w.id]}" for label, jobs in held.items() if w.id in jobs), "idle")
     return (f"worker {terminal_safe(w.id):28} {doing:12} {w.jobs_done:>6} done  "
             f"heartbeat {duration_text(w.heartbeat_age_s)} ago")

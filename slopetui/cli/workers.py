@@ -53,13 +53,11 @@ def _worker_json(w: WorkerInfo) -> dict[str, object]:
 
 
 def handle(args: argparse.Namespace) -> int:
+    from slopetui.queue import registry
     from slopetui.queue.local_pool import local_pools
     from slopetui.store.queries import database_now
-    from slopetui.sweeps import branches as branch_service
-    from slopetui.sweeps import hysteresis_runs
     db = open_db(args)
-    computing = branch_service.activity(db)[1]
-    computing_h = hysteresis_runs.activity(db)[1]
+    held = {kind.label: seen.held for kind, seen in registry.activity(db)}
     pools, orphans = local_pools(db)
     remote = _remote(db)
     now = database_now(db)
@@ -83,13 +81,13 @@ def handle(args: argparse.Namespace) -> int:
         log = f"; log {p.log}" if p.log else ""
         print(f"pool {p.pid} on {here} (this host), up {duration_text(p.uptime_s)}, {state}{log}")
         for w in p.workers:
-            print(f"  {worker_line(w, computing, computing_h)}")
+            print(f"  {worker_line(w, held)}")
     for host, ws in sorted(remote.items()):
         up = max((now - w.started_at).total_seconds() for w in ws)
         print(f"workers on {terminal_safe(host)} (another host: their pool's pid is not known here), up "
               f"{duration_text(up)}, {len(ws)} workers")
         for w in ws:
-            print(f"  {worker_line(w, computing, computing_h)}")
+            print(f"  {worker_line(w, held)}")
     for w in orphans:
         print(f"orphan worker {terminal_safe(w.id)} (its pool is gone; `slopetui worker --stop` stops it)")
     return 0

@@ -1,6 +1,6 @@
 """How many runs of a claimed batch fit a worker's memory budget.
 
-The batched kernels (Euler and RK4: worker_process.BATCHED_METHODS) hold every lane's
+The batched kernels (Euler and RK4: run_batches.BATCHED_METHODS) hold every lane's
 buffers at once, from the call's start to its end: each run's window and trace samples
 and lambda_max logs, and the delay ring of every lane, N x lanes x 8 bytes per buffered
 variable (m_x for Euler, m_x and m_y for RK4) and as much again for the tangent with

@@ -5,9 +5,9 @@ saved points by whoever takes it over, finished with its bifurcations.
 The policy beside the runs' (slopetui.queue.jobs; what a step in the compute thread
 comes to, shared with hysteresis sweeps, is slopetui.queue.thread_steps):
 
-* A worker claims a continuation before runs (slopetui.queue.worker_process): a branch is
-  asked for interactively and takes one worker for seconds to minutes, while a sweep's
-  runs keep the others busy.
+* A worker claims a continuation before runs (``CONTINUATIONS`` comes first in
+  slopetui.queue.registry): a branch is asked for interactively and takes one worker for
+  seconds to minutes, while a sweep's runs keep the others busy.
 * Each point is saved by the lease holder only, as the next one (slopetui.store
   .branch_rows.save_point): a killed worker loses at most the point it was computing.
 * A stop (SIGTERM, the pool stopping) comes between two points: the continuation goes
@@ -29,8 +29,10 @@ from typing import TYPE_CHECKING, Any
 from core.jit_cache import source_digest
 from core.params import PARAM_NAMES, ParameterError, Params, check_finite, check_positive
 from slopetui.queue import stored_inputs
+from slopetui.queue.kinds import Activity, Computing, JobKind
 from slopetui.queue.thread_steps import HeldJob, Runner, Stops
 from slopetui.store import branch_rows
+from slopetui.store.branch_rows import ContinuationRow, SavedBranchPoint
 from slopetui.store.database import Database
 
 if TYPE_CHECKING:  # numpy, scipy and numba: loaded by the worker that computes a branch
@@ -61,22 +63,22 @@ def submit(db: Database, spec: BranchSpec, from_run: int | None = None) -> int:
     return branch_rows.submit(db, fields_of(spec, from_run))
 
 
-def spec_of(row: Any) -> BranchSpec:
+def spec_of(row: ContinuationRow) -> BranchSpec:
     """The spec a continuations row asks for, checked: one of stored_inputs.INPUT_ERRORS
     (ParameterError naming the column) for values it cannot be computed from."""
     from core.branch_start import BranchSpec
     stored_inputs.present(row, (*PARAM_NAMES, "param", "start", "dt", "max_points",
                                 "max_step"))
-    params = Params(**{n: row[n] for n in PARAM_NAMES})
-    if row["param"] not in PARAM_NAMES:
-        raise ParameterError("param", row["param"], f"one of {', '.join(PARAM_NAMES)}")
-    if row["start"] not in ("hopf", "orbit"):
-        raise ParameterError("start", row["start"], "hopf or orbit")
-    end = None if row["end_value"] is None else check_finite("end_value", row["end_value"])
-    return BranchSpec(params, row["param"], stored_inputs.orbit_step(params, row["dt"]),
-                      row["start"] == "hopf", end,
-                      stored_inputs.whole("max_points", row["max_points"], 1),
-                      check_positive("max_step", row["max_step"]))
+    params = Params(**{n: getattr(row, n) for n in PARAM_NAMES})
+    if row.param not in PARAM_NAMES:
+        raise ParameterError("param", row.param, f"one of {', '.join(PARAM_NAMES)}")
+    if row.start not in ("hopf", "orbit"):
+        raise ParameterError("start", row.start, "hopf or orbit")
+    end = None if row.end_value is None else check_finite("end_value", row.end_value)
+    return BranchSpec(params, row.param, stored_inputs.orbit_step(params, row.dt),
+                      row.start == "hopf", end,
+                      stored_inputs.whole("max_points", row.max_points, 1),
+                      check_positive("max_step", row.max_step))
 
 
 def claim(db: Database, worker_id: str) -> BranchJob | None:
@@ -84,8 +86,8 @@ def claim(db: Database, worker_id: str) -> BranchJob | None:
     stored inputs cannot be computed fails at once with the reason, and the next one is
     claimed."""
     return stored_inputs.claim_computable(
-        branch_rows, "continuation", db, worker_id,
-        lambda row: BranchJob(row["id"], row["attempts"], spec_of(row)))
+        branch_rows, branch_rows.claim, "continuation", db, worker_id,
+        lambda row: BranchJob(row.id, row.attempts, spec_of(row)))
 
 
 def point_fields(branch: Branch) -> dict[str, Any]:
@@ -108,17 +110,17 @@ def point_fields(branch: Branch) -> dict[str, Any]:
             "state": np.concatenate((saved.y, saved.t)).astype("<f8").tobytes()}
 
 
-def saved_of(row: Any) -> SavedPoint:
+def saved_of(row: SavedBranchPoint) -> SavedPoint:
     """A saved point back from its branch_points row."""
     import numpy as np
 
     from core.branch_start import SavedPoint
     from core.floquet import Multipliers
-    state = np.frombuffer(row["state"], dtype="<f8")
+    state = np.frombuffer(row.state, dtype="<f8")
     half = state.size // 2
-    values = np.array([complex(re, im) for re, im in row["multipliers"]])
-    return SavedPoint(state[:half].copy(), state[half:].copy(), row["amplitude"],
-                      Multipliers(values, row["flow_index"], row["translation"]), row["step"])
+    values = np.array([complex(re, im) for re, im in row.multipliers])
+    return SavedPoint(state[:half].copy(), state[half:].copy(), row.amplitude,
+                      Multipliers(values, row.flow_index, row.translation), row.step)
 
 
 def bifurcation_fields(bif: Any) -> dict[str, Any]:
@@ -190,3 +192,26 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
                  or "no bifurcation")
     else:
         log.warning("continuation %d finished after its lease was lost; discarded", job.id)
+
+
+class Continuations(JobKind[BranchJob]):
+    """Continuations (module docstring)."""
+
+    name = "continuation"
+    label = "branch"
+    plural = key = "continuations"
+    id_key = "continuation_id"
+    shown_by = "slopetui branch"
+    lease = branch_rows.lease
+
+    def claim(self, c: Computing) -> BranchJob | None:
+        return claim(c.db, c.worker_id)
+
+    def compute(self, c: Computing, job: BranchJob) -> None:
+        compute(c.db, c.worker_id, job, c.run, c.control, c.max_attempts)
+
+    def describe(self, db: Database) -> Activity:
+        return Activity(branch_rows.status_counts(db), branch_rows.held(db))
+
+
+CONTINUATIONS = Continuations()

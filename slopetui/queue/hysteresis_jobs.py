@@ -11,7 +11,7 @@ slopetui.queue.thread_steps):
   ``tol``, as one more step, and the sweep finished with the refined values and brackets;
   a sweep stopped there refines again when resumed.
 * A worker claims a hysteresis sweep after continuations and before runs
-  (slopetui.queue.worker_process): it is asked for interactively.
+  (slopetui.queue.registry): it is asked for interactively.
 * The points are numbered along the whole sweep: idx 0 to n - 1 are the up branch at
   ``values[idx]``, n to 2n - 1 the down branch at ``values[2n - 1 - idx]``. Point idx
   starts from the state point idx - 1 handed over (the first from eq. 19): the down
@@ -43,9 +43,11 @@ from typing import TYPE_CHECKING, Any
 from core.jit_cache import source_digest
 from core.params import PARAM_NAMES, ParameterError, Params, check_finite, check_positive
 from slopetui.queue import stored_inputs
+from slopetui.queue.kinds import Activity, Computing, JobKind
 from slopetui.queue.thread_steps import HeldJob, Runner, Stops
 from slopetui.store import hysteresis_rows
 from slopetui.store.database import Database
+from slopetui.store.hysteresis_rows import HysteresisRow, SavedHysteresisPoint
 
 if TYPE_CHECKING:  # numpy and numba's kernels: loaded by the worker that computes a sweep
     import numpy as np
@@ -112,29 +114,29 @@ def submit(db: Database, spec: HysteresisSpec) -> int:
     return hysteresis_rows.submit(db, fields_of(spec))
 
 
-def spec_of(row: Any) -> HysteresisSpec:
+def spec_of(row: HysteresisRow) -> HysteresisSpec:
     """The spec a hysteresis_sweeps row asks for, checked: one of
     stored_inputs.INPUT_ERRORS (ParameterError naming the column) for values it cannot be
     computed from (a sweep along tau is refused later, as an answer: compute)."""
     stored_inputs.present(row, (*PARAM_NAMES, "param", "start", "stop", "n_points", "dt",
                                 "t_settle", "window", "tol"))
-    params = Params(**{n: row[n] for n in PARAM_NAMES})
-    name = row["param"]
+    params = Params(**{n: getattr(row, n) for n in PARAM_NAMES})
+    name = row.param
     if name not in PARAM_NAMES:
         raise ParameterError("param", name, f"one of {', '.join(PARAM_NAMES)}")
-    ends = [check_finite(field, row[field]) for field in ("start", "stop")]
+    ends = [check_finite(field, getattr(row, field)) for field in ("start", "stop")]
     for value in ends:  # the parameter's own range, as the points will ask it
         params.with_(**{name: value})
-    t_settle = check_positive("t_settle", row["t_settle"])
-    window = check_positive("window", row["window"])
+    t_settle = check_positive("t_settle", row.t_settle)
+    window = check_positive("window", row.window)
     if window > t_settle:
         raise ParameterError("window", window, f"0 < window <= t_settle = {t_settle:g}")
-    tol = check_positive("tol", row["tol"])
+    tol = check_positive("tol", row.tol)
     if tol >= TOL_MAX:
         raise ParameterError("tol", tol, f"0 < tol < {TOL_MAX:g}")
     return HysteresisSpec(params, name, ends[0], ends[1],
-                          stored_inputs.whole("n_points", row["n_points"], 2),
-                          stored_inputs.orbit_step(params, row["dt"]), t_settle, window, tol)
+                          stored_inputs.whole("n_points", row.n_points, 2),
+                          stored_inputs.orbit_step(params, row.dt), t_settle, window, tol)
 
 
 def claim(db: Database, worker_id: str) -> HysteresisJob | None:
@@ -142,8 +144,8 @@ def claim(db: Database, worker_id: str) -> HysteresisJob | None:
     stored inputs cannot be computed fails at once with the reason, and the next one is
     claimed."""
     return stored_inputs.claim_computable(
-        hysteresis_rows, "hysteresis sweep", db, worker_id,
-        lambda row: HysteresisJob(row["id"], row["attempts"], spec_of(row)))
+        hysteresis_rows, hysteresis_rows.claim, "hysteresis sweep", db, worker_id,
+        lambda row: HysteresisJob(row.id, row.attempts, spec_of(row)))
 
 
 def point_fields(idx: int, direction: str, pt: WarmPoint, state: np.ndarray | None
@@ -157,17 +159,25 @@ def point_fields(idx: int, direction: str, pt: WarmPoint, state: np.ndarray | No
             "state": None if state is None else np.ascontiguousarray(state, "<f8").tobytes()}
 
 
-def state_of(row: Any, g: Grid) -> np.ndarray:
-    """The state a saved point hands over, 5 x (N + 1), back from its bytes."""
+def state_of(row: SavedHysteresisPoint, g: Grid) -> np.ndarray:
+    """The state a saved point hands over, 5 x (N + 1), back from its bytes (a point that
+    hands over none raises TypeError)."""
     import numpy as np
-    return np.frombuffer(row["state"], dtype="<f8").reshape(5, g.n_delay + 1).copy()
+    if row.state is None:
+        raise TypeError(f"point {row.idx} hands over no state")
+    return np.frombuffer(row.state, dtype="<f8").reshape(5, g.n_delay + 1).copy()
 
 
-def warm_point(row: Any) -> WarmPoint:
+def warm_point(row: SavedHysteresisPoint) -> WarmPoint:
     """A saved point back as core.hysteresis's WarmPoint (NaN where it was)."""
     from core.hysteresis import WarmPoint
-    return WarmPoint(row["value"], row["regime"], row["detail"], row["amplitude"],
-                     row["growth"], bool(row["jumped"]))
+    return WarmPoint(row.value, row.regime, row.detail, _nan(row.amplitude),
+                     _nan(row.growth), bool(row.jumped))
+
+
+def _nan(value: float | None) -> float:
+    """NaN for None: SQLite stores a NaN as NULL (slopetui.store.models.HysteresisPoint)."""
+    return math.nan if value is None else value
 
 
 def transition_fields(prefix: str, found: Transition | None) -> dict[str, float | None]:
@@ -179,15 +189,16 @@ def transition_fields(prefix: str, found: Transition | None) -> dict[str, float 
             f"{prefix}_after": None if found is None else found.after}
 
 
-def transitions(spec: HysteresisSpec, g: Grid, rows: Sequence[Any]) -> dict[str, float | None]:
+def transitions(spec: HysteresisSpec, g: Grid, rows: Sequence[SavedHysteresisPoint]
+                ) -> dict[str, float | None]:
     """Each branch's transition refined from the saved points and the states they handed
     over (core.hysteresis.refine), as hysteresis_rows.TRANSITION_COLUMNS."""
     from core.hysteresis import refine
     out: dict[str, float | None] = {}
     for direction, name in (("up", "onset_up"), ("down", "offset_down")):
-        mine = [r for r in rows if r["direction"] == direction]
+        mine = [r for r in rows if r.direction == direction]
         points = [warm_point(r) for r in mine]
-        states = [state_of(r, g) for r in mine if r["state"] is not None]
+        states = [state_of(r, g) for r in mine if r.state is not None]
         out.update(transition_fields(name, refine(spec.params, spec.name, points, states, g,
                                                   spec.t_settle, spec.window, spec.tol)))
     return out
@@ -236,7 +247,7 @@ def compute(db: Database, wid: str, job: HysteresisJob, run: Runner, control: St
     g = Grid.of(spec.params, spec.dt)
     saved = hysteresis_rows.saved_points(db, job.id)
     total = 2 * spec.n_points
-    ended = any(r["state"] is None for r in saved)  # a run left the finite range: the end
+    ended = any(r.state is None for r in saved)  # a run left the finite range: the end
     if saved:
         try:  # in this thread: a state that cannot be read back would kill the worker
             state = None if ended else state_of(saved[-1], g)
@@ -271,3 +282,27 @@ def compute(db: Database, wid: str, job: HysteresisJob, run: Runner, control: St
     if held.stopped():
         return None
     _finish(db, wid, job, held, g, spent)
+
+
+class HysteresisSweeps(JobKind[HysteresisJob]):
+    """Hysteresis sweeps (module docstring)."""
+
+    name = "hysteresis sweep"
+    label = "hysteresis"
+    plural = "hysteresis sweeps"
+    key = "hysteresis_sweeps"
+    id_key = "hysteresis_id"
+    shown_by = "slopetui hysteresis --show ID"
+    lease = hysteresis_rows.lease
+
+    def claim(self, c: Computing) -> HysteresisJob | None:
+        return claim(c.db, c.worker_id)
+
+    def compute(self, c: Computing, job: HysteresisJob) -> None:
+        compute(c.db, c.worker_id, job, c.run, c.control, c.max_attempts)
+
+    def describe(self, db: Database) -> Activity:
+        return Activity(hysteresis_rows.status_counts(db), hysteresis_rows.held(db))
+
+
+HYSTERESIS_SWEEPS = HysteresisSweeps()

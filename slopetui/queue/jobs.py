@@ -15,7 +15,7 @@ claimed with ``started_at`` NULL and attempts unchanged, and ``begin`` charges t
 that are about to be computed (and stamps started_at). So when a worker dies mid-batch,
 only the runs that were being computed have used an attempt; the runs it held but had not
 started (``status = 'running' AND started_at IS NULL``) go back to the queue as they came.
-``claim`` (one run, computed at once) claims and begins in one statement.
+How a worker computes a batch is slopetui.queue.run_batches (the runs' JobKind).
 
 Each claimed run is built and checked at the claim (its parameters, its solver settings,
 their grid, the state its history names): a run whose stored inputs cannot be computed
@@ -29,10 +29,10 @@ from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
-from core.params import PARAM_NAMES, Params
+from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.queue import stored_inputs
-from slopetui.queue.defaults import LEASE_S, MAX_ATTEMPTS
-from slopetui.store import branch_rows, cached_results, claims, hysteresis_rows, initial_states
+from slopetui.queue.defaults import MAX_ATTEMPTS
+from slopetui.store import cached_results, claims, initial_states
 from slopetui.store.claims import ClaimedRow
 from slopetui.store.database import Database
 
@@ -68,14 +68,13 @@ def _job(m: ClaimedRow, started: bool, states: Mapping[str, bytes]) -> Job:
     that cannot be computed."""
     from core.history import STATE_PREFIX, CarriedState
     from core.history import start as history_start
-    from core.params import ParameterError
     from core.solve import SolverSettings, make_grid
     stored_inputs.present(m, _INPUTS)
-    params = Params(**{n: m[n] for n in PARAM_NAMES})
-    if not isinstance(m["lyap"], bool):
-        raise ParameterError("lyap", m["lyap"], "true or false")
-    settings = SolverSettings(method=m["method"], dt=m["dt"], t_end=m["t_end"],
-                              window=m["window"], lyap=m["lyap"], history=m["history"])
+    params = Params(**{n: getattr(m, n) for n in PARAM_NAMES})
+    if not isinstance(m.lyap, bool):
+        raise ParameterError("lyap", m.lyap, "true or false")
+    settings = SolverSettings(method=m.method, dt=m.dt, t_end=m.t_end, window=m.window,
+                              lyap=m.lyap, history=m.history)
     grid = make_grid(params, settings)  # dt <= tau, the steps' and the memory's limits
     carried = None
     if settings.history.startswith(STATE_PREFIX):
@@ -86,8 +85,7 @@ def _job(m: ClaimedRow, started: bool, states: Mapping[str, bytes]) -> Job:
         carried = CarriedState.from_bytes(blob)
         # the state's name, tau, step and length against the run's, as the kernel will
         history_start(params, grid.dt, grid.n_delay, settings.history, carried)
-    return Job(m["id"], m["sweep_id"], m["attempts"], m["cache_key"], params, settings,
-               started, carried)
+    return Job(m.id, m.sweep_id, m.attempts, m.cache_key, params, settings, started, carried)
 
 
 def _built(db: Database, worker_id: str, rows: Sequence[ClaimedRow], started: bool
@@ -95,8 +93,8 @@ def _built(db: Database, worker_id: str, rows: Sequence[ClaimedRow], started: bo
     """The jobs of the claimed rows, by id; a row whose inputs cannot be computed is
     failed at once with the reason (claims.refuse), logged in one line, and left out."""
     from core.history import STATE_PREFIX
-    names = {m["history"] for m in rows
-             if isinstance(m["history"], str) and m["history"].startswith(STATE_PREFIX)}
+    names = {m.history for m in rows
+             if isinstance(m.history, str) and m.history.startswith(STATE_PREFIX)}
     states = {name: blob for name in names
               if (blob := initial_states.load_state(db, name)) is not None}
     built: list[Job] = []
@@ -105,7 +103,7 @@ def _built(db: Database, worker_id: str, rows: Sequence[ClaimedRow], started: bo
         try:
             built.append(_job(m, started, states))
         except stored_inputs.INPUT_ERRORS as exc:
-            refused[m["id"]] = stored_inputs.reason(exc)
+            refused[m.id] = stored_inputs.reason(exc)
     if refused:
         claims.refuse(db, worker_id, refused)
         for run_id, text in sorted(refused.items()):
@@ -147,15 +145,6 @@ def begin(db: Database, batch: list[Job], worker_id: str) -> list[Job]:
             for job in batch if job.started or job.run_id in attempts]
 
 
-def claim(db: Database, worker_id: str) -> Job | None:
-    """Claim the oldest queued run of an active sweep, or None if there is none; a run
-    whose inputs cannot be computed fails at once, and the next one is claimed."""
-    while (row := claims.claim(db, worker_id)) is not None:
-        if built := _built(db, worker_id, [row], started=True):
-            return built[0]
-    return None
-
-
 def complete(db: Database, job: Job, worker_id: str, record: dict[str, Any],
              cached_from: int | None = None) -> bool:
     """Write the result; False if the lease was lost meanwhile (nothing is written)."""
@@ -172,39 +161,11 @@ def fail(db: Database, job: Job, worker_id: str, error: str,
     """Record an error: back to the queue, or failed after max_attempts. Returns the new
     status, or None if the lease was lost meanwhile."""
     give_up = job.attempts >= max_attempts
-    written = claims.fail(db, job.run_id, worker_id, error, give_up=give_up)
+    written = claims.lease.fail(db, job.run_id, worker_id, error, give_up=give_up)
     return ("failed" if give_up else "queued") if written else None
 
 
 def release(db: Database, job: Job, worker_id: str) -> bool:
     """Give a run back unfinished (a shutdown, not its fault): a started run's attempt is
     given back too."""
-    return claims.release(db, job.run_id, worker_id, started=job.started)
-
-
-def heartbeat(db: Database, worker_id: str) -> None:
-    """Extend the leases of every run (one, or a batch), continuation and hysteresis sweep
-    the worker holds, and mark the worker alive."""
-    claims.heartbeat(db, worker_id)
-    branch_rows.heartbeat(db, worker_id)
-    hysteresis_rows.heartbeat(db, worker_id)
-
-
-def requeue_expired(db: Database, lease_s: float = LEASE_S,
-                    max_attempts: int = MAX_ATTEMPTS) -> tuple[int, int]:
-    """Runs, continuations and hysteresis sweeps whose lease expired go back to the queue
-    (or fail after max_attempts). Returns (requeued, failed)."""
-    runs = claims.requeue_expired(db, lease_s, max_attempts)
-    branches = branch_rows.requeue_expired(db, lease_s, max_attempts)
-    sweeps = hysteresis_rows.requeue_expired(db, lease_s, max_attempts)
-    return runs[0] + branches[0] + sweeps[0], runs[1] + branches[1] + sweeps[1]
-
-
-def requeue_worker(db: Database, worker_id: str, reason: str,
-                   max_attempts: int = MAX_ATTEMPTS) -> tuple[int, int]:
-    """The runs, continuations and hysteresis sweeps of a worker known to be dead go back
-    at once, without waiting for the lease. Returns (requeued, failed)."""
-    branches = branch_rows.requeue_worker(db, worker_id, reason, max_attempts)
-    sweeps = hysteresis_rows.requeue_worker(db, worker_id, reason, max_attempts)
-    runs = claims.requeue_worker(db, worker_id, reason, max_attempts)
-    return runs[0] + branches[0] + sweeps[0], runs[1] + branches[1] + sweeps[1]
+    return claims.lease.release(db, job.run_id, worker_id, started=job.started)

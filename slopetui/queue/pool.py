@@ -45,7 +45,7 @@ from multiprocessing.connection import wait
 from multiprocessing.process import BaseProcess
 
 from slopetui.ops.connection_slots import remove_slots_folder, slots_folder
-from slopetui.queue import jobs
+from slopetui.queue import registry
 from slopetui.queue.blas_threads import one_blas_thread
 from slopetui.queue.local_pool import default_jobs, remove_pool_file, write_pool_file
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, block_stop_signals
@@ -199,7 +199,7 @@ class Pool:
                 log.info("worker %s left (exit status 0: it was sent SIGTERM); not "
                          "replaced, %d workers left", wid, len(self.procs))
             return
-        requeued, failed = jobs.requeue_worker(
+        requeued, failed = registry.requeue_worker(
             db, wid, f"worker {wid} died (exit code {proc.exitcode})", self.opts.max_attempts)
         log.error("worker %s died (exit code %s): %d jobs requeued, %d failed", wid,
                   proc.exitcode, requeued, failed)

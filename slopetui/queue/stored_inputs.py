@@ -15,10 +15,10 @@ traceback, and goes on with the other rows.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable
 from typing import Any, Protocol, TypeVar
 
-from core.params import ParameterError, Params
+from core.params import ParameterError, Params, check_positive
 from slopetui.queue.thread_steps import LeaseRows
 from slopetui.store.database import Database
 
@@ -27,11 +27,15 @@ log = logging.getLogger("slopetui.worker")
 J = TypeVar("J")
 
 
-class ClaimRows(LeaseRows, Protocol):
-    """The statements of a job kind computed point by point (slopetui.store.branch_rows,
-    hysteresis_rows) that claiming it needs: claim the oldest queued one, fail it."""
+class StoredRow(Protocol):
+    """A job's row as the store reads it (a frozen dataclass): its id, and its columns as
+    attributes."""
 
-    def claim(self, db: Database, worker_id: str, /) -> Mapping[Any, Any] | None: ...
+    @property
+    def id(self) -> int: ...
+
+
+R = TypeVar("R", bound=StoredRow)
 
 
 #: What building a job from a row's values raises for values it cannot use: ParameterError
@@ -46,11 +50,12 @@ INPUT_ERRORS: tuple[type[Exception], ...] = (ValueError, TypeError, ArithmeticEr
 MAX_ORBIT_STEPS = 1e5
 
 
-def present(row: Mapping[Any, Any], names: Iterable[str]) -> None:
-    """ParameterError naming the first of the columns ``names`` that holds NULL: a NULL
-    must not fall back to a default (a NULL dt would take the method's default step)."""
+def present(row: object, names: Iterable[str]) -> None:
+    """ParameterError naming the first of the columns ``names`` (attributes of the stored
+    ``row``) that holds NULL: a NULL must not fall back to a default (a NULL dt would take
+    the method's default step)."""
     for name in names:
-        if row[name] is None:
+        if getattr(row, name) is None:
             raise ParameterError(name, None, "a value (the store holds NULL)")
 
 
@@ -65,7 +70,6 @@ def orbit_step(params: Params, dt: Any) -> float:
     """The grid step of an orbit computation (continuations, hysteresis sweeps), checked as
     the command line checks it: tau > 0, 0 < dt <= tau, tau / dt at most MAX_ORBIT_STEPS
     (a tiny step would lay out a state of any size in the worker's main thread)."""
-    from core.params import check_positive
     if params.tau <= 0.0:
         raise ParameterError("tau", params.tau, "tau > 0 (periodic orbits of this model need "
                                                 "a delay)")
@@ -96,15 +100,15 @@ def refuse(rows: LeaseRows, what: str, db: Database, worker_id: str, job_id: int
     log_refused(what, job_id, text)
 
 
-def claim_computable(rows: ClaimRows, what: str, db: Database, worker_id: str,
-                     build: Callable[[Mapping[Any, Any]], J]) -> J | None:
-    """The job ``build`` makes of the oldest queued row of ``rows`` (one attempt charged),
-    or None when nothing is queued; a row whose stored inputs ``build`` refuses
-    (INPUT_ERRORS) fails at once with the reason (``refuse``), and the next one is claimed.
-    Each round fails one row for good, so this ends."""
-    while (row := rows.claim(db, worker_id)) is not None:
+def claim_computable(rows: LeaseRows, claim: Callable[[Database, str], R | None], what: str,
+                     db: Database, worker_id: str, build: Callable[[R], J]) -> J | None:
+    """The job ``build`` makes of the row ``claim`` leases (the oldest queued of ``rows``,
+    one attempt charged), or None when nothing is queued; a row whose stored inputs
+    ``build`` refuses (INPUT_ERRORS) fails at once with the reason (``refuse``), and the
+    next one is claimed. Each round fails one row for good, so this ends."""
+    while (row := claim(db, worker_id)) is not None:
         try:
             return build(row)
         except INPUT_ERRORS as exc:
-            refuse(rows, what, db, worker_id, row["id"], exc)
+            refuse(rows, what, db, worker_id, row.id, exc)
     return None

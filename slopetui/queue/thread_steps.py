@@ -33,6 +33,13 @@ class Stops(Protocol):
     def stopping(self) -> bool: ...
 
 
+class Controls(Stops, Protocol):
+    """The worker's stop sources (slopetui.queue.worker_process.Control): a stop, asked
+    between two steps; an abort, which gives back at once what is held."""
+
+    def aborting(self) -> bool: ...
+
+
 class LeaseRows(Protocol):
     """The statements on a held job a step's outcome needs (slopetui.store.branch_rows,
     hysteresis_rows): record its error, give it back."""

@@ -1,18 +1,12 @@
-"""One worker process of the pool: claim a batch of runs, compute it, write each result as
-soon as it is known, repeat.
+"""One worker process of the pool: claim a job, compute it, write each result as soon as
+it is known, repeat.
 
-A batch is up to ``batch`` queued runs with the same solver settings and tau (the batched
-kernels' lanes share tau: store.claims.claim_batch), cut to the worker's memory budget
-(slopetui.queue.batch_memory). Euler and RK4 batches (BATCHED_METHODS) go through the
-batched kernels (core.batch) in one call, which reports nothing until every lane is done
-(core.run_batch has no per-lane callback), so their results are written when it returns,
-and every run of the batch, being in the kernel, is charged an attempt. A run of another
-method (stiff) or history (not the constant one) is claimed alone, charged its attempt
-when it starts and written when it ends (jobs.begin, jobs.complete): a killed worker
-loses only the run it was computing. The signal plumbing is in
+Each round asks the kinds of job of slopetui.queue.registry in turn (continuations,
+hysteresis sweeps, then a batch of runs: slopetui.queue.run_batches) and computes the
+first it gets with that kind's compute. The signal plumbing is in
 slopetui.queue.stop_signals, the warm-up in slopetui.queue.warm_up. The computation runs
 in a thread (the numba kernels release the GIL), so the main thread stays free to notice
-a shutdown and, while it waits, sends the heartbeat that extends the leases of every run
+a shutdown and, while it waits, sends the heartbeat that extends the leases of every job
 the worker holds (Heartbeat).
 
 Connections. The main thread is the only one that uses the store, and it closes its
@@ -48,28 +42,24 @@ import select
 import signal
 import socket
 import time
-import traceback
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from concurrent.futures import wait as wait_futures
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from slopetui.ops.connection_slots import DEFAULT_CONNECTIONS, ConnectionSlots
-from slopetui.queue import branch_jobs, defaults, hysteresis_jobs, jobs
-from slopetui.queue.batch_memory import MIB, fitting
+from slopetui.queue import defaults, registry
 from slopetui.queue.idle_exit import IdleExit, Owner
+from slopetui.queue.kinds import Computing
+from slopetui.queue.local_pool import open_private_log, process_state
 from slopetui.queue.priority import lower_priority
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
 from slopetui.queue.warm_up import watched_warm_up
 from slopetui.store.database import Database
-from slopetui.store.queue_backlog import backlog
 from slopetui.store.worker_rows import register_worker, unregister_worker
 from slopetui.store.write_checks import write_refusal
-
-if TYPE_CHECKING:  # numpy: loaded by the kernels, after the worker has started
-    from core.history import CarriedState
 
 log = logging.getLogger("slopetui.worker")
 
@@ -173,10 +163,8 @@ def worker_id_for(pid: int, host: str | None = None) -> str:
 def configure_logging(log_path: str | None, echo: bool = False) -> None:
     """Log to the file (every process of the pool appends to it; created 0600: it holds
     runs' errors and tracebacks); ``echo`` also to stderr."""
-    from slopetui.queue.local_pool import open_private_log
     handlers: list[logging.Handler] = []
     if log_path:
-        from pathlib import Path
         os.close(open_private_log(Path(log_path)))  # FileHandler would create it 0644
         handlers.append(logging.FileHandler(log_path, encoding="utf-8"))
     if echo or not log_path:
@@ -202,7 +190,6 @@ class Control:
     def orphaned(self) -> bool:
         """The pool is gone, or going: this worker was re-parented, or the pool's main
         thread has exited (a zombie leader while its other threads die)."""
-        from slopetui.queue.local_pool import process_state
         return (os.getppid() != self.pool_pid
                 or process_state(self.pool_pid) in ("Z", "X"))
 
@@ -261,8 +248,8 @@ class Heartbeat:
         if now >= self.next_at:
             self.next_at = now + self.opts.heartbeat_s
             try:
-                jobs.heartbeat(self.db, self.worker_id)
-                requeued, failed = jobs.requeue_expired(self.db, self.opts.lease_s,
+                registry.heartbeat(self.db, self.worker_id)
+                requeued, failed = registry.requeue_expired(self.db, self.opts.lease_s,
                                                         self.opts.max_attempts)
                 if requeued or failed:
                     log.warning("expired leases: %d jobs requeued, %d failed", requeued, failed)
@@ -273,26 +260,6 @@ class Heartbeat:
                 else:  # one line: the write of the result will say it again, and leave
                     log.warning("heartbeat failed: %s", refused)
         self.db.idle()
-
-
-#: Methods computed with the batched kernels (core.batch), whose lanes share tau; a run of
-#: another method (stiff) is claimed alone and computed by the single-run kernel.
-BATCHED_METHODS = frozenset({"euler", "rk4"})
-
-Records = list[dict[str, Any]]
-
-
-def _compute_one(job: jobs.Job, carried: CarriedState | None = None) -> Records:
-    from core.point import run_point
-    return [run_point(job.params, job.settings, carried).as_record()]
-
-
-def _compute_together(batch: list[jobs.Job]) -> Records:
-    # core.run_batch has no per-lane callback (one numba call integrates every lane), so
-    # its results are all known, and written, when it returns.
-    from core.point import run_batch
-    return [result.as_record() for result in run_batch([job.params for job in batch],
-                                                       batch[0].settings)]
 
 
 def _wait(future: Future[Any], control: Control) -> bool:
@@ -312,114 +279,15 @@ def _run(fn: Callable[[], Any], executor: ThreadPoolExecutor, control: Control
     return future if _wait(future, control) else None
 
 
-def _within_memory(db: Database, wid: str, batch: list[jobs.Job], memory_mib: int) -> list[jobs.Job]:
-    """The leading runs of the batch that fit the memory budget; the others go back to the
-    queue unstarted (slopetui.queue.batch_memory). Only a batch for the batched kernels,
-    which hold every lane's buffers at once: a batch computed run by run (_one_by_one)
-    frees each run's buffers before the next."""
-    if len(batch) < 2 or batch[0].settings.method not in BATCHED_METHODS:
-        return batch
-    keep = fitting(batch, memory_mib * MIB)
-    if keep < len(batch):
-        log.info("batch cut to %d of %d runs: the memory budget is %d MiB (worker --memory)",
-                 keep, len(batch), memory_mib)
-        _give_back(db, wid, batch[keep:])
-    return batch[:keep]
-
-
-def _give_back(db: Database, wid: str, held: list[jobs.Job]) -> None:
-    """Release held runs: a started run's attempt is returned, an unstarted run was never
-    charged."""
-    unstarted = 0
-    for job in held:
-        released = jobs.release(db, job, wid)
-        if job.started:
-            log.info("run %d given back to the queue (shutdown)%s", job.run_id,
-                     "" if released else "; its lease had already been taken over")
-        else:
-            unstarted += released
-    if unstarted:
-        log.info("%d claimed runs not started given back to the queue", unstarted)
-
-
-def _write(db: Database, wid: str, batch: list[jobs.Job], future: Future[Records],
-           opts: WorkerOptions, size: int) -> None:
-    """Write the results of a finished computation (guarded by the lease), or its error."""
-    error = future.exception()
-    if error is None:
-        for job, record in zip(batch, future.result(), strict=True):
-            if jobs.complete(db, job, wid, record):
-                log.info("run %d done: %s in %.2f s (attempt %d, batch of %d)", job.run_id,
-                         record["regime"], record["runtime_s"], job.attempts, size)
-            else:
-                log.warning("run %d finished after its lease was lost; result discarded",
-                            job.run_id)
-        return
-    text = "".join(traceback.format_exception(error)).strip()
-    for job in batch:
-        status = jobs.fail(db, job, wid, text, opts.max_attempts)
-        log.error("run %d raised (attempt %d, now %s): %s", job.run_id, job.attempts,
-                  status, error)
-
-
-def _from_cache(db: Database, wid: str, job: jobs.Job) -> bool:
-    """Complete the run if an identical finished run already answers it."""
-    hit = jobs.cached_result(db, job)
-    if hit is None:
-        return False
-    jobs.complete(db, job, wid, hit[1], cached_from=hit[0])
-    log.info("run %d done (cached from run %d)", job.run_id, hit[0])
-    return True
-
-
-def _one_by_one(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadPoolExecutor,
-                control: Control, opts: WorkerOptions) -> None:
-    """Each run: charge it, compute it, write it. A stop between two runs gives the runs
-    not started back; an abort also gives back the run in the kernel."""
-    for i, job in enumerate(batch):
-        if control.stopping():
-            _give_back(db, wid, batch[i:])
-            return
-        if _from_cache(db, wid, job):
-            continue
-        started = jobs.begin(db, [job], wid)
-        if not started:
-            log.warning("run %d: lease lost before it started; skipped", job.run_id)
-            continue
-        # the final state its history names was read and checked at the claim (jobs)
-        future = executor.submit(_compute_one, started[0], started[0].carried)
-        if not _wait(future, control):
-            _give_back(db, wid, started + batch[i + 1:])
-            return
-        _write(db, wid, started, future, opts, len(batch))
-
-
-def _together(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadPoolExecutor,
-              control: Control, opts: WorkerOptions) -> None:
-    """The whole batch in one call of the batched kernel: every run of it is in the kernel,
-    so every one is charged; an abort gives them all back."""
-    batch = [job for job in batch if not _from_cache(db, wid, job)]
-    if control.stopping():
-        _give_back(db, wid, batch)
-        return
-    started = jobs.begin(db, batch, wid)
-    if not started:
-        return
-    future = executor.submit(_compute_together, started)
-    if not _wait(future, control):
-        _give_back(db, wid, started)
-        return
-    _write(db, wid, started, future, opts, len(started))
-
-
-def _process(db: Database, wid: str, batch: list[jobs.Job], executor: ThreadPoolExecutor,
-             control: Control, opts: WorkerOptions) -> None:
-    # a batch of several holds runs of the constant history only (claims.claim_batch
-    # claims any other alone): the batched kernels know no other
-    if len(batch) > 1 and batch[0].settings.method in BATCHED_METHODS:
-        _together(db, wid, batch, executor, control, opts)
-    else:
-        _one_by_one(db, wid, batch, executor, control, opts)
+def _claim_and_compute(c: Computing) -> bool:
+    """Claim a job of the first kind that has one (slopetui.queue.registry's order) and
+    compute it; False if no kind had anything to claim."""
+    for kind in registry.KINDS:
+        job = kind.claim(c)
+        if job is not None:
+            kind.compute(c, job)
+            return True
+    return False
 
 
 def _unregister(db: Database, wid: str) -> None:
@@ -463,29 +331,16 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
         register_worker(db, wid, opts.host, os.getpid())
         control.tick = Heartbeat(db, wid, opts)
         log.info("worker %s started", wid)
+        computing = Computing(db, wid, lambda fn: _run(fn, executor, control), control,
+                              opts.max_attempts, opts.batch, opts.memory_mib, opts.idle_hook)
         while not control.stopping():
             leaving.new_round()
-            branch = branch_jobs.claim(db, wid)  # before runs: see branch_jobs
-            if branch is not None:
-                branch_jobs.compute(db, wid, branch, lambda fn: _run(fn, executor, control),
-                                    control, opts.max_attempts)
-                continue
-            sweep = hysteresis_jobs.claim(db, wid)  # before runs too: asked for interactively
-            if sweep is not None:
-                hysteresis_jobs.compute(db, wid, sweep, lambda fn: _run(fn, executor, control),
-                                        control, opts.max_attempts)
-                continue
-            batch = _within_memory(db, wid, jobs.claim_batch(db, wid, opts.batch, BATCHED_METHODS),
-                                   opts.memory_mib)
-            if batch:
-                _process(db, wid, batch, executor, control, opts)
-                if not control.aborting() and opts.idle_hook is not None:
-                    opts.idle_hook(db)
+            if _claim_and_compute(computing):
                 continue
             # e.g. an adaptive sweep whose level is complete queues its next level
             if opts.idle_hook is not None and opts.idle_hook(db):
                 continue
-            reason = leaving.reason_to_leave(lambda: backlog(db))
+            reason = leaving.reason_to_leave(lambda: registry.backlog(db))
             if reason is not None:
                 log.info("worker %s: leaving: %s", wid, reason)
                 break

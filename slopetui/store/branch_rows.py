@@ -3,7 +3,7 @@ policy): submit, claim, save a point, finish, fail, release, heartbeat, requeue;
 faces' reads of continuations, their points and their bifurcations. Each function is one
 transaction.
 
-The lease and its statements are every point-by-point job's (slopetui.store.job_leases):
+The lease and its statements are every point-by-point job's (slopetui.store.point_jobs):
 a continuation's points are counted in ``n_points``, and a point is saved only as the
 next one. What is a continuation's own: the Hopf point recorded with the first point, and
 the bifurcations written with its finish.
@@ -12,34 +12,98 @@ the bifurcations written with its finish.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
-from sqlalchemy import RowMapping, delete, insert, select
+from sqlalchemy import delete, insert, select
 
 from slopetui.store.database import Database
-from slopetui.store.job_leases import JobLeases
 from slopetui.store.models import Bifurcation, BranchPoint, Continuation
+from slopetui.store.point_jobs import LeasedRow, PointJobs, columns, record_of
 
-#: A continuation's row by column name (a read-only mapping).
-ContinuationRow = RowMapping
 
-#: Columns of a point the faces read (all but the resume state).
-POINT_COLUMNS = ("idx", "value", "period", "amplitude", "stable", "unstable_count",
-                 "leading_re", "leading_im", "multipliers", "flow_index", "translation")
+@dataclass(frozen=True, slots=True)
+class ContinuationRow(LeasedRow):
+    """A continuation's row (slopetui.store.models.Continuation): what was asked, its
+    place in the queue (LeasedRow) and its result so far."""
 
-_JOBS = JobLeases(Continuation, BranchPoint, parent="continuation_id", counter="n_points")
+    param: str
+    start: str
+    a: float
+    b: float
+    c: float
+    d: float
+    k: float
+    v: float
+    tau: float
+    delta: float
+    from_run: int | None
+    dt: float
+    end_value: float | None
+    max_points: int
+    max_step: float
+    engine: str
+    hopf_value: float | None
+    hopf_period: float | None
+    criticality: str | None
+    end_reason: str | None
+    n_points: int
 
-# The statements every point-by-point job shares (slopetui.store.job_leases), by the names
+
+@dataclass(frozen=True, slots=True)
+class BranchPointRow:
+    """A point of a branch as the faces read it (slopetui.store.models.BranchPoint,
+    without what a resumption needs); multipliers as [re, im] pairs."""
+
+    idx: int
+    value: float
+    period: float
+    amplitude: float
+    stable: bool
+    unstable_count: int
+    leading_re: float
+    leading_im: float
+    multipliers: list[list[float]]
+    flow_index: int
+    translation: float
+
+
+@dataclass(frozen=True, slots=True)
+class SavedBranchPoint(BranchPointRow):
+    """A saved point with what a resumption needs: the step tried after it, and its
+    unknowns and secant as float64 little-endian bytes (core.branch_start.SavedPoint)."""
+
+    step: float
+    state: bytes
+
+
+@dataclass(frozen=True, slots=True)
+class BifurcationRow:
+    """A bifurcation found on a finished branch (slopetui.store.models.Bifurcation)."""
+
+    idx: int
+    type: str
+    value: float
+    period: float
+    mu_re: float
+    mu_im: float
+
+
+_JOBS = PointJobs(Continuation, BranchPoint, parent="continuation_id", counter="n_points",
+                  row=ContinuationRow, point_row=BranchPointRow, saved_row=SavedBranchPoint)
+
+#: The continuations' lease (slopetui.store.leases): heartbeat and requeue.
+lease = _JOBS.lease
+# The statements every point-by-point job shares (slopetui.store.point_jobs), by the names
 # the queue and the faces call: a continuation's id is the job id.
 submit = _JOBS.submit
 claim = _JOBS.claim
 #: Every saved point of a continuation, with its resume state, in order.
 saved_points = _JOBS.saved_points
+#: The branch's points as the faces read them (without their resume state), in order.
+points = _JOBS.points
 fail = _JOBS.fail
 release = _JOBS.release
-heartbeat = _JOBS.heartbeat
-requeue_expired = _JOBS.requeue_expired
-requeue_worker = _JOBS.requeue_worker
 status_counts = _JOBS.status_counts
 held = _JOBS.held
 #: Every continuation, newest first; one continuation's row (None: no such id).
@@ -73,14 +137,9 @@ def finish(db: Database, cid: int, worker_id: str, end_reason: str, criticality:
 
 # -- the faces' reads --
 
-def points(db: Database, cid: int) -> list[RowMapping]:
-    """The branch's points (without their resume state), in order."""
-    return _JOBS.points(db, cid, POINT_COLUMNS)
-
-
-def bifurcations(db: Database, cid: int) -> list[RowMapping]:
+def bifurcations(db: Database, cid: int) -> list[BifurcationRow]:
     """The bifurcations found on a finished continuation's branch, in branch order."""
     with db.sessions() as s:
-        return [r._mapping for r in s.execute(
-            select(*Bifurcation.__table__.columns).where(Bifurcation.continuation_id == cid)
-            .order_by(Bifurcation.idx)).all()]
+        return [record_of(BifurcationRow, r) for r in s.execute(
+            select(*columns(Bifurcation, BifurcationRow))
+            .where(Bifurcation.continuation_id == cid).order_by(Bifurcation.idx)).all()]

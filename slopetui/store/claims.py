@@ -1,14 +1,13 @@
-"""The statements of a claimed run's life: claim, begin, heartbeat, complete, fail, refuse,
-release, requeue. ``slopetui.queue.jobs`` holds the policy (what a job is, when a run has used up
-its attempts) and calls these; each one here is one transaction.
+"""The statements of a claimed run's life: claim (a batch), begin, complete, refuse, and
+the runs' lease (``lease``: fail, release, heartbeat, requeue, shared with every job kind,
+slopetui.store.leases). ``slopetui.queue.jobs`` holds the policy (what a job is, when a
+run has used up its attempts) and calls these; each one here is one transaction.
 
-A worker claims a run with one ``UPDATE ... WHERE id = (SELECT ... LIMIT 1) RETURNING``:
-inside SQLite's BEGIN IMMEDIATE, or with ``FOR UPDATE SKIP LOCKED`` on PostgreSQL, two
-workers can never claim the same run. Its lease lasts while its heartbeat (database time)
-is younger than the lease length; ``requeue_expired`` hands the runs of silent workers to
-others, and fails a run after ``max_attempts``. Every write of a result is guarded by
-``status = 'running' AND worker_id = me``, so a worker that lost its lease cannot write a
-second result for a run that another worker has taken over.
+Inside SQLite's BEGIN IMMEDIATE, or with ``FOR UPDATE SKIP LOCKED`` on PostgreSQL, two
+workers can never claim the same run. Every write of a result is guarded by the lease
+(``status = 'running' AND worker_id = me``), so a worker that lost its lease cannot write
+a second result for a run that another worker has taken over; the worker's row is
+written after the runs' (the lock order, slopetui.store.leases).
 
 A batch (``claim_batch``) is the oldest queued run of an active sweep that no other worker
 is claiming, and the queued runs that share its solver settings, history and tau, oldest
@@ -20,51 +19,61 @@ and the ``UPDATE`` takes what it picked, in the same transaction.
 A batch is claimed with ``started_at`` NULL and attempts unchanged; ``begin`` charges the
 runs that are about to be computed (and stamps started_at), so the runs a dead worker held
 but had not started (``status = 'running' AND started_at IS NULL``) go back to the queue as
-they came. ``claim`` (one run, computed at once) claims and begins in one statement.
+they came.
 """
 
 from __future__ import annotations
 
 from collections.abc import Collection, Mapping
-from datetime import timedelta
+from dataclasses import dataclass
 from typing import Any
 
-from sqlalchemy import RowMapping, bindparam, func, select, update
-from sqlalchemy.orm import Session
+from sqlalchemy import bindparam, func, select, update
 
-from core.params import PARAM_NAMES
 from core.result_fields import RESULT_NAMES
-from slopetui.store.database import Database, rows_changed
+from slopetui.store.database import Database
 from slopetui.store.db_time import db_now
+from slopetui.store.leases import Lease
 from slopetui.store.models import Run, Sweep, Worker
+from slopetui.store.point_jobs import columns, record_of
 
-#: A claimed run's columns (``CLAIMED_COLUMNS``) by name, as the claim returned them (a
-#: read-only mapping).
-ClaimedRow = RowMapping
 
-#: What a claim returns of each run: its ids, attempts, cache key, parameters and solver
-#: settings (what a worker needs to compute it).
-CLAIMED_COLUMNS = ("id", "sweep_id", "attempts", "cache_key", *PARAM_NAMES, "method", "dt",
-                   "t_end", "window", "lyap", "history")
-_CLAIM_COLUMNS = tuple(getattr(Run, name) for name in CLAIMED_COLUMNS)
+@dataclass(frozen=True, slots=True)
+class ClaimedRow:
+    """What a claim returns of each run: its ids, attempts, cache key, parameters and
+    solver settings (what a worker needs to compute it), as stored: a hand-edited store
+    may hold NULL or a value of another type in any of them (slopetui.queue.stored_inputs
+    checks them)."""
+
+    id: int
+    sweep_id: int
+    attempts: int
+    cache_key: str
+    a: float
+    b: float
+    c: float
+    d: float
+    k: float
+    v: float
+    tau: float
+    delta: float
+    method: str
+    dt: float
+    t_end: float
+    window: float
+    lyap: bool
+    history: str
+
+
+_CLAIM_COLUMNS = tuple(columns(Run, ClaimedRow))
+#: The runs' lease: the worker's row names the run it computes (workers.run_id).
+lease = Lease(Run, pointed=True)
 
 # The hot path (claim, complete) runs prebuilt statements with bound parameters: building
 # a 13-column UPDATE anew per job cost ~2 ms of SQLAlchemy coercion, 10x SQLite's own work.
-_OLDEST_QUEUED = (select(Run.id).join(Sweep, Sweep.id == Run.sweep_id)
-                  .where(Run.status == "queued", Sweep.status == "active")
-                  .order_by(Run.id).limit(1)
-                  .with_for_update(skip_locked=True, of=Run)  # PostgreSQL; SQLite ignores it
-                  .scalar_subquery())
-_CLAIM = (update(Run).where(Run.id == _OLDEST_QUEUED, Run.status == "queued")
-          .values(status="running", worker_id=bindparam("wid"), attempts=Run.attempts + 1,
-                  started_at=db_now(), heartbeat_at=db_now(), error=None)
-          .returning(*_CLAIM_COLUMNS))
 _WORKER_ON = (update(Worker).where(Worker.id == bindparam("wid"))
               .values(run_id=bindparam("rid"), heartbeat_at=db_now()))
-#: The lease holder's guard on every write to a claimed run (rid, wid).
-_HOLDING = ((Run.id == bindparam("rid")) & (Run.status == "running")
-            & (Run.worker_id == bindparam("wid")))
-_COMPLETE = (update(Run).where(_HOLDING)
+_COMPLETE = (update(Run).where(lease.holding)
              .values(status="done", finished_at=db_now(), error=None,
                      # a run served from the cache was never started
                      started_at=func.coalesce(Run.started_at, db_now()),
@@ -109,7 +118,7 @@ _CLAIM_ALONE = (update(Run).where(Run.id == bindparam("rid"), Run.status == "que
                         heartbeat_at=db_now())
                 .returning(*_CLAIM_COLUMNS))
 #: A held run whose stored inputs cannot be computed fails at once, without an attempt.
-_REFUSE = (update(Run).where(_HOLDING)
+_REFUSE = (update(Run).where(lease.holding)
            .values(status="failed", error=bindparam("reason"), finished_at=db_now(),
                    started_at=func.coalesce(Run.started_at, db_now())))
 _BEGIN = (update(Run).where(Run.id.in_(bindparam("rids", expanding=True)),
@@ -138,13 +147,13 @@ def claim_batch(db: Database, worker_id: str, limit: int,
         key = {name: value for name, value in oldest._mapping.items() if name != "id"}
         if any(value is None for value in key.values()):
             rows = conn.execute(_CLAIM_ALONE, {"wid": worker_id, "rid": oldest.id}).all()
-            return [row._mapping for row in rows]
+            return [record_of(ClaimedRow, row) for row in rows]
         if batched is not None and (oldest.method not in batched
                                     or oldest.history != "constant"):
             limit = 1
         rows = conn.execute(_CLAIM_BATCH, {"wid": worker_id, "n": limit, **{
             f"b_{name}": value for name, value in key.items()}}).all()
-    return [row._mapping for row in rows]
+    return [record_of(ClaimedRow, row) for row in rows]
 
 
 def refuse(db: Database, worker_id: str, reasons: Mapping[int, str]) -> int:
@@ -153,7 +162,7 @@ def refuse(db: Database, worker_id: str, reasons: Mapping[int, str]) -> int:
     is charged and none retried. Returns how many it failed (a run whose lease was lost
     meanwhile is left to its new holder)."""
     with db.connection() as conn:
-        return sum(conn.execute(_REFUSE, {"rid": rid, "wid": worker_id,
+        return sum(conn.execute(_REFUSE, {"jid": rid, "wid": worker_id,
                                           "reason": reason[-4000:]}).rowcount
                    for rid, reason in reasons.items())
 
@@ -171,16 +180,6 @@ def begin(db: Database, worker_id: str, run_ids: list[int], current: int | None)
     return attempts
 
 
-def claim(db: Database, worker_id: str) -> ClaimedRow | None:
-    """Claim and begin the oldest queued run of an active sweep (one attempt charged), or
-    None if there is none; the worker is pointed at it."""
-    with db.connection() as conn:
-        row = conn.execute(_CLAIM, {"wid": worker_id}).first()
-        if row is not None:
-            conn.execute(_WORKER_ON, {"wid": worker_id, "rid": row.id})
-    return None if row is None else row._mapping
-
-
 def complete(db: Database, run_id: int, worker_id: str, record: Mapping[str, Any],
              cached_from: int | None = None) -> bool:
     """Write the result fields of ``record`` (core.result_fields) if the worker still holds
@@ -188,81 +187,7 @@ def complete(db: Database, run_id: int, worker_id: str, record: Mapping[str, Any
     (nothing is written)."""
     values = {f"r_{name}": record[name] for name in RESULT_NAMES}
     with db.connection() as conn:
-        done = conn.execute(_COMPLETE, {"rid": run_id, "wid": worker_id,
+        done = conn.execute(_COMPLETE, {"jid": run_id, "wid": worker_id,
                                         "from_id": cached_from, **values}).rowcount == 1
         conn.execute(_WORKER_DONE, {"wid": worker_id, "n_done": int(done)})
     return done
-
-
-def fail(db: Database, run_id: int, worker_id: str, error: str, *, give_up: bool) -> bool:
-    """Record an error on a run the worker holds: failed for good (``give_up``) or back to
-    the queue. False if the lease was lost meanwhile."""
-    status = "failed" if give_up else "queued"
-    with db.transaction() as s:
-        n = rows_changed(s.execute(update(Run).where(_HOLDING)
-                      .values(status=status, error=error[-4000:],
-                              worker_id=worker_id if status == "failed" else None,
-                              finished_at=db_now() if status == "failed" else None),
-                      {"rid": run_id, "wid": worker_id}))
-        s.execute(update(Worker).where(Worker.id == worker_id).values(run_id=None))
-    return n == 1
-
-
-def release(db: Database, run_id: int, worker_id: str, *, started: bool) -> bool:
-    """Give a held run back to the queue unfinished; a ``started`` run's attempt is given
-    back too. False if the lease was lost meanwhile."""
-    with db.transaction() as s:
-        n = rows_changed(s.execute(update(Run).where(_HOLDING)
-                      .values(status="queued", worker_id=None,
-                              attempts=Run.attempts - int(started)),
-                      {"rid": run_id, "wid": worker_id}))
-        s.execute(update(Worker).where(Worker.id == worker_id).values(run_id=None))
-    return n == 1
-
-
-def heartbeat(db: Database, worker_id: str) -> None:
-    """Extend the leases of every run the worker holds (one, or a batch) and mark the
-    worker alive."""
-    # Runs before the worker's row, as in every other statement here (begin, complete,
-    # fail, release, requeue_worker): with the opposite order, a heartbeat and a write of
-    # the same worker on two connections deadlocked on PostgreSQL (DeadlockDetected on
-    # "runs"; SQLite's BEGIN IMMEDIATE serialises them and hid it).
-    with db.transaction() as s:
-        s.execute(update(Run).where(Run.status == "running", Run.worker_id == worker_id)
-                  .values(heartbeat_at=db_now()))
-        s.execute(update(Worker).where(Worker.id == worker_id)
-                  .values(heartbeat_at=db_now()))
-
-
-def _requeue(s: Session, where: Any, reason: str, max_attempts: int) -> tuple[int, int]:
-    # Runs held but never started cost nothing and carry no new error: back as they were.
-    unstarted = s.execute(update(Run).where(where, Run.started_at.is_(None))
-                          .values(status="queued", worker_id=None))
-    failed = s.execute(update(Run).where(where, Run.attempts >= max_attempts)
-                       .values(status="failed", finished_at=db_now(),
-                               error=f"{reason}; gave up after {max_attempts} attempts"))
-    requeued = s.execute(update(Run).where(where)
-                         .values(status="queued", worker_id=None, error=reason))
-    return rows_changed(requeued) + rows_changed(unstarted), rows_changed(failed)
-
-
-def requeue_expired(db: Database, lease_s: float, max_attempts: int) -> tuple[int, int]:
-    """Runs whose lease expired go back to the queue (or fail after max_attempts).
-    Returns (requeued, failed)."""
-    with db.transaction() as s:
-        cutoff = db.now(s) - timedelta(seconds=lease_s)
-        expired = (Run.status == "running") & (Run.heartbeat_at < cutoff)
-        return _requeue(s, expired, f"lease expired: no heartbeat for {lease_s:g} s",
-                        max_attempts)
-
-
-def requeue_worker(db: Database, worker_id: str, reason: str,
-                   max_attempts: int) -> tuple[int, int]:
-    """The runs of a worker known to be dead go back at once, without waiting for the
-    lease, and the worker is marked stopped. Returns (requeued, failed)."""
-    with db.transaction() as s:
-        held = (Run.status == "running") & (Run.worker_id == worker_id)
-        out = _requeue(s, held, reason, max_attempts)
-        s.execute(update(Worker).where(Worker.id == worker_id)
-                  .values(run_id=None, stopped_at=db_now()))
-        return out

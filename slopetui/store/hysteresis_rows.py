@@ -2,7 +2,7 @@
 holds the policy): submit, claim, save a point, finish, fail, release, heartbeat, requeue;
 and the faces' reads of the sweeps and their points. Each function is one transaction.
 
-The lease and its statements are every point-by-point job's (slopetui.store.job_leases),
+The lease and its statements are every point-by-point job's (slopetui.store.point_jobs),
 as for continuations (branch_rows): a sweep's points are counted in ``n_done``, and a
 point is saved only as the next one. What is a sweep's own: its finish, with where each
 branch changes regime.
@@ -11,34 +11,85 @@ branch changes regime.
 from __future__ import annotations
 
 from collections.abc import Mapping
-
-from sqlalchemy import RowMapping
+from dataclasses import dataclass
 
 from slopetui.store.database import Database
-from slopetui.store.job_leases import JobLeases
 from slopetui.store.models import HysteresisPoint, HysteresisSweep
+from slopetui.store.point_jobs import LeasedRow, PointJobs
 
-#: A hysteresis sweep's row by column name (a read-only mapping).
-HysteresisRow = RowMapping
 
-#: Columns of a point the faces read (all but the state handed over).
-POINT_COLUMNS = ("idx", "direction", "value", "regime", "detail", "amplitude", "growth",
-                 "jumped")
+@dataclass(frozen=True, slots=True)
+class HysteresisRow(LeasedRow):
+    """A hysteresis sweep's row (slopetui.store.models.HysteresisSweep): what was asked,
+    its place in the queue (LeasedRow) and, once done, where each branch changes regime
+    (TRANSITION_COLUMNS; None where it keeps its attractor)."""
 
-_JOBS = JobLeases(HysteresisSweep, HysteresisPoint, parent="sweep_id", counter="n_done")
+    param: str
+    start: float
+    stop: float
+    n_points: int
+    a: float
+    b: float
+    c: float
+    d: float
+    k: float
+    v: float
+    tau: float
+    delta: float
+    dt: float
+    t_settle: float
+    window: float
+    tol: float
+    engine: str
+    onset_up: float | None
+    offset_down: float | None
+    onset_up_before: float | None
+    onset_up_after: float | None
+    offset_down_before: float | None
+    offset_down_after: float | None
+    n_done: int
 
-# The statements every point-by-point job shares (slopetui.store.job_leases), by the names
+
+@dataclass(frozen=True, slots=True)
+class HysteresisPointRow:
+    """A point of a sweep as the faces read it (slopetui.store.models.HysteresisPoint,
+    without the state it hands over); amplitude and growth None where undefined."""
+
+    idx: int
+    direction: str
+    value: float
+    regime: str
+    detail: str
+    amplitude: float | None
+    growth: float | None
+    jumped: bool
+
+
+@dataclass(frozen=True, slots=True)
+class SavedHysteresisPoint(HysteresisPointRow):
+    """A saved point with the state it hands over (5 x (N + 1) float64 little-endian
+    bytes; None: its run left the finite range, nothing to hand over)."""
+
+    state: bytes | None
+
+
+_JOBS = PointJobs(HysteresisSweep, HysteresisPoint, parent="sweep_id", counter="n_done",
+                  row=HysteresisRow, point_row=HysteresisPointRow,
+                  saved_row=SavedHysteresisPoint)
+
+#: The hysteresis sweeps' lease (slopetui.store.leases): heartbeat and requeue.
+lease = _JOBS.lease
+# The statements every point-by-point job shares (slopetui.store.point_jobs), by the names
 # the queue and the faces call: a sweep's id is the job id.
 submit = _JOBS.submit
 claim = _JOBS.claim
 #: Every saved point of a sweep, with the state it hands over, in order.
 saved_points = _JOBS.saved_points
+#: The sweep's points as the faces read them (without the state they hand over), in order.
+points = _JOBS.points
 save_point = _JOBS.save_point
 fail = _JOBS.fail
 release = _JOBS.release
-heartbeat = _JOBS.heartbeat
-requeue_expired = _JOBS.requeue_expired
-requeue_worker = _JOBS.requeue_worker
 status_counts = _JOBS.status_counts
 held = _JOBS.held
 #: Every hysteresis sweep, newest first; one sweep's row (None: no such id).
@@ -58,10 +109,3 @@ def finish(db: Database, sid: int, worker_id: str, transitions: Mapping[str, flo
     with db.transaction() as s:
         return _JOBS.mark_done(s, sid, worker_id, spent_s,
                                **{name: transitions[name] for name in TRANSITION_COLUMNS})
-
-
-# -- the faces' reads --
-
-def points(db: Database, sid: int) -> list[RowMapping]:
-    """The sweep's points (without the state they hand over), in order."""
-    return _JOBS.points(db, sid, POINT_COLUMNS)

@@ -235,7 +235,7 @@ class LeasedJob:
 
     if TYPE_CHECKING:
         # Defined by each job class itself (the id first, the compute time among its
-        # results), and used by the lease statements (slopetui.store.job_leases).
+        # results), and used by the lease statements (slopetui.store.leases, point_jobs).
         __table__: ClassVar[FromClause]
         id: Mapped[int]
         runtime_s: Mapped[float]

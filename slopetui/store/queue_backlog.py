@@ -1,5 +1,6 @@
 """What is left in the queue, by what a worker can do about it: the reads behind a pool's
-decision to leave (slopetui.queue.idle_exit).
+decision to leave (slopetui.queue.idle_exit). The runs' part is read here; the queue's
+registry of job kinds adds every other kind's (slopetui.queue.registry.backlog).
 
 A run is claimable when it is queued in an active sweep; a queued run of a paused sweep
 waits for a resume, which may come at any moment. A running run (or continuation, or
@@ -13,7 +14,6 @@ from dataclasses import dataclass
 
 from sqlalchemy import func, select
 
-from slopetui.store import branch_rows, hysteresis_rows
 from slopetui.store.database import Database
 from slopetui.store.models import Run, Sweep
 
@@ -40,8 +40,8 @@ class Backlog:
         return self.idle and self.paused == 0
 
 
-def backlog(db: Database) -> Backlog:
-    """The queue's backlog, read now (three reads: runs, continuations, hysteresis)."""
+def run_backlog(db: Database) -> Backlog:
+    """The runs' part of the queue's backlog, read now."""
     with db.sessions() as s:
         rows = s.execute(select(Run.status, Sweep.status, func.count())
                          .join(Sweep, Sweep.id == Run.sweep_id)
@@ -55,7 +55,4 @@ def backlog(db: Database) -> Backlog:
             claimable += n
         elif sweep_status == "paused":
             paused += n
-    for jobs in (branch_rows.status_counts(db), hysteresis_rows.status_counts(db)):
-        claimable += jobs.get("queued", 0)
-        running += jobs.get("running", 0)
     return Backlog(claimable=claimable, running=running, paused=paused)

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 from slopetui.queue import branch_jobs
 from slopetui.store import branch_rows
+from slopetui.store.branch_rows import ContinuationRow
 from slopetui.store.database import Database
 from slopetui.sweeps.branch_records import (
     BifurcationRecord,
@@ -22,7 +23,7 @@ if TYPE_CHECKING:
     from core.branch_start import BranchSpec
 
 @dataclass(frozen=True)
-class StoredBranch(StoredJob):
+class StoredBranch(StoredJob[ContinuationRow]):
     """A continuation as stored: its row (parameters, status, Hopf point, criticality,
     why it ended), its points so far and, once done, its bifurcations."""
 
@@ -50,14 +51,9 @@ def branch_of(db: Database, cid: int) -> StoredBranch | None:
     row = branch_rows.continuation(db, cid)
     if row is None:
         return None
-    points = [point_record(p["value"], p["period"], p["amplitude"], p["stable"],
-                           complex(p["leading_re"], p["leading_im"]))
+    points = [point_record(p.value, p.period, p.amplitude, p.stable,
+                           complex(p.leading_re, p.leading_im))
               for p in branch_rows.points(db, cid)]
-    bifs = [bifurcation_record(b["type"], b["value"], b["period"], complex(b["mu_re"], b["mu_im"]))
+    bifs = [bifurcation_record(b.type, b.value, b.period, complex(b.mu_re, b.mu_im))
             for b in branch_rows.bifurcations(db, cid)]
     return StoredBranch(row, points, bifs)
-
-
-def activity(db: Database) -> tuple[dict[str, int], dict[str, int]]:
-    """Continuations per status, and the one each worker computes (by worker id)."""
-    return branch_rows.status_counts(db), branch_rows.held(db)

@@ -11,6 +11,7 @@ from slopetui.queue import hysteresis_jobs
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
 from slopetui.store import hysteresis_rows
 from slopetui.store.database import Database
+from slopetui.store.hysteresis_rows import HysteresisPointRow, HysteresisRow
 from slopetui.sweeps.stored_jobs import StoredJob
 
 #: value, regime, amplitude (peak to peak of m_y), detail, growth (1 / time unit), jumped,
@@ -19,7 +20,7 @@ WarmRecord = dict[str, Any]
 
 
 @dataclass(frozen=True)
-class StoredHysteresis(StoredJob):
+class StoredHysteresis(StoredJob[HysteresisRow]):
     """A hysteresis sweep as stored: its row (parameters, status, where each branch
     changes regime) and its points so far, in sweep order (up, then down)."""
 
@@ -40,10 +41,10 @@ class StoredHysteresis(StoredJob):
         return [p for p in self.points if p["direction"] == "down"]
 
 
-def warm_record(row: Any) -> WarmRecord:
-    return {"value": row["value"], "regime": row["regime"], "amplitude": row["amplitude"],
-            "detail": row["detail"], "growth": row["growth"], "jumped": bool(row["jumped"]),
-            "direction": row["direction"]}
+def warm_record(row: HysteresisPointRow) -> WarmRecord:
+    return {"value": row.value, "regime": row.regime, "amplitude": row.amplitude,
+            "detail": row.detail, "growth": row.growth, "jumped": bool(row.jumped),
+            "direction": row.direction}
 
 
 def submit(db: Database, spec: HysteresisSpec) -> int:
@@ -64,10 +65,5 @@ def hysteresis_of(db: Database, sid: int) -> StoredHysteresis | None:
     return StoredHysteresis(row, [warm_record(p) for p in hysteresis_rows.points(db, sid)])
 
 
-def activity(db: Database) -> tuple[dict[str, int], dict[str, int]]:
-    """Hysteresis sweeps per status, and the one each worker computes (by worker id)."""
-    return hysteresis_rows.status_counts(db), hysteresis_rows.held(db)
-
-
-__all__ = ["HysteresisSpec", "StoredHysteresis", "WarmRecord", "activity", "hysteresis_of",
+__all__ = ["HysteresisRow", "HysteresisSpec", "StoredHysteresis", "WarmRecord", "hysteresis_of",
            "listing", "submit"]

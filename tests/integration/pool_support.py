@@ -10,7 +10,7 @@ import subprocess
 import sys
 import time
 from collections import Counter
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -124,7 +124,7 @@ def freeze_mid_batch(db: Database, min_done: int, timeout: float = 60.0) -> Froz
                          "computed its batch (results written only at the end of a batch?)")
 
 
-def interrupt_twice_then_finish(url: str, log: Path, row: Callable[[], Mapping[str, Any]],
+def interrupt_twice_then_finish(url: str, log: Path, row: Callable[[], Any],
                                 counter: str, total: int) -> str:
     """Compute the one queued point-by-point job (a continuation, a hysteresis sweep:
     ``row()`` reads it, ``counter`` is its column of saved points, ``total`` how many it
@@ -134,13 +134,15 @@ def interrupt_twice_then_finish(url: str, log: Path, row: Callable[[], Mapping[s
     unfinished). A last pool that exits when idle finishes it; returns its stderr."""
     pool = start_pool(url, log, "-j", "1")
     try:
-        saved = wait_until("5 points saved", lambda: (r := row())[counter] >= 5 and r, 120)
-        holder = saved["worker_id"]
+        saved = wait_until("5 points saved", lambda: getattr(r := row(), counter) >= 5 and r,
+                           120)
+        holder = saved.worker_id
         os.kill(pid_of(holder), signal.SIGKILL)          # the worker, mid-point
         wait_until("the killed worker to be gone", lambda: gone(pid_of(holder)), 30)
         wait_until("another worker to resume it", lambda: (
-            (r := row())["status"] == "running" and r["worker_id"] != holder), 60)
-        wait_until("more points", lambda: row()[counter] >= saved[counter] + 3, 60)
+            (r := row()).status == "running" and r.worker_id != holder), 60)
+        wait_until("more points", lambda: getattr(row(), counter) >= getattr(saved, counter) + 3,
+                   60)
         pool.send_signal(signal.SIGTERM)                # a stop: between two points
         _, err = pool.communicate(timeout=60)
     finally:
@@ -149,7 +151,7 @@ def interrupt_twice_then_finish(url: str, log: Path, row: Callable[[], Mapping[s
             pool.communicate()
     assert pool.returncode == 0, err
     stopped = row()
-    assert stopped["status"] == "queued" and stopped[counter] < total
+    assert stopped.status == "queued" and getattr(stopped, counter) < total
     pool = start_pool(url, log, "-j", "1", "--exit-when-idle")
     _, err = pool.communicate(timeout=300)
     assert pool.returncode == 0, err

@@ -26,10 +26,10 @@ def test_a_branch_survives_kill_9_and_a_stop_and_finishes_once(tmp_path, db, db_
     log = tmp_path / "pool.log"
     err = interrupt_twice_then_finish(db_url, log, lambda: _row(db), "n_points", SPEC.max_points)
     done = _row(db)
-    assert done["status"] == "done" and done["n_points"] == SPEC.max_points
+    assert done.status == "done" and done.n_points == SPEC.max_points
     # the kill cost an attempt; the stop gave its attempt back
-    assert done["attempts"] == 2
-    assert [p["idx"] for p in branch_rows.points(db, cid)] == list(range(SPEC.max_points))
+    assert done.attempts == 2
+    assert [p.idx for p in branch_rows.points(db, cid)] == list(range(SPEC.max_points))
     text = log.read_text()
     assert text.count(f"continuation {cid} done") == 1
     assert "died (exit code -9): 1 jobs requeued" in text

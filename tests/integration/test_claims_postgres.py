@@ -23,7 +23,7 @@ from sqlalchemy import text
 from slopetui.queue import jobs
 from slopetui.store.database import Database
 from slopetui.store.open import open_store
-from tests.support import pg_database, submit_quick
+from tests.support import claim_one, pg_database, submit_quick
 from tests.unit.test_claims_tau import submit_interleaved
 
 PG_URL = os.environ.get("SLOPETUI_TEST_PG")
@@ -56,8 +56,8 @@ def test_a_batch_claim_takes_exactly_its_limit(store):
 
 def test_single_claims_take_one_run_each(store):
     submit_quick(store, 3, method="rk4")
-    ids = [job.run_id for job in (jobs.claim(store, f"w{i}") for i in range(3)) if job]
-    assert sorted(ids) == [1, 2, 3] and jobs.claim(store, "w3") is None
+    ids = [job.run_id for job in (claim_one(store, f"w{i}") for i in range(3)) if job]
+    assert sorted(ids) == [1, 2, 3] and claim_one(store, "w3") is None
 
 
 def test_a_batch_claim_takes_the_oldest_runs_tau_only(store):

@@ -29,16 +29,16 @@ def test_a_sweep_survives_kill_9_and_a_stop_and_finishes_once(tmp_path, db, db_u
     log = tmp_path / "pool.log"
     err = interrupt_twice_then_finish(db_url, log, lambda: _row(db), "n_done", TOTAL)
     done = _row(db)
-    assert done["status"] == "done" and done["n_done"] == TOTAL
-    assert done["attempts"] == 2  # the kill cost an attempt; the stop gave its attempt back
+    assert done.status == "done" and done.n_done == TOTAL
+    assert done.attempts == 2  # the kill cost an attempt; the stop gave its attempt back
     points = hysteresis_rows.points(db, sid)
-    assert [p["idx"] for p in points] == list(range(TOTAL))
+    assert [p.idx for p in points] == list(range(TOTAL))
     values = SPEC.values()
-    assert [p["direction"] for p in points] == ["up"] * SPEC.n_points + ["down"] * SPEC.n_points
-    assert [p["value"] for p in points] == [*values, *values[::-1]]
+    assert [p.direction for p in points] == ["up"] * SPEC.n_points + ["down"] * SPEC.n_points
+    assert [p.value for p in points] == [*values, *values[::-1]]
     # refined inside the grid's bracket, whose ends are grid values
-    assert np.isin([done["onset_up_before"], done["onset_up_after"]], values).all()
-    assert done["onset_up_before"] < done["onset_up"] < done["onset_up_after"]
+    assert np.isin([done.onset_up_before, done.onset_up_after], values).all()
+    assert done.onset_up_before < done.onset_up < done.onset_up_after
     text = log.read_text()
     assert text.count(f"hysteresis sweep {sid} done") == 1
     assert "died (exit code -9): 1 jobs requeued" in text

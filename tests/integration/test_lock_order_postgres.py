@@ -9,7 +9,7 @@ from __future__ import annotations
 import threading
 
 from core.point import run_point
-from slopetui.queue import jobs
+from slopetui.queue import jobs, registry
 from slopetui.store.open import open_store
 from slopetui.store.worker_rows import register_worker
 from tests.support import submit_quick
@@ -26,7 +26,7 @@ def test_heartbeats_and_writes_of_one_worker_never_deadlock(pg_server):
         def beat() -> None:
             try:
                 while not done.is_set():
-                    jobs.heartbeat(db, "w")
+                    registry.heartbeat(db, "w")
             except BaseException as exc:
                 errors.append(exc)
 

@@ -55,10 +55,10 @@ def test_a_pool_fails_the_poisoned_rows_computes_the_rest_and_exits_0(store, sto
     assert runs[2].attempts == 0
     assert text.count("run 2 failed at its claim: ") == 1
     continuation = branch_rows.continuation(store, branch)
-    assert continuation is not None and continuation["status"] == "failed"
-    assert "k = -1.0 is out of range: allowed k >= 0" in continuation["error"]
+    assert continuation is not None and continuation.status == "failed"
+    assert "k = -1.0 is out of range: allowed k >= 0" in continuation.error
     assert text.count(f"continuation {branch} failed at its claim: ") == 1
     hysteresis = hysteresis_rows.hysteresis_sweep(store, sweep)
-    assert hysteresis is not None and hysteresis["status"] == "failed"
-    assert "allowed dt > 0" in hysteresis["error"]
+    assert hysteresis is not None and hysteresis.status == "failed"
+    assert "allowed dt > 0" in hysteresis.error
     assert text.count(f"hysteresis sweep {sweep} failed at its claim: ") == 1

@@ -2,12 +2,11 @@
 not use.
 
 A one-second `slopetui run` took ~5 s of wall time, most of it imports: every subcommand
-module loaded numba, Alembic, SQLAlchemy and the plots at the top. The rule now: the
-parser is built from the light modules of slopetui.cli.arguments, and a command's handler
-module, which imports what it needs at its top, is imported only when it runs
-(slopetui.cli); the commands that compute nothing load neither numba nor numpy (the
-targets: `--help` ≤ 0.5 s, `status` ≤ 1 s, `show` of a 100 x 100 sweep ≤ 1 s;
-benchmarks/bench_startup.py times them), and `show` reads a SQLite store without
+module loaded numba, Alembic, SQLAlchemy and the plots at the top. The rule now: a
+subcommand module imports what its parser needs at the top and the rest in its handler
+(slopetui.cli.options); the commands that compute nothing load neither numba nor numpy
+(the targets: `--help` ≤ 0.5 s, `status` ≤ 1 s, `show` of a 100 x 100 sweep
+≤ 1 s; benchmarks/bench_startup.py times them), and `show` reads a SQLite store without
 SQLAlchemy. These tests keep it from drifting back: each command runs in a fresh
 process, which then names the heavy modules it loaded.
 """
@@ -60,11 +59,12 @@ def test_help_loads_no_heavy_module():
 
 
 def test_the_jobs_modules_and_the_method_names_load_no_numpy():
-    """The queue's continuation and hysteresis jobs (which `status` reaches through the
-    sweeps' activity() counts) import numpy only in the functions that compute or decode,
-    and ``from core.methods import METHODS`` (a form's choices) loads none."""
+    """The queue's kinds of job (which `status` and `workers` reach through the registry's
+    activity() counts) import numpy only in the functions that compute or decode, and
+    ``from core.methods import METHODS`` (a form's choices) loads none."""
     assert loaded_after("import slopetui.sweeps.branches, slopetui.sweeps.hysteresis_runs, "
-                        "slopetui.queue.worker_process; from core.methods import METHODS") == THE_DRIVER
+                        "slopetui.queue.registry, slopetui.queue.worker_process; "
+                        "from core.methods import METHODS") == THE_DRIVER
 
 
 @pytest.fixture

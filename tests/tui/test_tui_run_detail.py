@@ -41,7 +41,7 @@ from slopetui.tui.screens.run_detail import (
     RunDetailScreen,
 )
 from slopetui.tui.widgets.plot_view import PlotView
-from tests.support import finish_all, submit_quick
+from tests.support import claim_one, finish_all, submit_quick
 from tests.tui.support import wait_until
 
 ANSI = re.compile(r"\x1b\[")
@@ -209,7 +209,7 @@ def test_a_recomputation_that_raises_shows_its_cause(db_url, done_store):
 def test_a_failed_run_shows_its_error_and_computes_only_on_request(db_url):
     db = open_store(db_url)
     submit_quick(db, 1)
-    job = jobs.claim(db, "w")
+    job = claim_one(db, "w")
     traceback = "Traceback (most recent call last):\n  File \"x.py\", line 1\nRuntimeError: boom"
     assert jobs.fail(db, job, "w", traceback, max_attempts=1) == "failed"
     db.dispose()

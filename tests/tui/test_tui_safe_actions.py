@@ -27,7 +27,7 @@ from slopetui.tui.screens.sweeps import (
     SweepsScreen,
     progress_bar,
 )
-from tests.support import QUICK_SOLVER, submit_quick
+from tests.support import QUICK_SOLVER, claim_one, submit_quick
 from tests.tui.support import run, wait_until
 from tests.tui.test_tui_app import app_for
 from tests.tui.test_tui_queue_layout import queue_with_rows
@@ -144,10 +144,9 @@ def test_delete_asks_then_deletes_and_the_list_forgets_the_sweep(db):
 
 
 def test_delete_is_refused_while_runs_are_running(db):
-    from slopetui.queue import jobs
 
     sweep = submit_quick(db, 2).sweep_id
-    jobs.claim(db, "w")
+    claim_one(db, "w")
 
     async def scenario():
         app = app_for(db)

@@ -17,7 +17,8 @@ from core.solve import SolverSettings, _sample_times, make_grid, memory_of, move
 from slopetui.queue.batch_memory import MIB, OVERHEAD, REDO, charge, fitting, fitting_sizes, run_bytes
 from slopetui.queue.jobs import Job, claim_batch
 from slopetui.queue.pool import Pool
-from slopetui.queue.worker_process import BATCHED_METHODS, WorkerOptions, _within_memory
+from slopetui.queue.run_batches import BATCHED_METHODS, _within_memory
+from slopetui.queue.worker_process import WorkerOptions
 from slopetui.store.models import Run
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit

@@ -13,7 +13,7 @@ import pytest
 from core.branch_start import MIN_STEP, BranchSpec, past_end, resume, start
 from core.continuation import bifurcations, step
 from core.params import Params
-from slopetui.queue import branch_jobs, jobs
+from slopetui.queue import branch_jobs, registry
 from slopetui.store import branch_rows
 from slopetui.sweeps.branches import branch_of
 
@@ -40,7 +40,7 @@ class StopAfter:
 
     def stopping(self) -> bool:
         row = branch_rows.continuation(self.db, self.cid)
-        return row is not None and row["n_points"] >= self.n
+        return row is not None and row.n_points >= self.n
 
 
 class Never:
@@ -65,7 +65,7 @@ def _point(idx: int) -> dict[str, Any]:
 
 def test_points_are_saved_by_the_lease_holder_only_and_in_order(store):
     cid = branch_jobs.submit(store, SPEC)
-    assert branch_rows.claim(store, "w1")["id"] == cid
+    assert branch_rows.claim(store, "w1").id == cid
     assert branch_rows.claim(store, "w2") is None  # one holder
     assert branch_rows.save_point(store, cid, "w1", _point(0), 0.1)
     assert not branch_rows.save_point(store, cid, "w1", _point(0), 0.1)  # not the next one
@@ -73,14 +73,14 @@ def test_points_are_saved_by_the_lease_holder_only_and_in_order(store):
     assert not branch_rows.save_point(store, cid, "w2", _point(1), 0.1)  # not the holder
     assert branch_rows.save_point(store, cid, "w1", _point(1), 0.2)
     row = branch_rows.continuation(store, cid)
-    assert (row["n_points"], row["attempts"]) == (2, 1)
-    assert row["runtime_s"] == pytest.approx(0.3)
+    assert (row.n_points, row.attempts) == (2, 1)
+    assert row.runtime_s == pytest.approx(0.3)
     # a shutdown gives it back with its attempt; the points stay
     assert branch_rows.release(store, cid, "w1")
     assert not branch_rows.finish(store, cid, "w1", "end", None, 0.0, [])  # no longer held
     row = branch_rows.continuation(store, cid)
-    assert (row["status"], row["attempts"], row["n_points"]) == ("queued", 0, 2)
-    assert [p["idx"] for p in branch_rows.points(store, cid)] == [0, 1]
+    assert (row.status, row.attempts, row.n_points) == ("queued", 0, 2)
+    assert [p.idx for p in branch_rows.points(store, cid)] == [0, 1]
 
 
 def test_expired_and_dead_workers_continuations_go_back_or_fail(store):
@@ -88,14 +88,14 @@ def test_expired_and_dead_workers_continuations_go_back_or_fail(store):
     second = branch_jobs.submit(store, SPEC)
     branch_rows.claim(store, "w1")
     branch_rows.claim(store, "w2")
-    assert jobs.requeue_worker(store, "w1", "worker died", max_attempts=3) == (1, 0)
-    assert branch_rows.continuation(store, first)["status"] == "queued"
+    assert registry.requeue_worker(store, "w1", "worker died", max_attempts=3) == (1, 0)
+    assert branch_rows.continuation(store, first).status == "queued"
     # max_attempts 1: the second has used its one attempt
-    assert jobs.requeue_worker(store, "w2", "worker died", max_attempts=1) == (0, 1)
+    assert registry.requeue_worker(store, "w2", "worker died", max_attempts=1) == (0, 1)
     row = branch_rows.continuation(store, second)
-    assert row["status"] == "failed" and "gave up after 1 attempts" in row["error"]
+    assert row.status == "failed" and "gave up after 1 attempts" in row.error
     branch_rows.claim(store, "w3")
-    assert jobs.requeue_expired(store, lease_s=3600.0, max_attempts=3) == (0, 0)  # still fresh
+    assert registry.requeue_expired(store, lease_s=3600.0, max_attempts=3) == (0, 0)  # still fresh
 
 
 def test_a_stopped_continuation_resumes_and_ends_as_an_uninterrupted_one(store):
@@ -104,13 +104,13 @@ def test_a_stopped_continuation_resumes_and_ends_as_an_uninterrupted_one(store):
     job = branch_jobs.claim(store, "w1")
     branch_jobs.compute(store, "w1", job, inline, StopAfter(store, cid, 3), max_attempts=3)
     row = branch_rows.continuation(store, cid)
-    assert (row["status"], row["n_points"], row["attempts"]) == ("queued", 3, 0)
-    assert row["hopf_value"] == pytest.approx(reference[0][0], abs=1e-3)
+    assert (row.status, row.n_points, row.attempts) == ("queued", 3, 0)
+    assert row.hopf_value == pytest.approx(reference[0][0], abs=1e-3)
     job = branch_jobs.claim(store, "w2")  # another worker takes it over
     branch_jobs.compute(store, "w2", job, inline, Never(), max_attempts=3)
     stored = branch_of(store, cid)
-    assert stored is not None and stored.row["status"] == "done"
-    assert stored.row["criticality"] == "subcritical"
+    assert stored is not None and stored.row.status == "done"
+    assert stored.row.criticality == "subcritical"
     got = [(p["value"], p["period"], p["amplitude"]) for p in stored.points]
     assert len(got) == len(reference) == SPEC.max_points
     # the resumed branch predicts from the same y, t and step: the same points to rounding
@@ -155,6 +155,6 @@ def test_no_orbit_to_start_from_fails_at_once_with_the_reason(store):
     job = branch_jobs.claim(store, "w1")
     branch_jobs.compute(store, "w1", job, inline, Never(), max_attempts=3)
     row = branch_rows.continuation(store, cid)
-    assert row["status"] == "failed" and row["attempts"] == 1
-    assert row["error"].startswith("no branch: ")
+    assert row.status == "failed" and row.attempts == 1
+    assert row.error.startswith("no branch: ")
     assert branch_rows.points(store, cid) == []

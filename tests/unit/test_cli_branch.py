@@ -23,7 +23,7 @@ def _compute(db) -> None:
 def test_submit_queues_and_branch_shows_it_queued_then_done(db, db_url, capsys):
     assert main([*SUBMIT, "--db", db_url, "--json"]) == 0
     assert json.loads(capsys.readouterr().out) == {"id": 1, "status": "queued"}
-    assert branch_rows.continuation(db, 1)["status"] == "queued"
+    assert branch_rows.continuation(db, 1).status == "queued"
     assert main(["branch", "--db", db_url]) == 0
     listed = capsys.readouterr().out.splitlines()
     assert listed[1].split()[:5] == ["1", "k", "hopf", "tau=2", "queued"]

@@ -18,7 +18,7 @@ from slopetui.sweeps.adaptive import advance
 from slopetui.sweeps.progress import sweep_progress
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
-from tests.support import ADAPTIVE_PLANE, finish_all, submit_quick
+from tests.support import ADAPTIVE_PLANE, claim_one, finish_all, submit_quick
 
 
 def runs_of(db, sweep_id):
@@ -38,8 +38,8 @@ def n_runs(db, *where):
 
 def test_resume_queues_a_cancelled_sweeps_runs_again_with_their_attempts(store):
     sweep = submit_quick(store, 4).sweep_id
-    tried = jobs.claim(store, "w")                      # given back: queued, 1 attempt
-    running = jobs.claim(store, "w")                    # this one is running at the cancel
+    tried = claim_one(store, "w")                      # given back: queued, 1 attempt
+    running = claim_one(store, "w")                    # this one is running at the cancel
     assert jobs.fail(store, tried, "w", "lease lost", max_attempts=3) == "queued"
     assert control.apply(store, "cancel", sweep) == f"sweep {sweep} cancelled: 3 queued runs cancelled"
     assert sorted(runs_of(store, sweep)) == [("cancelled", 0), ("cancelled", 0),
@@ -51,7 +51,7 @@ def test_resume_queues_a_cancelled_sweeps_runs_again_with_their_attempts(store):
     assert sorted(runs_of(store, sweep)) == [("queued", 0), ("queued", 0), ("queued", 1),
                                              ("running", 1)]
     assert sweep_progress(store, [sweep])[0].status == "active"
-    again = jobs.claim(store, "w2")                     # handed out again
+    again = claim_one(store, "w2")                     # handed out again
     assert again is not None and again.run_id != running.run_id
 
 
@@ -171,7 +171,7 @@ def test_delete_an_unknown_or_busy_sweep(db, db_url, capsys):
     code, _, err = cli(capsys, "delete", "0", "--yes", "--db", db_url)
     assert code == 2 and "SWEEP" in err
     sweep = submit_quick(db, 2).sweep_id
-    jobs.claim(db, "w")
+    claim_one(db, "w")
     code, _, err = cli(capsys, "delete", str(sweep), "--yes", "--db", db_url)
     assert code == 2 and "running" in err and f"slopetui cancel {sweep}" in err
     assert n_runs(db, Run.sweep_id == sweep) == 2

@@ -106,12 +106,12 @@ def test_the_stored_sweep_keeps_the_brackets_and_its_tolerance(store):
         SPEC.window, 1e-2))
     _compute(store, "w1")
     row = hysteresis_rows.hysteresis_sweep(store, sid)
-    assert row["status"] == "done" and row["tol"] == 1e-2
-    before, after = row["onset_up_before"], row["onset_up_after"]
+    assert row.status == "done" and row.tol == 1e-2
+    before, after = row.onset_up_before, row.onset_up_after
     assert (before, after) == pytest.approx((8.0, 8.0 + 4.0 / 3.0))
-    assert before < row["onset_up"] < after
+    assert before < row.onset_up < after
     k_h = hopf_k(2.0, Params().F1)  # 9.129: the Hopf point at tau = 2
-    assert abs(row["onset_up"] - k_h) <= 1e-2 * k_h
+    assert abs(row.onset_up - k_h) <= 1e-2 * k_h
 
 
 def test_hysteresis_tol_is_checked_and_printed(capsys):
@@ -147,8 +147,8 @@ def test_0011_keeps_the_sweeps_and_gives_them_no_bracket(new_store_url, backend)
             "0.1, 0.01, 6000, 1000, 'x', 'done', 6.269, 1.077, 80, 1.0, 1)")
     upgrade(db)
     row = hysteresis_rows.hysteresis_sweep(db, 1)
-    assert row is not None and (row["onset_up"], row["offset_down"], row["tol"]) == (6.269, 1.077, 1e-3)
-    assert row["onset_up_before"] is None and row["offset_down_after"] is None
+    assert row is not None and (row.onset_up, row.offset_down, row.tol) == (6.269, 1.077, 1e-3)
+    assert row.onset_up_before is None and row.offset_down_after is None
     with db.engine.begin() as conn:
         conn.exec_driver_sql("UPDATE hysteresis_sweeps SET onset_up_before = 6.0769, "
                              "onset_up_after = 6.2692, onset_up = 6.143")
@@ -173,4 +173,4 @@ def test_a_stored_tol_out_of_range_fails_the_sweep_at_its_claim(store, tol):
         conn.exec_driver_sql(f"UPDATE hysteresis_sweeps SET tol = {tol}")
     assert hysteresis_jobs.claim(store, "w1") is None
     row = hysteresis_rows.hysteresis_sweep(store, sid)
-    assert row is not None and row["status"] == "failed" and "tol = " in row["error"]
+    assert row is not None and row.status == "failed" and "tol = " in row.error

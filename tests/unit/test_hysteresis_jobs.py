@@ -15,10 +15,10 @@ import core.hysteresis
 from core.hysteresis import WarmPoint, hysteresis
 from core.orbit import OrbitError
 from core.params import Params
-from slopetui.queue import hysteresis_jobs, jobs
+from slopetui.queue import hysteresis_jobs, registry
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
+from slopetui.queue.registry import backlog
 from slopetui.store import hysteresis_rows
-from slopetui.store.queue_backlog import backlog
 from slopetui.sweeps.hysteresis_runs import hysteresis_of
 from tests.unit.test_branch_jobs import Never, inline
 
@@ -35,7 +35,7 @@ class StopAfter:
 
     def stopping(self) -> bool:
         row = hysteresis_rows.hysteresis_sweep(self.db, self.sid)
-        return row is not None and row["n_done"] >= self.n
+        return row is not None and row.n_done >= self.n
 
 
 def _direct(spec: HysteresisSpec) -> core.hysteresis.Hysteresis:
@@ -74,7 +74,7 @@ def _compute(db: Any, wid: str, control: Any = None, max_attempts: int = 3) -> N
 def test_points_are_saved_by_the_lease_holder_only_and_in_order(store):
     sid = hysteresis_jobs.submit(store, SPEC)
     assert not backlog(store).drained  # a queued sweep keeps --exit-when-idle workers
-    assert hysteresis_rows.claim(store, "w1")["id"] == sid
+    assert hysteresis_rows.claim(store, "w1").id == sid
     assert hysteresis_rows.claim(store, "w2") is None  # one holder
     assert hysteresis_rows.save_point(store, sid, "w1", _point(0), 0.1)
     assert not hysteresis_rows.save_point(store, sid, "w1", _point(0), 0.1)  # not the next one
@@ -82,17 +82,17 @@ def test_points_are_saved_by_the_lease_holder_only_and_in_order(store):
     assert not hysteresis_rows.save_point(store, sid, "w2", _point(1), 0.1)  # not the holder
     assert hysteresis_rows.save_point(store, sid, "w1", _point(1), 0.2)
     row = hysteresis_rows.hysteresis_sweep(store, sid)
-    assert (row["n_done"], row["attempts"]) == (2, 1)
-    assert row["runtime_s"] == pytest.approx(0.3)
+    assert (row.n_done, row.attempts) == (2, 1)
+    assert row.runtime_s == pytest.approx(0.3)
     # a shutdown gives it back with its attempt; the points stay
     assert hysteresis_rows.release(store, sid, "w1")
     none = dict.fromkeys(hysteresis_rows.TRANSITION_COLUMNS)
     assert not hysteresis_rows.finish(store, sid, "w1", none, 0.0)  # no longer held
     row = hysteresis_rows.hysteresis_sweep(store, sid)
-    assert (row["status"], row["attempts"], row["n_done"]) == ("queued", 0, 2)
+    assert (row.status, row.attempts, row.n_done) == ("queued", 0, 2)
     points = hysteresis_rows.points(store, sid)
-    assert [p["idx"] for p in points] == [0, 1] and "state" not in points[0]
-    assert math.isnan(points[0]["amplitude"])  # NaN survives (SQLite: NULL read back as NaN)
+    assert [p.idx for p in points] == [0, 1] and not hasattr(points[0], "state")
+    assert math.isnan(points[0].amplitude)  # NaN survives (SQLite: NULL read back as NaN)
 
 
 def test_expired_and_dead_workers_sweeps_go_back_or_fail(store):
@@ -100,15 +100,15 @@ def test_expired_and_dead_workers_sweeps_go_back_or_fail(store):
     second = hysteresis_jobs.submit(store, SPEC)
     hysteresis_rows.claim(store, "w1")
     hysteresis_rows.claim(store, "w2")
-    jobs.heartbeat(store, "w1")
-    assert jobs.requeue_worker(store, "w1", "worker died", max_attempts=3) == (1, 0)
-    assert hysteresis_rows.hysteresis_sweep(store, first)["status"] == "queued"
-    assert jobs.requeue_worker(store, "w2", "worker died", max_attempts=1) == (0, 1)
+    registry.heartbeat(store, "w1")
+    assert registry.requeue_worker(store, "w1", "worker died", max_attempts=3) == (1, 0)
+    assert hysteresis_rows.hysteresis_sweep(store, first).status == "queued"
+    assert registry.requeue_worker(store, "w2", "worker died", max_attempts=1) == (0, 1)
     row = hysteresis_rows.hysteresis_sweep(store, second)
-    assert row["status"] == "failed" and "gave up after 1 attempts" in row["error"]
+    assert row.status == "failed" and "gave up after 1 attempts" in row.error
     hysteresis_rows.claim(store, "w3")
-    assert jobs.requeue_expired(store, lease_s=3600.0, max_attempts=3) == (0, 0)  # still fresh
-    assert jobs.requeue_expired(store, lease_s=-1.0, max_attempts=3) == (1, 0)  # expired
+    assert registry.requeue_expired(store, lease_s=3600.0, max_attempts=3) == (0, 0)  # still fresh
+    assert registry.requeue_expired(store, lease_s=-1.0, max_attempts=3) == (1, 0)  # expired
 
 
 @pytest.mark.parametrize("stops", [(2,), (4,), (1, 6)])
@@ -121,20 +121,20 @@ def test_a_stopped_sweep_resumes_and_ends_as_an_uninterrupted_one(store, stops):
     for i, n in enumerate(stops):
         _compute(store, f"w{i}", StopAfter(store, sid, n))
         row = hysteresis_rows.hysteresis_sweep(store, sid)
-        assert (row["status"], row["n_done"], row["attempts"]) == ("queued", n, 0)
+        assert (row.status, row.n_done, row.attempts) == ("queued", n, 0)
     _compute(store, "last")  # another worker takes it over
     stored = hysteresis_of(store, sid)
-    assert stored is not None and stored.row["status"] == "done"
-    assert stored.row["n_done"] == 2 * SPEC.n_points and stored.row["attempts"] == 1
+    assert stored is not None and stored.row.status == "done"
+    assert stored.row.n_done == 2 * SPEC.n_points and stored.row.attempts == 1
     # the state is handed over to the bit: the same points as the direct sweep, exactly
     assert _stored_keys(stored.up) == _keys(reference.up)
     assert _stored_keys(stored.down) == _keys(reference.down)
     assert [p["detail"] for p in stored.points] == \
         [p.detail for p in reference.up + reference.down]
-    assert (stored.row["onset_up"], stored.row["offset_down"]) == \
+    assert (stored.row.onset_up, stored.row.offset_down) == \
         (reference.onset_up, reference.offset_down)
-    assert reference.onset is not None and stored.row["tol"] == reference.onset.tol
-    assert (stored.row["onset_up_before"], stored.row["onset_up_after"]) == \
+    assert reference.onset is not None and stored.row.tol == reference.onset.tol
+    assert (stored.row.onset_up_before, stored.row.onset_up_after) == \
         (reference.onset.before, reference.onset.after)
     assert backlog(store).drained
 
@@ -155,14 +155,14 @@ def test_a_run_leaving_the_finite_range_ends_the_sweep_as_it_ends_a_branch(store
     sid = hysteresis_jobs.submit(store, spec)
     _compute(store, "w1")
     stored = hysteresis_of(store, sid)
-    assert stored is not None and stored.row["status"] == "done" and stored.row["error"] is None
+    assert stored is not None and stored.row.status == "done" and stored.row.error is None
     assert _stored_keys(stored.up) == _keys(reference.up) and stored.down == []
     assert stored.up[-1]["detail"] == "the run left the finite range at t = 12.5"
     # the bracket is the grid's; the refined value lies in it (the state of k = 8 carried)
     assert reference.onset is not None and (reference.onset.before, reference.onset.after) == \
-        (stored.row["onset_up_before"], stored.row["onset_up_after"]) == (8.0, 10.0)
-    assert stored.row["onset_up"] == reference.onset_up and 8.0 < reference.onset.value < 10.0
-    assert hysteresis_rows.saved_points(store, sid)[-1]["state"] is None  # nothing handed over
+        (stored.row.onset_up_before, stored.row.onset_up_after) == (8.0, 10.0)
+    assert stored.row.onset_up == reference.onset_up and 8.0 < reference.onset.value < 10.0
+    assert hysteresis_rows.saved_points(store, sid)[-1].state is None  # nothing handed over
 
 
 def test_a_sweep_killed_after_its_last_point_is_only_finished(store, monkeypatch):
@@ -179,13 +179,13 @@ def test_a_sweep_killed_after_its_last_point_is_only_finished(store, monkeypatch
                                                               math.nan, math.nan), None)]
     for f in fields:
         assert hysteresis_rows.save_point(store, sid, "w1", f, 0.0)
-    jobs.requeue_worker(store, "w1", "worker died", max_attempts=3)
+    registry.requeue_worker(store, "w1", "worker died", max_attempts=3)
     monkeypatch.setattr(core.hysteresis, "point", None)  # computing anything would raise
     _compute(store, "w2")
     row = hysteresis_rows.hysteresis_sweep(store, sid)
-    assert (row["status"], row["n_done"]) == ("done", 2)
-    assert (row["onset_up_before"], row["onset_up_after"]) == (8.0, 10.0)
-    assert 8.0 < row["onset_up"] < 10.0
+    assert (row.status, row.n_done) == ("done", 2)
+    assert (row.onset_up_before, row.onset_up_after) == (8.0, 10.0)
+    assert 8.0 < row.onset_up < 10.0
 
 
 def test_errors_are_retried_and_tau_fails_at_once(store, monkeypatch):
@@ -195,12 +195,12 @@ def test_errors_are_retried_and_tau_fails_at_once(store, monkeypatch):
     sid = hysteresis_jobs.submit(store, SPEC)
     _compute(store, "w1", max_attempts=2)
     row = hysteresis_rows.hysteresis_sweep(store, sid)
-    assert row["status"] == "queued" and "RuntimeError: a bug" in row["error"]
+    assert row.status == "queued" and "RuntimeError: a bug" in row.error
     _compute(store, "w2", max_attempts=2)
-    assert hysteresis_rows.hysteresis_sweep(store, sid)["status"] == "failed"
+    assert hysteresis_rows.hysteresis_sweep(store, sid).status == "failed"
     tau = hysteresis_jobs.submit(store, HysteresisSpec(Params(), "tau", 1.0, 2.0, 3, 0.01,
                                                     300.0, 100.0))
     _compute(store, "w3")
     row = hysteresis_rows.hysteresis_sweep(store, tau)
-    assert row["status"] == "failed" and row["attempts"] == 1
-    assert row["error"].startswith("no sweep: ") and "tau" in row["error"]
+    assert row.status == "failed" and row.attempts == 1
+    assert row.error.startswith("no sweep: ") and "tau" in row.error

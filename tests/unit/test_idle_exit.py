@@ -12,13 +12,14 @@ import subprocess
 import pytest
 
 from slopetui.cli import main
-from slopetui.queue import hysteresis_jobs, jobs
+from slopetui.queue import hysteresis_jobs
 from slopetui.queue.idle_exit import IdleExit, Owner
 from slopetui.queue.local_pool import start_ticks
 from slopetui.queue.open_apps import open_apps, record_app
-from slopetui.store.queue_backlog import Backlog, backlog
+from slopetui.queue.registry import backlog
+from slopetui.store.queue_backlog import Backlog
 from slopetui.sweeps import control
-from tests.support import submit_quick
+from tests.support import claim_one, submit_quick
 from tests.unit.test_hysteresis_jobs import SPEC
 
 DRAINED = Backlog(claimable=0, running=0, paused=0)
@@ -48,7 +49,7 @@ def test_the_backlog_counts_paused_runs_apart_and_every_kind_of_job(store):
     assert paused == Backlog(claimable=0, running=0, paused=3)
     assert paused.idle and not paused.drained  # paused runs alone: --exit-when-idle leaves
     control.resume(store, sub.sweep_id)
-    jobs.claim(store, "w1")
+    claim_one(store, "w1")
     assert backlog(store) == Backlog(claimable=2, running=1, paused=0)
     hysteresis_jobs.submit(store, SPEC)  # a queued hysteresis sweep is claimable work too
     assert backlog(store).claimable == 3

@@ -13,7 +13,7 @@ from core.result_fields import ATTRACTORS, FLAGS
 from slopetui.queue import jobs
 from slopetui.store.migrate import current_revision, downgrade, upgrade
 from slopetui.store.models import Run
-from tests.support import submit_quick
+from tests.support import claim_one, submit_quick
 
 REASON = ("at rest; not departed from the unstable rest state (root +1.76e-07/t): headed for "
           "the stable cycle of the subcritical Hopf point at k = 5.97491 (period 60.67, "
@@ -30,7 +30,7 @@ def test_the_longest_words_fit_their_columns():
 def _store_one(db, **result) -> int:
     """Compute one queued run and complete it with ``result`` over its record."""
     submit_quick(db, 1)
-    job = jobs.claim(db, "test")
+    job = claim_one(db, "test")
     assert job is not None
     record = {**run_point(job.params, job.settings).as_record(), **result}
     jobs.complete(db, job, "test", record)

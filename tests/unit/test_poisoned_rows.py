@@ -21,7 +21,7 @@ from slopetui.queue import branch_jobs, hysteresis_jobs, jobs
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
 from slopetui.store import branch_rows, hysteresis_rows
 from slopetui.store.models import Run
-from tests.support import submit_quick
+from tests.support import claim_one, submit_quick
 
 #: A state name no store keeps (the history of a run whose state was deleted by hand).
 MISSING_STATE = "state:" + "0123456789abcdef"
@@ -148,9 +148,9 @@ def test_a_batch_of_poisoned_runs_only_leaves_the_claim_empty_not_stuck(store):
 def test_the_single_claim_fails_a_poisoned_run_and_takes_the_next(store):
     submit_quick(store, 2)
     poison(store, "runs", 1, "dt", 0.0)
-    job = jobs.claim(store, "w")
+    job = claim_one(store, "w")
     assert job is not None and job.run_id == 2
-    assert run_row(store, 1).status == "failed" and jobs.claim(store, "w") is None
+    assert run_row(store, 1).status == "failed" and claim_one(store, "w") is None
 
 
 def test_a_refused_run_that_the_worker_no_longer_holds_is_left_to_its_holder(store):
@@ -202,9 +202,9 @@ def test_a_poisoned_continuation_fails_at_its_claim_and_the_next_is_claimed(
         job = branch_jobs.claim(store, "w")
     assert job is not None and job.id == good
     row = branch_rows.continuation(store, bad)
-    assert row is not None and row["status"] == "failed"
-    assert row["error"].startswith("not computed: invalid input in the store: ")
-    assert re.search(says, row["error"]), row["error"]
+    assert row is not None and row.status == "failed"
+    assert row.error.startswith("not computed: invalid input in the store: ")
+    assert re.search(says, row.error), row.error
     [line] = refusals(caplog)
     assert line.getMessage().startswith(f"continuation {bad} failed at its claim: ")
     assert line.exc_info is None
@@ -229,9 +229,9 @@ def test_a_poisoned_hysteresis_sweep_fails_at_its_claim_and_the_next_is_claimed(
         job = hysteresis_jobs.claim(store, "w")
     assert job is not None and job.id == good
     row = hysteresis_rows.hysteresis_sweep(store, bad)
-    assert row is not None and row["status"] == "failed"
-    assert row["error"].startswith("not computed: invalid input in the store: ")
-    assert re.search(says, row["error"]), row["error"]
+    assert row is not None and row.status == "failed"
+    assert row.error.startswith("not computed: invalid input in the store: ")
+    assert re.search(says, row.error), row.error
     [line] = refusals(caplog)
     assert line.getMessage().startswith(f"hysteresis sweep {bad} failed at its claim: ")
     assert line.exc_info is None
@@ -251,8 +251,8 @@ def test_a_continuation_whose_saved_point_cannot_be_read_back_fails_with_the_rea
     with caplog.at_level(logging.INFO, logger="slopetui"):
         branch_jobs.compute(store, "w2", job, inline, Never(), max_attempts=3)
     row = branch_rows.continuation(store, cid)
-    assert row is not None and row["status"] == "failed"
-    assert row["error"].startswith("not computed: invalid input in the store: a saved point "
+    assert row is not None and row.status == "failed"
+    assert row.error.startswith("not computed: invalid input in the store: a saved point "
                                    "(branch_points) cannot be read back: ")
     [line] = refusals(caplog)
     assert line.exc_info is None
@@ -272,8 +272,8 @@ def test_a_hysteresis_sweep_whose_saved_state_cannot_be_read_back_fails_with_the
     with caplog.at_level(logging.INFO, logger="slopetui"):
         hysteresis_jobs.compute(store, "w2", job, inline, Never(), max_attempts=3)
     row = hysteresis_rows.hysteresis_sweep(store, sid)
-    assert row is not None and row["status"] == "failed"
-    assert row["error"].startswith("not computed: invalid input in the store: the state of a "
+    assert row is not None and row.status == "failed"
+    assert row.error.startswith("not computed: invalid input in the store: the state of a "
                                    "saved point (hysteresis_points) cannot be read back: ")
     [line] = refusals(caplog)
     assert line.exc_info is None

@@ -9,11 +9,11 @@ from datetime import timedelta
 from sqlalchemy import func, select, update
 
 from core.point import run_point
-from slopetui.queue import jobs
+from slopetui.queue import jobs, registry
 from slopetui.store import claims
 from slopetui.store.models import Run
 from slopetui.sweeps import control
-from tests.support import finish_all, submit_quick
+from tests.support import claim_one, finish_all, submit_quick
 
 
 def statuses(db, sweep_id):
@@ -24,7 +24,7 @@ def statuses(db, sweep_id):
 
 def test_claims_are_unique_and_oldest_first(store):
     sub = submit_quick(store, 4)
-    got = [jobs.claim(store, f"w{i}") for i in range(5)]
+    got = [claim_one(store, f"w{i}") for i in range(5)]
     assert [j.run_id for j in got[:4]] == sorted(j.run_id for j in got[:4])
     assert len({j.run_id for j in got[:4]}) == 4 and got[4] is None
     assert statuses(store, sub.sweep_id) == {"running": 4}
@@ -33,7 +33,7 @@ def test_claims_are_unique_and_oldest_first(store):
 
 def test_a_result_is_written_once_by_the_lease_holder(store):
     submit_quick(store, 1)
-    job = jobs.claim(store, "w1")
+    job = claim_one(store, "w1")
     record = run_point(job.params, job.settings).as_record()
     assert jobs.complete(store, job, "w2", record) is False       # not the holder
     assert jobs.complete(store, job, "w1", record) is True
@@ -53,10 +53,10 @@ def _expire(db, run_id):
 
 def test_expired_leases_go_back_to_the_queue_and_the_old_holder_is_fenced(store):
     submit_quick(store, 1)
-    job = jobs.claim(store, "dead")
+    job = claim_one(store, "dead")
     _expire(store, job.run_id)
-    assert jobs.requeue_expired(store, lease_s=60) == (1, 0)
-    again = jobs.claim(store, "alive")
+    assert registry.requeue_expired(store, lease_s=60) == (1, 0)
+    again = claim_one(store, "alive")
     assert again.run_id == job.run_id and again.attempts == 2
     record = run_point(job.params, job.settings).as_record()
     assert jobs.complete(store, job, "dead", record) is False  # woke up too late: fenced off
@@ -65,19 +65,19 @@ def test_expired_leases_go_back_to_the_queue_and_the_old_holder_is_fenced(store)
 
 def test_a_fresh_heartbeat_keeps_the_lease(store):
     submit_quick(store, 1)
-    assert jobs.claim(store, "w") is not None
-    jobs.heartbeat(store, "w")
-    assert jobs.requeue_expired(store, lease_s=60) == (0, 0)
+    assert claim_one(store, "w") is not None
+    registry.heartbeat(store, "w")
+    assert registry.requeue_expired(store, lease_s=60) == (0, 0)
 
 
 def test_a_run_fails_after_max_attempts_with_its_error(store):
     submit_quick(store, 1)
     for attempt in (1, 2, 3):
-        job = jobs.claim(store, "w")
+        job = claim_one(store, "w")
         assert job.attempts == attempt
         status = jobs.fail(store, job, "w", f"boom {attempt}", max_attempts=3)
         assert status == ("failed" if attempt == 3 else "queued")
-    assert jobs.claim(store, "w") is None
+    assert claim_one(store, "w") is None
     with store.sessions() as s:
         run = s.scalars(select(Run)).one()
         assert run.status == "failed" and run.error == "boom 3" and run.finished_at
@@ -86,9 +86,9 @@ def test_a_run_fails_after_max_attempts_with_its_error(store):
 def test_expired_leases_fail_after_max_attempts(store):
     submit_quick(store, 1)
     for _ in range(2):
-        job = jobs.claim(store, "w")
+        job = claim_one(store, "w")
         _expire(store, job.run_id)
-        jobs.requeue_expired(store, lease_s=60, max_attempts=2)
+        registry.requeue_expired(store, lease_s=60, max_attempts=2)
     with store.sessions() as s:
         run = s.scalars(select(Run)).one()
     assert run.status == "failed" and "lease expired" in run.error and run.attempts == 2
@@ -100,10 +100,10 @@ def test_a_sweep_whose_runs_all_failed_is_failed_not_done(store):
     from slopetui.sweeps.progress import sweep_progress
 
     failing = submit_quick(store, 2).sweep_id
-    while (job := jobs.claim(store, "w")) is not None:
+    while (job := claim_one(store, "w")) is not None:
         jobs.fail(store, job, "w", "boom", max_attempts=1)
     partly = submit_quick(store, 2, tau=3.0).sweep_id
-    job = jobs.claim(store, "w")
+    job = claim_one(store, "w")
     jobs.fail(store, job, "w", "boom", max_attempts=1)
     finish_all(store)
     by_id = {p.id: p for p in sweep_progress(store)}
@@ -114,18 +114,18 @@ def test_a_sweep_whose_runs_all_failed_is_failed_not_done(store):
 
 def test_release_does_not_count_an_attempt(store):
     submit_quick(store, 1)
-    job = jobs.claim(store, "w")
+    job = claim_one(store, "w")
     assert jobs.release(store, job, "w")
-    assert jobs.claim(store, "w").attempts == 1
+    assert claim_one(store, "w").attempts == 1
 
 
 def test_paused_sweeps_are_not_handed_out_and_cancel_cancels_queued_runs(store):
     first = submit_quick(store, 2)
     second = submit_quick(store, 2, tau=3.0)
     assert control.pause(store, first.sweep_id) == "paused"
-    assert jobs.claim(store, "w").sweep_id == second.sweep_id
+    assert claim_one(store, "w").sweep_id == second.sweep_id
     assert control.resume(store, first.sweep_id) == control.Resumed("active", 0)
-    assert jobs.claim(store, "w").sweep_id == first.sweep_id
+    assert claim_one(store, "w").sweep_id == first.sweep_id
     assert control.cancel(store, first.sweep_id) == 1
     assert statuses(store, first.sweep_id) == {"running": 1, "cancelled": 1}
 
@@ -148,7 +148,7 @@ def test_identical_runs_take_the_cached_result(store):
 def test_a_claimed_run_finished_meanwhile_elsewhere_is_served_from_the_cache(store):
     submit_quick(store, 1)
     submit_quick(store, 1)  # the same point, queued before the first finished
-    j1, j2 = jobs.claim(store, "a"), jobs.claim(store, "b")
+    j1, j2 = claim_one(store, "a"), claim_one(store, "b")
     jobs.complete(store, j1, "a", run_point(j1.params, j1.settings).as_record())
     hit = jobs.cached_result(store, j2)
     assert hit is not None and hit[0] == j1.run_id
@@ -156,12 +156,14 @@ def test_a_claimed_run_finished_meanwhile_elsewhere_is_served_from_the_cache(sto
 
 def test_the_claim_skips_locked_rows_on_postgresql():
     """The SQL the claim sends to PostgreSQL, read without a server (the tests above run
-    it on one when $SLOPETUI_TEST_PG names it)."""
+    it on one when $SLOPETUI_TEST_PG names it): the oldest run is read and locked
+    skipping locked rows, and the claim stamps database time."""
     from sqlalchemy.dialects import postgresql
 
-    sql = str(claims._CLAIM.compile(dialect=postgresql.dialect()))
+    sql = str(claims._OLDEST_SETTINGS.compile(dialect=postgresql.dialect()))
     assert "FOR UPDATE OF runs SKIP LOCKED" in sql
-    assert sql.startswith("UPDATE runs SET") and "RETURNING runs.id" in sql
+    sql = str(claims._CLAIM_BATCH.compile(dialect=postgresql.dialect()))
+    assert "UPDATE runs SET" in sql and "RETURNING runs.id" in sql
     assert "statement_timestamp() AT TIME ZONE 'UTC'" in sql
 
 
@@ -192,7 +194,7 @@ def test_a_dead_workers_whole_batch_goes_back_to_the_queue_charging_only_started
     jobs.complete(store, done, "dead", run_point(done.params, done.settings).as_record())
     assert jobs.begin(store, [computing], "dead")[0].attempts == 1
     # the worker dies in the kernel on batch[1]: batch[2:] were never started
-    assert jobs.requeue_worker(store, "dead", "worker died") == (3, 0)
+    assert registry.requeue_worker(store, "dead", "worker died") == (3, 0)
     assert statuses(store, sub.sweep_id) == {"done": 1, "queued": 5}
     with store.sessions() as s:
         runs = {r.id: r for r in s.scalars(select(Run))}
@@ -230,7 +232,7 @@ def test_an_unstarted_run_is_never_failed_by_a_requeue(store):
     submit_quick(store, 2)
     started, waiting = jobs.claim_batch(store, "dead", 2)
     jobs.begin(store, [started], "dead")
-    assert jobs.requeue_worker(store, "dead", "died", max_attempts=1) == (1, 1)
+    assert registry.requeue_worker(store, "dead", "died", max_attempts=1) == (1, 1)
     with store.sessions() as s:
         assert s.get(Run, started.run_id).status == "failed"
         assert s.get(Run, waiting.run_id).status == "queued"
@@ -252,8 +254,8 @@ def test_a_heartbeat_keeps_every_lease_of_a_batch(store):
     jobs.claim_batch(store, "w", 3)
     with store.transaction() as s:  # age the leases (by the database's clock, as leases are)
         s.execute(update(Run).values(heartbeat_at=store.now(s) - timedelta(seconds=120)))
-    jobs.heartbeat(store, "w")
-    assert jobs.requeue_expired(store, lease_s=60) == (0, 0)
+    registry.heartbeat(store, "w")
+    assert registry.requeue_expired(store, lease_s=60) == (0, 0)
 
 
 def test_the_batch_claim_skips_locked_rows_on_postgresql():
@@ -274,7 +276,7 @@ def test_an_inferred_label_never_serves_as_a_cached_result(store):
         s.execute(update(Run).where(Run.sweep_id == first.sweep_id).values(inferred=True))
     again = submit_quick(store, 1)
     assert again.n_cached == 0
-    job = jobs.claim(store, "w")
+    job = claim_one(store, "w")
     assert job.sweep_id == again.sweep_id
     assert jobs.cached_result(store, job) is None
 

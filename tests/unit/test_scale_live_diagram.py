@@ -20,7 +20,7 @@ from slopetui.sweeps.diagram import load_diagram
 from slopetui.sweeps.live_diagram import LiveDiagram
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
-from tests.support import ADAPTIVE_PLANE, QUICK_SOLVER, finish_all
+from tests.support import ADAPTIVE_PLANE, QUICK_SOLVER, claim_one, finish_all
 
 LONG_AGO = datetime(2000, 1, 1)
 
@@ -36,7 +36,7 @@ def finish(store, n: int) -> list[int]:
     """Compute the n oldest queued runs, as a worker would; their ids."""
     ids = []
     for _ in range(n):
-        job = jobs.claim(store, "test")
+        job = claim_one(store, "test")
         jobs.complete(store, job, "test", run_point(job.params, job.settings).as_record())
         ids.append(job.run_id)
     return ids

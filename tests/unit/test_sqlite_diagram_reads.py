@@ -21,7 +21,7 @@ from slopetui.sweeps.control import UnknownSweep, apply
 from slopetui.sweeps.diagram import load_diagram, load_drawing, read_spec
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
-from tests.support import QUICK_SOLVER
+from tests.support import QUICK_SOLVER, claim_one
 
 PLANE = {"name": "plane", "x": {"param": "k", "start": 2, "stop": 20, "num": 4},
          "y": {"param": "tau", "start": 0.5, "stop": 10, "num": 3, "spacing": "log"},
@@ -51,7 +51,7 @@ def fill(db: Database, sweep_id: int) -> jobs.Job:
     last one, still claimed); and the run to give back to the queue once every sweep is
     filled (a run queued again would be claimed by the next fill)."""
     claimed = []
-    while (job := jobs.claim(db, "test")) is not None:
+    while (job := claim_one(db, "test")) is not None:
         claimed.append(job)
     assert {job.sweep_id for job in claimed} == {sweep_id}
     for i, job in enumerate(claimed[:-3]):

@@ -5,7 +5,7 @@ highlighted row of the focused table is the one drawn (tab moves between the tab
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -20,8 +20,13 @@ from slopetui.plots.branch_plot import render_branch
 from slopetui.plots.canvas import axis_label
 from slopetui.plots.hysteresis_plot import render_hysteresis
 from slopetui.sweeps.branch_records import BifurcationRecord
-from slopetui.sweeps.branches import StoredBranch, branch_of, listing
-from slopetui.sweeps.hysteresis_runs import StoredHysteresis, WarmRecord, hysteresis_of
+from slopetui.sweeps.branches import ContinuationRow, StoredBranch, branch_of, listing
+from slopetui.sweeps.hysteresis_runs import (
+    HysteresisRow,
+    StoredHysteresis,
+    WarmRecord,
+    hysteresis_of,
+)
 from slopetui.sweeps.hysteresis_runs import listing as hysteresis_listing
 from slopetui.tui.messages import StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
@@ -39,16 +44,16 @@ Selection = tuple[str, int]
 TABLES = {"branch": "#branch-table", "hysteresis": "#hyst-table"}
 
 
-def start_text(row: Mapping[str, Any]) -> str:
+def start_text(row: ContinuationRow) -> str:
     """Where a branch starts: "hopf k=1.1926 τ=2" (the Hopf point in the parameter, once
     found, and the fixed k and tau) or "orbit k=5 τ=2" (the parameters simulated)."""
-    param, start = str(row["param"]), str(row["start"])
+    param, start = str(row.param), str(row.start)
     parts = [terminal_safe(start)]
-    if start == "hopf" and row["hopf_value"] is not None:
-        parts.append(f"{axis_label(param)}={row['hopf_value']:.5g}")
+    if start == "hopf" and row.hopf_value is not None:
+        parts.append(f"{axis_label(param)}={row.hopf_value:.5g}")
     elif start != "hopf" and param not in ("k", "tau"):
-        parts.append(f"{axis_label(param)}={row[param]:.4g}")
-    parts += [f"{axis_label(name)}={row[name]:.4g}" for name in ("k", "tau")
+        parts.append(f"{axis_label(param)}={getattr(row, param):.4g}")
+    parts += [f"{axis_label(name)}={getattr(row, name):.4g}" for name in ("k", "tau")
               if not (start == "hopf" and name == param)]  # at the Hopf point it is found
     return " ".join(parts)
 
@@ -67,7 +72,7 @@ def detail_text(branch: StoredBranch) -> Text:
     """The highlighted branch in two lines: what was found on it, then why it ended (or
     its error, whose last line says what went wrong)."""
     row, param = branch.row, branch.param
-    status = str(row["status"])
+    status = str(row.status)
     if branch.bifurcations:
         found = "bifurcations: " + ", ".join(
             f"{terminal_safe(str(b['type']))} {axis_label(param)} = {b['value']:.8g} "
@@ -76,13 +81,13 @@ def detail_text(branch: StoredBranch) -> Text:
         found = "no bifurcation on this branch"
     else:
         found = f"{terminal_safe(status)}: {len(branch.points)} points so far"
-    if row["criticality"]:
-        found += f"; {terminal_safe(str(row['criticality']))} Hopf point"
-    if row["error"]:
-        last = str(row["error"]).strip().splitlines()[-1:] or [""]
+    if row.criticality:
+        found += f"; {terminal_safe(str(row.criticality))} Hopf point"
+    if row.error:
+        last = str(row.error).strip().splitlines()[-1:] or [""]
         end = Text(f"error: {terminal_safe(last[0])}", style="bold red")
-    elif row["end_reason"]:
-        end = Text(f"end: {terminal_safe(str(row['end_reason']))}")
+    elif row.end_reason:
+        end = Text(f"end: {terminal_safe(str(row.end_reason))}")
     else:
         end = Text("")
     return Text.assemble(found, "\n", end)
@@ -126,20 +131,20 @@ def hysteresis_detail(sweep: StoredHysteresis) -> Text:
     """The highlighted hysteresis sweep in two lines: where each branch changes regime
     once done (else its status and progress), then its error's last line, if any."""
     row, param = sweep.row, sweep.param
-    status = str(row["status"])
+    status = str(row.status)
     if status == "done":
-        found = (change_text(param, "up", sweep.up, row["onset_up"],
-                             (row["onset_up_before"], row["onset_up_after"])) + ", "
-                 + change_text(param, "down", sweep.down, row["offset_down"],
-                               (row["offset_down_before"], row["offset_down_after"])))
+        found = (change_text(param, "up", sweep.up, row.onset_up,
+                             (row.onset_up_before, row.onset_up_after)) + ", "
+                 + change_text(param, "down", sweep.down, row.offset_down,
+                               (row.offset_down_before, row.offset_down_after)))
     else:
-        found = (f"{terminal_safe(status)}: {row['n_done']} of {2 * row['n_points']} points "
+        found = (f"{terminal_safe(status)}: {row.n_done} of {2 * row.n_points} points "
                  "so far")
-    if row["error"]:
-        last = str(row["error"]).strip().splitlines()[-1:] or [""]
+    if row.error:
+        last = str(row.error).strip().splitlines()[-1:] or [""]
         return Text.assemble(found, "\n", Text(f"error: {terminal_safe(last[0])}",
                                                style="bold red"))
-    return Text.assemble(found, "\n", f"{row['n_done']} points, {row['runtime_s']:.1f} s")
+    return Text.assemble(found, "\n", f"{row.n_done} points, {row.runtime_s:.1f} s")
 
 
 def hysteresis_renderer(sweep: StoredHysteresis) -> Renderer:
@@ -153,9 +158,9 @@ def hysteresis_renderer(sweep: StoredHysteresis) -> Renderer:
     return draw
 
 
-def range_text(row: Mapping[str, Any]) -> str:
+def range_text(row: HysteresisRow) -> str:
     """e.g. "8→12 τ=2": the values followed, and the delay."""
-    return f"{row['start']:.4g}→{row['stop']:.4g} {axis_label('tau')}={row['tau']:.4g}"
+    return f"{row.start:.4g}→{row.stop:.4g} {axis_label('tau')}={row.tau:.4g}"
 
 
 def _value(value: float | None) -> str:
@@ -239,7 +244,7 @@ class BranchesScreen(SlopeScreen[None]):
                 kind, ident = selected
                 chosen = branch_of(db, ident) if kind == "branch" else hysteresis_of(db, ident)
             for b in branches:
-                if b.row["status"] == "done" and b.id not in self._found:
+                if b.row.status == "done" and b.id not in self._found:
                     whole = (chosen if isinstance(chosen, StoredBranch) and chosen.id == b.id
                              else branch_of(db, b.id))
                     self._found[b.id] = whole.bifurcations if whole is not None else []
@@ -293,9 +298,9 @@ class BranchesScreen(SlopeScreen[None]):
                 row = b.row
                 # stored text as escaped Text: a str cell would be read as markup
                 table.add_row(str(b.id), Text(axis_label(terminal_safe(b.param))),
-                              Text(start_text(row)), Text(terminal_safe(str(row["status"]))),
-                              str(row["n_points"]),
-                              Text(terminal_safe(str(row["criticality"] or ""))),
+                              Text(start_text(row)), Text(terminal_safe(str(row.status))),
+                              str(row.n_points),
+                              Text(terminal_safe(str(row.criticality or ""))),
                               Text(cut(found_text(b.param, found.get(b.id, [])),
                                        FOUND_WIDTH)),
                               key=str(b.id))
@@ -309,9 +314,9 @@ class BranchesScreen(SlopeScreen[None]):
             for h in sweeps:
                 row = h.row
                 table.add_row(str(h.id), Text(axis_label(terminal_safe(h.param))),
-                              Text(range_text(row)), Text(terminal_safe(str(row["status"]))),
-                              f"{row['n_done']}/{2 * row['n_points']}",
-                              _value(row["onset_up"]), _value(row["offset_down"]),
+                              Text(range_text(row)), Text(terminal_safe(str(row.status))),
+                              f"{row.n_done}/{2 * row.n_points}",
+                              _value(row.onset_up), _value(row.offset_down),
                               key=str(h.id))
             self._place_cursor(table, "hysteresis", [h.id for h in sweeps], keep)
 
@@ -324,7 +329,7 @@ class BranchesScreen(SlopeScreen[None]):
         self.query_one("#branch-detail", Static).update(
             detail_text(chosen) if isinstance(chosen, StoredBranch) else hysteresis_detail(chosen))
         drawn = ("branch" if branch else "hysteresis", chosen.id, len(chosen.points),
-                 str(chosen.row["status"]))
+                 str(chosen.row.status))
         if drawn != self._drawn:  # a finished one is not redrawn every refresh
             self._drawn = drawn
             self.query_one(PlotView).show(branch_renderer(chosen)
