@@ -64,10 +64,10 @@ from typing import Any, TypeVar
 import numpy as np
 import yardstick  # beside this script (python puts the script's folder on sys.path)
 
-from core import Params, SolverSettings, simulate
 from core.batch import simulate_batch
 from core.model import coefficients
-from core.solve import make_grid
+from core.params import Params
+from core.solve import SolverSettings, make_grid, simulate
 
 TAUS = (5.0, 6.4321, 10.0)
 POINTS = [Params(k=float(k), tau=tau) for tau in TAUS for k in np.linspace(6.0, 16.0, 64)]

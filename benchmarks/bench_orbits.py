@@ -18,11 +18,13 @@ import argparse
 import statistics
 import time
 
-from core import Params, SolverSettings, run_point
 from core.continuation import Branch, walk
 from core.orbit import PeriodMap
+from core.params import Params
 from core.periodic_orbit import find_orbit
+from core.point import run_point
 from core.shooting import Solution
+from core.solve import SolverSettings
 
 POINTS = [dict(k=10.0, tau=10.0), dict(k=20.0, tau=5.0), dict(k=12.0, tau=2.0)]
 SIM_SAMPLE = 3

@@ -99,11 +99,12 @@ import numpy as np
 # benchmarks/ is this script's folder, so it is on sys.path when the script runs
 from numpy_euler import euler_loop
 
-from core import Params, SolverSettings, run_point, simulate
 from core.batch import LANES, simulate_batch
 from core.classify import find_peaks
 from core.lyapunov import LyapunovEstimate, estimate
-from core.solve import Trajectory
+from core.params import Params
+from core.point import run_point
+from core.solve import SolverSettings, Trajectory, simulate
 
 #: The periodic point: paper defaults with k = 10, tau = 10 (Fig. 2B, period-1).
 POINT = Params(k=10.0, tau=10.0)

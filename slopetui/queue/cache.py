@@ -13,7 +13,7 @@ import hashlib
 from collections.abc import Mapping
 from typing import Any
 
-from core import PARAM_NAMES
+from core.params import PARAM_NAMES
 from core.result_fields import RESULT_NAMES
 
 #: The columns of Run that hold a result, in order (defined once in core.result_fields).

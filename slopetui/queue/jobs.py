@@ -37,8 +37,8 @@ from slopetui.store.claims import ClaimedRow
 from slopetui.store.database import Database
 
 if TYPE_CHECKING:  # core.solve imports numpy: not for `slopetui --help` and `status`
-    from core import SolverSettings
     from core.history import CarriedState
+    from core.solve import SolverSettings
 
 
 @dataclass(frozen=True)
@@ -66,10 +66,9 @@ def _job(m: ClaimedRow, started: bool, states: Mapping[str, bytes]) -> Job:
     grid included) and the state its history names taken from ``states`` (by name).
     Raises one of stored_inputs.INPUT_ERRORS (ParameterError naming the field) for inputs
     that cannot be computed."""
-    from core import SolverSettings
     from core.history import STATE_PREFIX, CarriedState
     from core.history import start as history_start
-    from core.solve import make_grid
+    from core.solve import SolverSettings, make_grid
     stored_inputs.present(m, _INPUTS)
     params = Params(**{n: getattr(m, n) for n in PARAM_NAMES})
     if not isinstance(m.lyap, bool):

@@ -44,14 +44,14 @@ Records = list[dict[str, Any]]
 
 def _compute_one(job: jobs.Job, carried: CarriedState | None = None) -> Records:
     # core loads numpy and the kernels: not for `status`, which reads the registry
-    from core import run_point
+    from core.point import run_point
     return [run_point(job.params, job.settings, carried).as_record()]
 
 
 def _compute_together(batch: list[jobs.Job]) -> Records:
     # core.run_batch has no per-lane callback (one numba call integrates every lane), so
     # its results are all known, and written, when it returns.
-    from core import run_batch
+    from core.point import run_batch
     return [result.as_record() for result in run_batch([job.params for job in batch],
                                                        batch[0].settings)]
 

@@ -155,6 +155,8 @@ def load_diagram(db: Database, sweep_id: int, *, drawn_only: bool = False) -> Sw
     ``drawn_only``, a phase diagram's runs come without their measurements (peaks,
     lambda_max...): what a drawing in the terminal shows, read in about half the time (a
     1-D sweep is read whole: its drawing shows the peaks)."""
+    # here, as the store's other imports below: `show` reads a SQLite file without
+    # SQLAlchemy (load_drawing), and SQLAlchemy costs it 0.3-0.4 s
     from slopetui.store.diagram_reads import read_diagram
 
     read = read_diagram(db, sweep_id, read_spec, drawn_only=drawn_only)

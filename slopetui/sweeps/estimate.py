@@ -17,6 +17,7 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 from slopetui.duration_text import duration_text
+from slopetui.store.run_speeds import seconds_per_step
 from slopetui.sweeps.spec import SweepSpec
 
 if TYPE_CHECKING:
@@ -39,7 +40,6 @@ Speeds = Mapping[tuple[str, bool], float]
 
 def measured_speeds(db: Database) -> dict[tuple[str, bool], float]:
     """The seconds per step measured on this store, for each (method, lyap) with runs."""
-    from slopetui.store.run_speeds import seconds_per_step
     out = {}
     for method, lyap in REFERENCE_S_PER_STEP:
         cost = seconds_per_step(db, method, lyap)

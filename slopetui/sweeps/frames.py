@@ -54,7 +54,7 @@ from typing import Any, Literal
 import numpy as np
 import pandas as pd
 
-from core import PARAM_NAMES
+from core.params import PARAM_NAMES
 from core.regimes import REGIMES
 from core.result_fields import BY_NAME, RESULT_NAMES
 from slopetui.store.database import Database

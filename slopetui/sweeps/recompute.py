@@ -16,13 +16,16 @@ from typing import TYPE_CHECKING, Any, TypeVar, dataclass_transform
 
 import numpy as np
 
-from core import Params, SolverSettings, run_point
 from core.classify import Summary, power_spectrum
 from core.history import CarriedState
 from core.lyapunov import LyapunovEstimate, running
 from core.lyapunov_bias import bias_note
-from core.params import PARAM_NAMES
+from core.params import PARAM_NAMES, Params
+from core.point import run_point
 from core.result_fields import RESULT_FIELDS, Kind
+from core.solve import SolverSettings
+from slopetui.store.initial_states import load_state
+from slopetui.store.queries import run_by_id
 
 if TYPE_CHECKING:
     from slopetui.store.database import Database
@@ -119,9 +122,6 @@ class StoredRun:
 def load_run(db: Database, run_id: int) -> StoredRun | None:
     """The run's copy (with the final state its history names, if any), or None if the
     store has no such run."""
-    from slopetui.store.initial_states import load_state
-    from slopetui.store.queries import run_by_id
-
     row = run_by_id(db, run_id)
     if row is None:
         return None

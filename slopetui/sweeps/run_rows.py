@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from core import PARAM_NAMES
+from core.params import PARAM_NAMES
 from slopetui.queue.cache import cache_key
 from slopetui.sweeps.spec import SweepSpec
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import threading
 
-from core import run_point
+from core.point import run_point
 from slopetui.queue import jobs, registry
 from slopetui.store.open import open_store
 from slopetui.store.worker_rows import register_worker

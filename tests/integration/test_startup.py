@@ -61,10 +61,10 @@ def test_help_loads_no_heavy_module():
 def test_the_jobs_modules_and_the_method_names_load_no_numpy():
     """The queue's kinds of job (which `status` and `workers` reach through the registry's
     activity() counts) import numpy only in the functions that compute or decode, and
-    ``from core import METHODS`` (a form's choices) comes from core.methods."""
+    ``from core.methods import METHODS`` (a form's choices) loads none."""
     assert loaded_after("import slopetui.sweeps.branches, slopetui.sweeps.hysteresis_runs, "
                         "slopetui.queue.registry, slopetui.queue.worker_process; "
-                        "from core import METHODS") == THE_DRIVER
+                        "from core.methods import METHODS") == THE_DRIVER
 
 
 @pytest.fixture

@@ -11,7 +11,8 @@ from textual.widgets import DataTable
 from core.branch_start import BranchSpec
 from core.params import Params
 from slopetui.queue.branch_jobs import fields_of
-from slopetui.store import Database, branch_rows
+from slopetui.store import branch_rows
+from slopetui.store.database import Database
 from slopetui.sweeps import fold_overlay
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit

@@ -10,7 +10,8 @@ import numpy as np
 
 from core.params import Params
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
-from slopetui.store import Database, hysteresis_rows
+from slopetui.store import hysteresis_rows
+from slopetui.store.database import Database
 from slopetui.sweeps.hysteresis_runs import submit
 from slopetui.tui.screens.branches import BranchesScreen
 from slopetui.tui.widgets.plot_view import PlotView

@@ -8,7 +8,8 @@ from __future__ import annotations
 from sqlalchemy import select
 
 from slopetui.queue import jobs
-from slopetui.store import Database, Run
+from slopetui.store.database import Database
+from slopetui.store.models import Run
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import Submitted, submit
 

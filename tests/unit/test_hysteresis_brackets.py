@@ -20,7 +20,8 @@ from core.params import Params
 from core.stability import hopf_k
 from slopetui.cli import main
 from slopetui.queue import hysteresis_jobs
-from slopetui.store import Database, hysteresis_rows
+from slopetui.store import hysteresis_rows
+from slopetui.store.database import Database
 from slopetui.store.migrate import alembic_config, plan_downgrade, upgrade
 from slopetui.tui.screens.branches import change_text
 from tests.unit.test_hysteresis import FOLD_TAU10

@@ -13,7 +13,8 @@ from alembic import command
 from sqlalchemy import inspect, text
 
 from slopetui.queue import branch_jobs, hysteresis_jobs
-from slopetui.store import Database, branch_rows
+from slopetui.store import branch_rows
+from slopetui.store.database import Database
 from slopetui.store.integrity import integrity_problems
 from slopetui.store.migrate import alembic_config, current_revision, downgrade, upgrade
 from slopetui.store.models import Base

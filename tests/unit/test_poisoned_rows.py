@@ -164,7 +164,8 @@ def test_a_refused_run_that_the_worker_no_longer_holds_is_left_to_its_holder(sto
 
 
 def test_a_state_history_is_read_and_checked_at_the_claim(store):
-    from core import SolverSettings, run_point
+    from core.point import run_point
+    from core.solve import SolverSettings
     from slopetui.sweeps.spec import parse_spec
     from slopetui.sweeps.submit import submit
     from tests.support import QUICK_SOLVER, finish_all

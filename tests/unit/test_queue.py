@@ -8,7 +8,7 @@ from datetime import timedelta
 
 from sqlalchemy import func, select, update
 
-from core import run_point
+from core.point import run_point
 from slopetui.queue import jobs, registry
 from slopetui.store import claims
 from slopetui.store.models import Run
