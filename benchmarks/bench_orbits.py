@@ -4,7 +4,7 @@ In one process, CPU time (time.process_time), contenders interleaved:
   - one orbit with its ten leading Floquet multipliers (core.periodic_orbit.find_orbit:
     a seed simulation to t = 3000 with RK4, Newton-Krylov, Arnoldi), against
   - one run to t = 1e5 at the paper's settings (Euler, dt = 1e-3, with lambda_max:
-    core.run_point), at the same point;
+    core.point.run_point), at the same point;
 and a branch of 100 points (core.continuation from the orbit at k = 10, tau = 10, each
 point with six multipliers) against 100 such runs (timed on SIM_SAMPLE runs and scaled:
 the runs' cost does not depend on the point).

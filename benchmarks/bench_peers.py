@@ -465,7 +465,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     print(f"Point: a = {POINT.a}, b = {POINT.b}, c = {POINT.c}, d = {POINT.d}, v = {POINT.v}, "
           f"delta = {POINT.delta}, k = {POINT.k}, tau = {POINT.tau}: {check.regime} "
           f"(period_count {check.period_count}), period {check.period:.6f}, "
-          f"amplitude of m_y {check.amplitude:.6f} (core.run_point, RK4 dt = {RK4_DT:g}).\n")
+          f"amplitude of m_y {check.amplitude:.6f} (core.point.run_point, RK4 dt = {RK4_DT:g}).\n")
     if check.regime != "oscillatory" or check.period_count != 1:
         print("The benchmark point is not a period-1 cycle: amplitude and period mean nothing.")
         return 1
