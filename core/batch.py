@@ -11,7 +11,7 @@ vectorises (AVX-512: 8 lanes per instruction).
 interval), so they share one step counter and every event (a window or trace sample, a
 tangent renormalisation, the end) falls on the same step for all of them. simulate_batch
 groups the points it is given by grid; the workers claim runs of one tau together
-(slopetui.store.claims), and a plane of n x m points has n points per tau.
+(slopetui.store.runs.claims), and a plane of n x m points has n points per tau.
 
 The layout is what lets LLVM vectorise the lane loop with plain vector loads and stores:
 

@@ -2,7 +2,7 @@
 writes each result as soon as it is known.
 
 A batch is up to ``batch`` queued runs with the same solver settings and tau (the batched
-kernels' lanes share tau: store.claims.claim_batch), cut to the worker's memory budget
+kernels' lanes share tau: store.runs.claims.claim_batch), cut to the worker's memory budget
 (slopetui.queue.batch_memory). Euler and RK4 batches (BATCHED_METHODS) go through the
 batched kernels (core.batch) in one call, which reports nothing until every lane is done
 (core.run_batch has no per-lane callback), so their results are written when it returns,
@@ -27,8 +27,8 @@ from typing import TYPE_CHECKING, Any
 from slopetui.queue import jobs
 from slopetui.queue.batch_memory import MIB, fitting
 from slopetui.queue.kinds import Activity, Computing, JobKind
-from slopetui.store import claims
 from slopetui.store.database import Database
+from slopetui.store.runs import claims
 
 if TYPE_CHECKING:  # numpy: loaded by the kernels, after the worker has started
     from core.history import CarriedState

@@ -1,7 +1,7 @@
 """What a sweep will cost: runs, steps, and wall time on the workers.
 
 The cost of a step is measured: the median over the newest runs this store's workers
-computed with the same method (``slopetui.store.run_speeds``), which is what they will
+computed with the same method (``slopetui.store.runs.speeds``), which is what they will
 take, batched or not, on this machine. Before any run of a method was computed, the
 reference speeds below stand in, and the estimate says so. They are the kernel speeds the
 workers use, measured by ``benchmarks/bench_kernels.py --repeat 3`` on this project's
@@ -17,7 +17,7 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 from slopetui.duration_text import duration_text
-from slopetui.store.run_speeds import seconds_per_step
+from slopetui.store.runs.speeds import seconds_per_step
 from slopetui.sweeps.spec import SweepSpec
 
 if TYPE_CHECKING:

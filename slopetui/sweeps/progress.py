@@ -24,7 +24,7 @@ from datetime import datetime, timedelta
 from slopetui.duration_text import duration_text
 from slopetui.queue.workers_table import WorkerInfo, live_workers
 from slopetui.store.database import Database
-from slopetui.store.sweep_reads import active_sweep_ids, sweep_tallies
+from slopetui.store.sweeps.progress import active_sweep_ids, sweep_tallies
 
 __all__ = ["RATE_WINDOW_MIN", "PoolProgress", "SweepProgress", "WorkerInfo",
            "live_workers", "sweep_progress"]

@@ -24,8 +24,8 @@ from core.params import PARAM_NAMES, Params
 from core.point import run_point
 from core.result_fields import RESULT_FIELDS, Kind
 from core.solve import SolverSettings
-from slopetui.store.initial_states import load_state
 from slopetui.store.queries import run_by_id
+from slopetui.store.runs.initial_states import load_state
 
 if TYPE_CHECKING:
     from slopetui.store.database import Database
@@ -91,7 +91,7 @@ class StoredRun:
     level: int | None
     history: str
     ic: int
-    #: The final state the history names (slopetui.store.initial_states), if it names one.
+    #: The final state the history names (slopetui.store.runs.initial_states), if it names one.
     carried: bytes | None
 
     if TYPE_CHECKING:  # the result fields, added by _with_result_fields

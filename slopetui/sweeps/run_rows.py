@@ -1,6 +1,6 @@
 """Rows of the runs table for a sweep's lattice points, with their cache keys: what
 submission and adaptive refinement share (the store inserts them,
-``slopetui.store.sweep_rows.insert_runs``)."""
+``slopetui.store.sweeps.writes.insert_runs``)."""
 
 from __future__ import annotations
 

@@ -11,7 +11,7 @@ import threading
 from core.point import run_point
 from slopetui.queue import jobs, registry
 from slopetui.store.open import open_store
-from slopetui.store.worker_rows import register_worker
+from slopetui.store.workers import register_worker
 from tests.support import submit_quick
 
 

@@ -86,7 +86,7 @@ def test_reading_commands_load_the_database_driver_only(busy_store, argv):
 
 #: What `slopetui show` may load of NEVER_FOR_HELP from a SQLite store at the current
 #: schema: numpy and plotext (the drawing, the Hopf curve), not SQLAlchemy
-#: (slopetui.store.sqlite_diagram_reads: 0.35-0.45 s less), nor numba.
+#: (slopetui.store.diagrams.sqlite_reads: 0.35-0.45 s less), nor numba.
 THE_DRAWING = {"numpy", "plotext"}
 
 

@@ -17,7 +17,6 @@ from sqlalchemy import func, select, text
 
 from core.jit_cache import source_digest
 from slopetui.cli import main
-from slopetui.store.cached_results import finished_results
 from slopetui.store.database import Database
 from slopetui.store.migrate import (
     alembic_config,
@@ -27,6 +26,7 @@ from slopetui.store.migrate import (
 )
 from slopetui.store.models import Run, Sweep
 from slopetui.store.open import open_store
+from slopetui.store.runs.cached_results import finished_results
 from slopetui.sweeps import adaptive as adaptive_module
 from slopetui.sweeps import submit as submit_module
 from slopetui.sweeps.adaptive import advance, advance_all, ready_sweeps

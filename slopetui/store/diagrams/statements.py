@@ -1,7 +1,7 @@
 """The statements of a sweep's diagram read, in plain SQL with named parameters
-(``:sweep_id``): one text for the two reads, ``diagram_reads`` (SQLAlchemy's ``text``, on
+(``:sweep_id``): one text for the two reads, ``reads`` (SQLAlchemy's ``text``, on
 SQLite and PostgreSQL alike, the models' column types decoding the values) and
-``sqlite_diagram_reads`` (the standard library's sqlite3, for ``slopetui show``). No
+``sqlite_reads`` (the standard library's sqlite3, for ``slopetui show``). No
 SQLAlchemy here, so that the latter loads none.
 """
 
