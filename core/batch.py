@@ -78,6 +78,7 @@ import numpy as np
 from numba import njit, uint64
 
 from core.closure import REALISABLE_TOL, Realisability
+from core.methods import method
 from core.model import JIT, coefficients, rhs, rhs_tangent
 from core.params import Params
 from core.recording import blown_up
@@ -601,7 +602,7 @@ def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) ->
     if s.history != "constant":
         raise ValueError(f"the batched kernels start from the constant history only, not "
                          f"{s.history!r}: compute such runs with core.solve.simulate")
-    if s.method == "stiff":  # no batched kernel (core.stiff): one run after another
+    if not method(s.method).batched:  # no lane kernel (core.methods): one run after another
         return [simulate(p, s) for p in points]
     grids = [make_grid(p, s) for p in points]
     groups: dict[Grid, list[int]] = {}
