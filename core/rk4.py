@@ -99,7 +99,6 @@ def rk4(coef, dt, n_delay, lyap, plan, hx, now, counts, ring, e_ring, win, trace
     t_stride, renorm_steps = plan[cs.TRACE_STRIDE], plan[cs.RENORM_STEPS]
     size = n_delay + 1
     no_delay = n_delay == 0
-    n = end
     for n in range(n0, end):
         lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, n, s_x, s_y, u)
         next_w, i_w = sample(n, next_w, i_w, w_stride, w_jump, w_resume, win, m_x, m_y, s_x, s_y, u)
@@ -131,7 +130,9 @@ def rk4(coef, dt, n_delay, lyap, plan, hx, now, counts, ring, e_ring, win, trace
         m_x, m_y, s_x, s_y, u = x_new, y_new, sx_new, sy_new, u_new
         if blown_up(m_y, s_y):
             counts[cs.BLOWN] = n
-            break
+            keep(now, counts, m_x, m_y, s_x, s_y, u, e_x, e_y, e_sx, e_sy, e_u, lo_x, lo_y, lo_d,
+                 n + 1, pos, next_w, i_w, next_t, i_t, next_r, i_r, first)
+            return n + 1
         if lyap and n + 1 == next_r:
             # the slot at pos (step n - N) is stale: make it vanish from the norm
             e_ring[0, pos] = e_x
@@ -140,11 +141,10 @@ def rk4(coef, dt, n_delay, lyap, plan, hx, now, counts, ring, e_ring, win, trace
                                                                      e_ring.shape[1], dt)
             i_r += 1
             next_r += renorm_steps
-    else:  # the state it stops at: recorded again by a call that continues it (idempotent)
-        next_w, i_w = sample(end, next_w, i_w, w_stride, w_jump, w_resume, win, m_x, m_y, s_x, s_y, u)
-        next_t, i_t = sample(end, next_t, i_t, t_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
-        lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, end, s_x, s_y, u)
-        n = end - 1
+    # the state it stops at: recorded again by a call that continues it (idempotent)
+    next_w, i_w = sample(end, next_w, i_w, w_stride, w_jump, w_resume, win, m_x, m_y, s_x, s_y, u)
+    next_t, i_t = sample(end, next_t, i_t, t_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
+    lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, end, s_x, s_y, u)
     keep(now, counts, m_x, m_y, s_x, s_y, u, e_x, e_y, e_sx, e_sy, e_u, lo_x, lo_y, lo_d,
-         n + 1, pos, next_w, i_w, next_t, i_t, next_r, i_r, first)
-    return n + 1
+         end, pos, next_w, i_w, next_t, i_t, next_r, i_r, first)
+    return end

@@ -141,7 +141,6 @@ def stiff(coef, dt, n_delay, lyap, plan, hx, now, counts, ring, e_ring, win, tra
     t_stride, renorm_steps = plan[cs.TRACE_STRIDE], plan[cs.RENORM_STEPS]
     hist = ring[0]                     # m_x over (t - tau, t]
     blown = False
-    n = end
     for n in range(n0, end):
         lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, n, s_x, s_y, u)
         next_w, i_w = sample(n, next_w, i_w, w_stride, w_jump, w_resume, win, m_x, m_y, s_x, s_y, u)
@@ -185,17 +184,18 @@ def stiff(coef, dt, n_delay, lyap, plan, hx, now, counts, ring, e_ring, win, tra
             split += 1
         if blown:
             counts[cs.BLOWN] = n
-            break
+            keep(now, counts, m_x, m_y, s_x, s_y, u, e_x, e_y, e_sx, e_sy, e_u, lo_x, lo_y, lo_d,
+                 n + 1, pos, next_w, i_w, next_t, i_t, next_r, i_r, first)
+            return n + 1
         if lyap and n + 1 == next_r:
             logs[i_r], e_x, e_y, e_sx, e_sy, e_u = renormalise(e_x, e_y, e_sx, e_sy, e_u, e_ring,
                                                                      e_ring.shape[1], dt)
             i_r += 1
             next_r += renorm_steps
-    else:  # the state it stops at: recorded again by a call that continues it (idempotent)
-        next_w, i_w = sample(end, next_w, i_w, w_stride, w_jump, w_resume, win, m_x, m_y, s_x, s_y, u)
-        next_t, i_t = sample(end, next_t, i_t, t_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
-        lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, end, s_x, s_y, u)
-        n = end - 1
+    # the state it stops at: recorded again by a call that continues it (idempotent)
+    next_w, i_w = sample(end, next_w, i_w, w_stride, w_jump, w_resume, win, m_x, m_y, s_x, s_y, u)
+    next_t, i_t = sample(end, next_t, i_t, t_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
+    lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, end, s_x, s_y, u)
     keep(now, counts, m_x, m_y, s_x, s_y, u, e_x, e_y, e_sx, e_sy, e_u, lo_x, lo_y, lo_d,
-         n + 1, pos, next_w, i_w, next_t, i_t, next_r, i_r, first)
-    return n + 1
+         end, pos, next_w, i_w, next_t, i_t, next_r, i_r, first)
+    return end
