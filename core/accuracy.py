@@ -7,7 +7,7 @@ anti-damping moves the onset) Euler's peak-to-peak m_y is 0.790, RK4's (dt = 1e-
 agree to 1e-7) 0.496. Nothing in the window shows it; a second integration does.
 
 **The estimate.** From the run's own final state (the five variables and m_x over the last
-delay: core.recording.hand_over, or the window's samples for a batched run), the run's
+delay: core.chunk_state.ChunkState.carried, or the window's samples for a batched run), the run's
 scheme integrates a span S twice: at the run's step dt and at dt / 2 (its history given at
 the half steps by core.history.half_steps, 4th order). The dt shadow continues the run's
 attractor; the dt / 2 shadow relaxes from it to the finer scheme's. Over the second half

@@ -8,7 +8,8 @@ Two samplers write the five variables into preallocated (5, n) arrays:
   - the trace: every ``stride`` steps from t = 0, a few thousand points for plots.
 The tangent-linear renormalisation (for lambda_max) also lives here, because both
 schemes share it, and so do the running minima of the covariance over every step
-(lowest: whether the run stayed realisable, core.closure).
+(lowest: whether the run stayed realisable, core.closure) and the write-back of a
+kernel's state where the next chunk continues from it (keep, core.chunk_state).
 """
 
 from __future__ import annotations

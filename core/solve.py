@@ -392,8 +392,8 @@ class Trajectory:
     runtime_s: float = 0.0
     mid_t: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
     mid: np.ndarray = field(default_factory=lambda: np.zeros((5, 0)), repr=False)
-    #: The state at t_end to hand over (core.history.CarriedState); None after a blow-up
-    #: and from the batched kernels.
+    #: The state at t_end to hand over (core.history.CarriedState); None after a blow-up,
+    #: before t_end (a chunk: see ``chunk``) and from the batched kernels.
     final: CarriedState | None = field(default=None, repr=False)
     #: The carried state the run started from, if its history is one.
     carried: CarriedState | None = field(default=None, repr=False)
