@@ -61,6 +61,25 @@ def plan_of(end: int, sample_start: int, win_stride: int, win_jump: int, win_res
                      renorm_steps], dtype=np.int64)
 
 
+def start_arrays(m: Method, n_delay: int, sample_start: int, renorm_steps: int,
+                 init: np.ndarray, hx: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A kernel's (now, counts, ring, e_ring) at step 0: the five variables ``init`` and the
+    history ``hx`` (core.history.start), the tangent at START_TANGENT, nothing sampled."""
+    now = np.empty(NOW_SIZE)
+    now[M_X:U + 1] = init
+    now[E_X:E_U + 1] = START_TANGENT
+    now[LO_X:LO_D + 1] = np.inf
+    counts = np.zeros(COUNTS_SIZE, dtype=np.int64)
+    counts[NEXT_W], counts[NEXT_R] = sample_start, renorm_steps
+    counts[FIRST] = counts[BLOWN] = -1
+    ring = np.zeros(ring_shape(m, n_delay))
+    if m.ring_extra == 0:  # a ring of m_x(-tau + j dt), read from slot 0 on
+        ring[0] = hx[0:2 * n_delay:2]
+    # RK4's ring fills as it steps: it reads hx itself while t - tau < 0
+    return now, counts, ring, np.zeros_like(ring)
+
+
 @dataclass(frozen=True, eq=False)
 class ChunkState:
     """A run's state at step ``step`` (t = step dt) of its grid, as a kernel left it. Its
@@ -81,20 +100,9 @@ class ChunkState:
     @classmethod
     def start(cls, m: Method, dt: float, n_delay: int, sample_start: int, renorm_steps: int,
               init: np.ndarray, hx: np.ndarray) -> ChunkState:
-        """Step 0: the five variables ``init`` and the history ``hx`` (core.history.start),
-        the tangent at START_TANGENT, nothing sampled yet."""
-        now = np.empty(NOW_SIZE)
-        now[M_X:U + 1] = init
-        now[E_X:E_U + 1] = START_TANGENT
-        now[LO_X:LO_D + 1] = np.inf
-        counts = np.zeros(COUNTS_SIZE, dtype=np.int64)
-        counts[NEXT_W], counts[NEXT_R] = sample_start, renorm_steps
-        counts[FIRST] = counts[BLOWN] = -1
-        ring = np.zeros(ring_shape(m, n_delay))
-        if m.ring_extra == 0:  # a ring of m_x(-tau + j dt), read from slot 0 on
-            ring[0] = hx[0:2 * n_delay:2]
-        # RK4's ring fills as it steps: it reads hx itself while t - tau < 0
-        return cls(m.name, dt, n_delay, now, counts, ring, np.zeros_like(ring))
+        """Step 0 (start_arrays, read-only)."""
+        return cls(m.name, dt, n_delay, *start_arrays(m, n_delay, sample_start, renorm_steps,
+                                                      init, hx))
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Writable copies of (now, counts, ring, e_ring) for a kernel to continue from."""

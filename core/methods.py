@@ -74,6 +74,7 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cache
 from typing import Any
 
 
@@ -112,6 +113,7 @@ class Method:
         return _load(self.tangents_name) if self.tangents_name else None
 
 
+@cache
 def _load(name: str) -> Callable[..., Any]:
     module, _, function = name.partition(":")
     return getattr(importlib.import_module(module), function)  # type: ignore[no-any-return]

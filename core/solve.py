@@ -27,7 +27,7 @@ from typing import Literal
 
 import numpy as np
 
-from core.chunk_state import BLOWN, ChunkState, plan_of
+from core.chunk_state import BLOWN, N_AT, ChunkState, plan_of, start_arrays
 from core.classify import N_SUBWINDOWS
 from core.closure import Realisability
 from core.history import CarriedState, check_history
@@ -446,16 +446,17 @@ def simulate(p: Params, s: SolverSettings | None = None,
         buffers = (np.full((5, g.n_samples), np.nan), np.full((5, g.n_trace), np.nan),
                    np.zeros(g.n_steps // g.renorm_steps if s.lyap else 0))
         init, hx = history_start(p, g.dt, g.n_delay, s.history, carried)
-        state = ChunkState.start(m, g.dt, g.n_delay, g.sample_start, g.renorm_steps, init, hx)
+        now, counts, ring, e_ring = start_arrays(m, g.n_delay, g.sample_start, g.renorm_steps,
+                                                 init, hx)
         spent = 0.0
     else:
         state, buffers, carried = _resumable(p, s, resume)
         hx = history_start(p, g.dt, g.n_delay, s.history, carried)[1]
+        now, counts, ring, e_ring = state.arrays()
         spent = resume.runtime_s
-    end = g.n_steps if until is None else max(state.step, min(g.n_steps, g.step_at(until)))
+    end = g.n_steps if until is None else max(int(counts[N_AT]), min(g.n_steps, g.step_at(until)))
     plan = plan_of(end, g.sample_start, g.win_stride, g.sample_jump, g.win_start,
                    g.trace_stride, g.renorm_steps)
-    now, counts, ring, e_ring = state.arrays()
     win, trace, logs = buffers
     from core.model import coefficients  # numba's (~0.3 s): loaded where a run is integrated
 
