@@ -411,10 +411,12 @@ class Trajectory:
     #: from which ``simulate(..., resume=)`` continues it; None once the run is at t_end,
     #: after a blow-up and from the batched kernels.
     chunk: ChunkState | None = field(default=None, repr=False, compare=False)
+    #: The kernel said it left the bounds (core.chunk_state: BLOWN), also at its last step.
+    blown: bool = False
 
     @property
     def blew_up(self) -> bool:
-        return self.steps_done < self.grid.n_steps and self.chunk is None
+        return self.blown or (self.steps_done < self.grid.n_steps and self.chunk is None)
 
     @property
     def t_done(self) -> float:
@@ -439,6 +441,8 @@ def simulate(p: Params, s: SolverSettings | None = None,
     to ``until`` or t_end. The chunks of a run end, bit for bit, where one call to the same
     time ends: its samples, lambda_max logs, minima, state and steps (the kernel contract,
     core.methods)."""
+    from core.model import coefficients  # numba's (~0.3 s): loaded where a run is integrated
+
     s = s or SolverSettings()
     g = make_grid(p, s)
     m = method(s.method)
@@ -458,17 +462,15 @@ def simulate(p: Params, s: SolverSettings | None = None,
     plan = plan_of(end, g.sample_start, g.win_stride, g.sample_jump, g.win_start,
                    g.trace_stride, g.renorm_steps)
     win, trace, logs = buffers
-    from core.model import coefficients  # numba's (~0.3 s): loaded where a run is integrated
-
     t0 = time.perf_counter()
     done = int(m.kernel()(coefficients(p), g.dt, g.n_delay, s.lyap, plan, hx, now, counts, ring,
                           e_ring, win, trace, logs))
     runtime = spent + time.perf_counter() - t0
     after = ChunkState(s.method, g.dt, g.n_delay, now, counts, ring, e_ring)
-    blown = counts[BLOWN] >= 0
+    blown = bool(counts[BLOWN] >= 0)
     tr = trajectory_of(p, s, g, done, win, trace, logs, runtime, after.realisability(),
                        blew_up=blown)
-    return replace(tr, carried=carried,
+    return replace(tr, carried=carried, blown=blown,
                    final=after.carried(p.tau) if done == g.n_steps and not blown else None,
                    chunk=after if done < g.n_steps and not blown else None)
 

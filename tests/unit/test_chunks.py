@@ -131,3 +131,18 @@ def test_registry_names_every_kernel() -> None:
         assert m.tangents() is None or callable(m.tangents())
         assert "core.methods" in (m.kernel().__doc__ or "")  # points to the contract
     assert tuple(m.name for m in METHOD_TABLE) == METHODS
+
+
+def test_blow_up_at_the_last_step() -> None:
+    """A run that leaves the bounds at its very last step blew up: no state to hand over
+    and no sample of the state beyond the bound (the step count alone cannot tell it from a
+    run that ended in bounds)."""
+    p = Params(a=0.035, k=12.0, tau=1.0)
+    probe = simulate(p, SolverSettings(method="euler", t_end=10.0, window=5.0, lyap=False))
+    assert probe.blew_up
+    last = probe.steps_done * probe.grid.dt  # the run that ends on that step
+    s = SolverSettings(method="euler", t_end=last, window=last / 2, lyap=False)
+    tr = simulate(p, s)
+    assert tr.steps_done == tr.grid.n_steps == probe.steps_done
+    assert tr.blew_up and tr.final is None and tr.t_blowup == pytest.approx(last)
+    assert np.all(np.isfinite(tr.trace)) and np.all(np.abs(tr.trace[1]) < 1e6)
