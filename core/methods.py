@@ -19,8 +19,8 @@ tau = n_delay dt exactly, so every delayed read falls on the grid). To add a met
    - ``dt``: the effective step (time units); ``n_delay`` = tau / dt (0: no delay);
    - ``lyap``: co-iterate the tangent for lambda_max (item 5);
    - ``plan`` (int64, PLAN_SIZE): the step to stop at and the samplers' schedule, in
-     steps (core.chunk_state.plan_of: END, WIN_START, WIN_STRIDE, WIN_JUMP, WIN_RESUME,
-     TRACE_STRIDE, RENORM_STEPS);
+     steps (core.chunk_state.plan_of: END, SAMPLE_START, WIN_STRIDE, WIN_JUMP,
+     WIN_RESUME, TRACE_STRIDE, RENORM_STEPS);
    - ``hx`` (2N + 1,): m_x before t = 0 at t = -tau + j dt / 2 (core.history.start);
    - ``now``, ``counts``, ``ring``, ``e_ring``: the run's whole state, read at the start
      and written back at the end (item 6; layout: core.chunk_state);
@@ -30,8 +30,8 @@ tau = n_delay dt exactly, so every delayed read falls on the grid). To add a met
 2. **Steps.** It takes the steps n = counts[N_AT] .. plan[END] - 1. Step n advances the
    state at t_n = n dt to t_{n+1}, reading m_x(t_n - tau) (and what else its scheme
    needs over the last delay) from ``ring``, or from ``hx`` while that time is before 0.
-   The ring's layout is the kernel's own (core.chunk_state.RING_SHAPES); ``ring_rows``
-   below says what it records. Constant coefficients, no allocation in the loop.
+   The ring's layout is the kernel's own (its shape: core.chunk_state.ring_shape, from
+   ``ring_rows`` and ``ring_extra`` below). Constant coefficients, no allocation.
 
 3. **Records.** Before step n, and once more for the state it stops at, it passes the
    state of step n to core.recording.lowest (the running minima of s_x, s_y, s_x s_y -
@@ -40,9 +40,10 @@ tau = n_delay dt exactly, so every delayed read falls on the grid). To add a met
    are idempotent for the same n, so recording the stopping state twice (at the end of
    a chunk and at the start of the next) changes nothing.
 
-4. **Blow-up.** After each step it tests core.recording.blown_up(m_y, s_y); at the
-   first step n that fails, it writes back the minima and returns n + 1. Its state is
-   then not resumable (core.solve drops it).
+4. **Blow-up.** After each step it tests core.recording.blown_up(m_y, s_y) (and any
+   limit of its own: core.stiff's substeps); at the first step n that fails, it sets
+   counts[BLOWN] = n, writes back its state and returns n + 1, without recording the
+   state beyond the bound. That state is not resumed (core.solve drops it).
 
 5. **Tangent.** With ``lyap`` it co-iterates the exact derivative of its own discrete
    map (the tangent starts at e = (0, 1, 1, 1, 1), its ring at 0) and every
