@@ -146,3 +146,19 @@ def test_blow_up_at_the_last_step() -> None:
     assert tr.steps_done == tr.grid.n_steps == probe.steps_done
     assert tr.blew_up and tr.final is None and tr.t_blowup == pytest.approx(last)
     assert np.all(np.isfinite(tr.trace)) and np.all(np.abs(tr.trace[1]) < 1e6)
+
+
+@pytest.mark.parametrize("method", ["euler", "rk4"])
+def test_chunks_from_a_carried_history(method: str) -> None:
+    """A warm start (core.history: the final state of another run) continues in chunks as
+    in one call: RK4 reads the carried history at half steps for its first delay, across
+    a chunk's end here (tau = 10, chunk at t = 4.5)."""
+    p = Params(k=10.0, tau=10.0)
+    first = simulate(p, SolverSettings(method=method, t_end=50.0, window=25.0, lyap=False))
+    assert first.final is not None
+    s = SolverSettings(method=method, t_end=60.0, window=20.0, lyap=True,
+                       history=first.final.name)
+    whole = simulate(p, s, first.final)
+    chunked = simulate(p, s, resume=simulate(p, s, first.final, until=4.5))
+    assert_same(chunked, whole)
+    assert chunked.carried is first.final
