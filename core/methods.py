@@ -67,7 +67,9 @@ tau = n_delay dt exactly, so every delayed read falls on the grid). To add a met
    (core.batch, core.tangents), which integrate the same discrete map.
 
 The batched kernels (core.batch) keep the same schedule and records per lane, with a
-layout of their own (its module docstring); they start from eq. 19 and are not resumable.
+layout of their own (its module docstring). They start from eq. 19 (start_batch) and are
+resumable from their state in the same way (batch_steps), the step of a first
+realisability violation aside (a chunk end, which _realisability refines).
 """
 
 from __future__ import annotations

@@ -7,10 +7,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from core.batch import batch, batch_steps, start_batch
 from core.chunk_state import ChunkState
 from core.methods import METHOD_TABLE, METHODS
+from core.model import coefficients
 from core.params import Params
-from core.solve import SolverSettings, Trajectory, simulate
+from core.solve import Grid, SolverSettings, Trajectory, make_grid, simulate
 
 #: (k, tau, delta): the defaults' neighbourhood, a small delay where Euler's s_y goes
 #: negative at once (a first violation to carry over), no delay, and a slow start.
@@ -162,3 +164,36 @@ def test_chunks_from_a_carried_history(method: str) -> None:
     chunked = simulate(p, s, resume=simulate(p, s, first.final, until=4.5))
     assert_same(chunked, whole)
     assert chunked.carried is first.final
+
+
+def batch_outputs(g: Grid, lanes: int) -> tuple[np.ndarray, ...]:
+    """A batch's (win, trace, logs, done, lows, cross), as core.batch._integrate lays them out."""
+    return (np.full((lanes, g.n_samples, 5), np.nan), np.full((lanes, g.n_trace, 5), np.nan),
+            np.zeros((lanes, g.n_steps // g.renorm_steps)), np.zeros(lanes, dtype=np.int64),
+            np.zeros((lanes, 3)), np.full(lanes, -1, dtype=np.int64))
+
+
+@pytest.mark.parametrize("method", ["euler", "rk4"])
+def test_batched_kernel_resumes(method: str) -> None:
+    """The batched kernel continued from its state (start_batch, batch_steps) at the chunk
+    ends of UNTIL gives every lane what one call gives, bit for bit: samples, logs, steps,
+    minima; the chunk in which the minima first crossed may end earlier (a chunk end)."""
+    s = settings(method)
+    points = [Params(k=k, tau=10.0, delta=0.1) for k in np.linspace(6.0, 20.0, 8)]
+    g = make_grid(points[0], s)
+    coef = np.stack([coefficients(p) for p in points])
+    sampler = np.array([g.sample_start, g.win_stride, g.sample_jump, g.win_start], dtype=np.int64)
+    rk4 = method == "rk4"
+    one = batch_outputs(g, len(points))
+    batch(rk4, coef, g.dt, g.n_delay, g.n_steps, sampler, g.trace_stride, True, g.renorm_steps,
+          *one)
+    chunked = batch_outputs(g, len(points))
+    state = start_batch(rk4, coef, g.n_delay, sampler, g.trace_stride, True, g.renorm_steps,
+                        chunked[0], chunked[1])
+    for t in (*UNTIL, s.t_end):
+        batch_steps(rk4, g.dt, g.n_delay, g.n_steps, g.step_at(t), True, g.renorm_steps, *state,
+                    *chunked)
+    for a, b in zip(chunked[:5], one[:5], strict=True):
+        assert np.array_equal(a, b, equal_nan=True)
+    assert np.all(one[3] == g.n_steps)
+    assert np.all((chunked[5] <= one[5]) & ((chunked[5] >= 0) == (one[5] >= 0)))
