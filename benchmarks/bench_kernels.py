@@ -44,12 +44,13 @@ prints the median of their figures with the range (low-high) of the ratios over 
 batches an adaptive sweep's refined levels make, against the single kernel, in ns per
 point-step (best of 3): where core.batch.MIN_LANES comes from.
 
-``--against DIR`` instead times this tree's single kernels (core.solve.simulate; with
-``--spectrum``, also core.spectrum's tangent kernels with N = 2) against those of another
-checkout's core/ (e.g. ``git archive main | tar -x -C DIR``), interleaved A/B in one
-process and one thread, CPU time, on 4 points (k, tau) = (10, 10), (12, 6.4321), (6, 5),
-(8, 1); it prints the median ns per step of each and the median of the rounds' new / old
-ratios. The other core/ is copied under the package name ``core_against``.
+``--against DIR`` instead times this tree's kernels against those of another checkout's
+core/ (e.g. ``git archive main | tar -x -C DIR``), interleaved A/B in one process and one
+thread, CPU time: the batched kernels on 64 lanes (k 6-16, tau = 10), the single kernels
+(core.solve.simulate) on 4 points (k, tau) = (10, 10), (12, 6.4321), (6, 5), (8, 1), and
+with ``--spectrum`` core.spectrum's tangent kernels with N = 2; it prints the median ns
+per step of each and the median of the rounds' new / old ratios. The other core/ is
+copied under the package name ``core_against``.
 """
 
 from __future__ import annotations
@@ -250,6 +251,7 @@ def other_core(tree: Path) -> Any:
         text = re.sub(r"\b(from|import) core(\.| import)", r"\1 core_against\2", path.read_text())
         path.write_text(text)
     sys.path.insert(0, str(folder))
+    import core_against.batch
     import core_against.params
     import core_against.solve
     import core_against.spectrum
@@ -267,12 +269,42 @@ def one_call(pkg: Any, fn: Callable[..., Any], method: str, lyap: bool, run: boo
     return int(pkg.solve.make_grid(p, s).n_steps)
 
 
+def batched_call(pkg: Any, fn: Callable[..., Any], method: str, lyap: bool, t: float) -> int:
+    """One batch of 64 points at tau = 10 with package pkg's simulate_batch: point-steps."""
+    points = [pkg.params.Params(k=float(k), tau=10.0) for k in np.linspace(6.0, 16.0, 64)]
+    s = pkg.solve.SolverSettings(method=method, t_end=t, window=t / 100, lyap=lyap)
+    return sum(int(tr.steps_done) for tr in fn(points, s))
+
+
+def interleaved(old_call: Callable[[], int], new_call: Callable[[], int],
+                repeat: int) -> tuple[float, float, float]:
+    """Median ns per step of each, and the median of the rounds' new / old ratios."""
+    new_call(), old_call()  # compile or load
+    ns: dict[str, list[float]] = {"old": [], "new": []}
+    for r in range(repeat):
+        pair = [("old", old_call), ("new", new_call)]
+        for name, fn in (pair if r % 2 == 0 else pair[::-1]):
+            t0 = time.process_time()
+            steps = fn()
+            ns[name].append((time.process_time() - t0) / steps * 1e9)
+    ratio = statistics.median(b / a for a, b in zip(ns["old"], ns["new"], strict=True))
+    return statistics.median(ns["old"]), statistics.median(ns["new"]), ratio
+
+
 def against(tree: Path, repeat: int, spectra: bool) -> list[str]:
     """This tree's single kernels against DIR's, interleaved (see the docstring)."""
     from core.spectrum import spectrum
 
     old = other_core(tree)
     out = []
+    for method, lyap in VARIANTS:  # the batched kernels, 64 lanes
+        t = AGAINST_T[method] / 2
+        a, b, ratio = interleaved(
+            partial(batched_call, old, old.batch.simulate_batch, method, lyap, t),
+            partial(batched_call, sys.modules["core"], simulate_batch, method, lyap, t), repeat)
+        out.append(f"| {method}{' + λmax' if lyap else ''}, batched (64 lanes) | 6-16 | 10 | "
+                   f"{a:.2f} | {b:.2f} | {ratio:.3f} |")
+        print(out[-1], flush=True)
     cases = [(m, lyap, "run") for m in ("euler", "rk4", "stiff") for lyap in (False, True)]
     cases += [(m, False, "spectrum N = 2") for m in (("euler", "rk4") if spectra else ())]
     for method, lyap, what in cases:
@@ -283,18 +315,9 @@ def against(tree: Path, repeat: int, spectra: bool) -> list[str]:
                                method, lyap, run, k, tau, t)
             old_call = partial(one_call, old, old.solve.simulate if run else old.spectrum.spectrum,
                                method, lyap, run, k, tau, t)
-            new_call(), old_call()  # compile or load
-            ns: dict[str, list[float]] = {"old": [], "new": []}
-            for r in range(repeat):
-                pair = [("old", old_call), ("new", new_call)]
-                for name, fn in (pair if r % 2 == 0 else pair[::-1]):
-                    t0 = time.process_time()
-                    steps = fn()
-                    ns[name].append((time.process_time() - t0) / steps * 1e9)
-            ratio = statistics.median(b / a for a, b in zip(ns["old"], ns["new"], strict=True))
+            a, b, ratio = interleaved(old_call, new_call, repeat)
             label = method + (" + λmax" if lyap else "") + ("" if what == "run" else f", {what}")
-            out.append(f"| {label} | {k:g} | {tau:g} | {statistics.median(ns['old']):.2f} | "
-                       f"{statistics.median(ns['new']):.2f} | {ratio:.3f} |")
+            out.append(f"| {label} | {k:g} | {tau:g} | {a:.2f} | {b:.2f} | {ratio:.3f} |")
             print(out[-1], flush=True)
     return out
 
