@@ -77,7 +77,7 @@ def start_arrays(m: Method, n_delay: int, sample_start: int, renorm_steps: int,
     if m.ring_extra == 0:  # a ring of m_x(-tau + j dt), read from slot 0 on
         ring[0] = hx[0:2 * n_delay:2]
     # RK4's ring fills as it steps: it reads hx itself while t - tau < 0
-    return now, counts, ring, np.zeros_like(ring)
+    return now, counts, ring, np.zeros(ring.shape)
 
 
 @dataclass(frozen=True, eq=False)
@@ -132,5 +132,6 @@ class ChunkState:
         m_x at t - tau + j dt, j = 0..N-1, read from the ring from its oldest slot."""
         size = self.ring.shape[1]
         oldest = (int(self.counts[POS]) + size - self.n_delay) % size if size else 0
-        m_x = np.roll(self.ring[0], -oldest)[:self.n_delay].copy()
+        ring = self.ring[0]
+        m_x = np.concatenate((ring[oldest:], ring[:oldest]))[:self.n_delay]
         return CarriedState(tau, self.dt, self.now[M_X:U + 1].copy(), m_x)
