@@ -7,7 +7,7 @@ anti-damping moves the onset) Euler's peak-to-peak m_y is 0.790, RK4's (dt = 1e-
 agree to 1e-7) 0.496. Nothing in the window shows it; a second integration does.
 
 **The estimate.** From the run's own final state (the five variables and m_x over the last
-delay: core.recording.hand_over, or the window's samples for a batched run), the run's
+delay: core.chunk_state.ChunkState.carried, or the window's samples for a batched run), the run's
 scheme integrates a span S twice: at the run's step dt and at dt / 2 (its history given at
 the half steps by core.history.half_steps, 4th order). The dt shadow continues the run's
 attractor; the dt / 2 shadow relaxes from it to the finer scheme's. Over the second half
@@ -40,13 +40,10 @@ import numpy as np
 
 from core.classify import AMPLITUDE_FLOOR, Summary, find_peaks
 from core.history import CarriedState, half_steps
+from core.methods import method
 from core.params import Params
 from core.solve import SolverSettings, Trajectory, simulate
 
-#: The order of each scheme's global error in dt (Richardson's p). Euler's and RK4's are
-#: measured (docs/numerics.md: RK4 4.35 -> 4.13 from dt = 0.1 to 0.00625); the stiff
-#: scheme is linearly implicit Euler, first order (core.stiff).
-ORDER: dict[str, int] = {"euler": 1, "rk4": 4, "stiff": 1}
 #: Above this relative change of amplitude or period the run is flagged dt-sensitive: the
 #: issue's 1 %.
 TOLERANCE = 0.01
@@ -167,7 +164,7 @@ def dt_error(tr: Trajectory, summary: Summary) -> DtError:
         coarse, fine = _joined(coarse, c_more), _joined(fine, f_more)
         relaxed = _relaxed(coarse, fine)
     a, b = (_measures(x, summary.period, continuum) for x in (coarse, fine))
-    order = ORDER[s.method]
+    order = method(s.method).order  # Richardson's p
     amp, per = (_richardson(a[i], b[i], order) for i in (0, 1))
     value = max((abs(v) for v in (amp, per) if math.isfinite(v)), default=math.nan)
     span = float(coarse.window_t[-1])
