@@ -38,7 +38,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from core.classify import AMPLITUDE_FLOOR, Summary, find_peaks
+from core.classify import AMPLITUDE_FLOOR, Summary, find_peaks, maxima_words
 from core.history import CarriedState, half_steps
 from core.methods import method
 from core.params import Params
@@ -291,7 +291,7 @@ def _measures(tr: Trajectory, period: float, continuum: bool) -> tuple[float, fl
     at, top = find_peaks(t, y)
     major = top > float(y.min()) + 0.5 * amplitude
     at, top = at[major], top[major]
-    label = "continuum" if continuum else f"{_distinct(top, amplitude)} distinct maxima"
+    label = "continuum" if continuum else _distinct_words(_distinct(top, amplitude))
     if len(at) < 2 or not math.isfinite(period):
         return amplitude, math.nan, label
     per_return = max(1, round(period * (len(at) - 1) / float(at[-1] - at[0])))  # mean spacing
@@ -311,6 +311,11 @@ def _distinct(heights: np.ndarray, amplitude: float) -> int:
     if heights.size == 0:
         return 0
     return 1 + int(np.count_nonzero(np.diff(np.sort(heights)) > LABEL_GAP * amplitude))
+
+
+def _distinct_words(n: int) -> str:
+    """"1 distinct maximum", "2 distinct maxima": a shadow's label."""
+    return maxima_words(n).replace(" max", " distinct max")
 
 
 def _richardson(q_dt: float, q_half: float, order: int) -> float:

@@ -8,6 +8,7 @@ import sys
 import time
 from typing import TYPE_CHECKING
 
+from core.classify import maxima_words
 from core.params import PARAM_NAMES, ParameterError, Params
 from core.periodic_orbit import SEED_SPAN, OrbitError, find_orbit
 from slopetui.cli.arguments.orbit import MAX_SEED_STEPS, MIN_T_SEED
@@ -89,7 +90,7 @@ def render(o: Orbit, runtime_s: float) -> str:
     lines = [
         f"point        a={p.a:g} b={p.b:g} c={p.c:g} d={p.d:g} k={p.k:g} v={p.v:g} tau={p.tau:g}",
         f"orbit        period {o.period:.10g}, amplitude {o.amplitude:.6g} (peak-to-peak m_y), "
-        f"{o.maxima_per_period} maxima per period",
+        f"{maxima_words(o.maxima_per_period)} per period",
         f"stability    {'stable' if o.stable else 'unstable'} "
         f"({m.unstable_count} multipliers outside the unit circle)",
         f"checks       flow multiplier {abs(m.flow - 1):.1e} from 1, translation multiplier "

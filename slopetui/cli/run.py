@@ -9,6 +9,7 @@ from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from core import jit_cache
+from core.classify import maxima_words
 from core.lyapunov_bias import bias_note
 from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
 from core.point import run_point
@@ -84,7 +85,7 @@ def render_text(r: PointResult) -> str:
         f"lambda_max {lam}",
         f"amplitude  {s.amplitude:.6g}  (peak-to-peak of m_y)",
         f"period     {s.period:.6g}  (return time: {s.period_count} basic period"
-        f"{'s' if s.period_count > 1 else ''}, {s.maxima_per_period} maxima)"
+        f"{'s' if s.period_count > 1 else ''}, {maxima_words(s.maxima_per_period)})"
         if s.period_count > 0 else f"period     {s.period:.6g}",
         f"attractor  {s.attractor}, {'settled' if s.settled else 'not settled'}"
         + (f"; flags {', '.join(s.flags)}" if s.flags else ""),

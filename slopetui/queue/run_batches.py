@@ -24,6 +24,7 @@ from concurrent.futures import Future
 from functools import partial
 from typing import TYPE_CHECKING, Any
 
+from core.methods import METHOD_TABLE
 from slopetui.queue import jobs
 from slopetui.queue.batch_memory import MIB, fitting
 from slopetui.queue.kinds import Activity, Computing, JobKind
@@ -35,9 +36,10 @@ if TYPE_CHECKING:  # numpy: loaded by the kernels, after the worker has started
 
 log = logging.getLogger("slopetui.worker")
 
-#: Methods computed with the batched kernels (core.batch), whose lanes share tau; a run of
-#: another method (stiff) is claimed alone and computed by the single-run kernel.
-BATCHED_METHODS = frozenset({"euler", "rk4"})
+#: Methods computed with the batched kernels (core.batch; core.methods says which), whose
+#: lanes share tau; a run of another method (stiff) is claimed alone and computed by the
+#: single-run kernel.
+BATCHED_METHODS = frozenset(m.name for m in METHOD_TABLE if m.batched)
 
 Records = list[dict[str, Any]]
 
