@@ -154,6 +154,8 @@ def handle(args: argparse.Namespace) -> int:
         return _submit(args, spec)
     from core.continuation import bifurcations, criticality, walk
     from core.orbit import OrbitError
+    from slopetui.queue.warm_up import say_if_compiling
+    say_if_compiling("continue")
     t0 = time.process_time()
     try:
         branch, hopf = start(spec)

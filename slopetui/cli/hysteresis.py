@@ -231,6 +231,8 @@ def handle(args: argparse.Namespace) -> int:
     if args.submit:
         return _submit(args, params, dt, start, stop, t_settle, window, tol)
     from core.hysteresis import hysteresis
+    from slopetui.queue.warm_up import say_if_compiling
+    say_if_compiling("hysteresis")
     t0 = time.process_time()
 
     def say(direction: str, pt: WarmPoint) -> None:

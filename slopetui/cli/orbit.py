@@ -142,6 +142,8 @@ def handle(args: argparse.Namespace) -> int:
         print(f"slopetui orbit: error: {exc}", file=sys.stderr)
         return 2
     from core.periodic_orbit import OrbitError, find_orbit
+    from slopetui.queue.warm_up import say_if_compiling
+    say_if_compiling("orbit")
     t0 = time.process_time()
     try:
         orbit = find_orbit(params, dt, t_seed)
