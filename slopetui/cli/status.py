@@ -33,7 +33,8 @@ if TYPE_CHECKING:
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("status", help="progress of the sweeps and the live workers",
                        description="Progress per sweep (done/total, runs per minute over the "
-                                   "last 10 minutes, ETA, failures) and the live workers.")
+                                   "last 10 minutes, or over a finished sweep's whole life, ETA, "
+                                   "failures) and the live workers.")
     p.add_argument("sweeps", nargs="*", metavar="SWEEP", help="only these sweeps (ids)")
     p.add_argument("--all", action="store_true", help="also finished and cancelled sweeps")
     p.add_argument("--json", action="store_true", help="machine-readable output")
@@ -46,7 +47,7 @@ def handle(args: argparse.Namespace) -> int:
     from slopetui.queue.local_pool import local_pools
     from slopetui.queue.workers_table import live_workers
     from slopetui.sweeps.control import UnknownSweep
-    from slopetui.sweeps.progress import sweep_progress
+    from slopetui.sweeps.progress import claimed_line, sweep_progress
 
     ids = [sweep_arg(text) for text in args.sweeps]  # before the database opens
     db = open_db(args)
@@ -94,6 +95,8 @@ def handle(args: argparse.Namespace) -> int:
         if waiting:
             print(f"{kind.plural}: " + ", ".join(f"{n} {k}" for k, n in sorted(waiting.items()))
                   + f" ({kind.shown_by})")
+    if held := claimed_line(db, len(workers)):
+        print(held)
     print()
     for pool in starting:
         up = "" if pool.uptime_s is None else f", up {duration_text(pool.uptime_s)}"
