@@ -148,8 +148,9 @@ def claimed_text(held: int, begun: int, workers: int) -> str:
     if not held:
         return ""
     runs = "run" if held == 1 else "runs"
-    on = f"on {workers} {'worker' if workers == 1 else 'workers'}" if workers else (
-        "by no live worker (queued again when their lease runs out)")
+    if not workers:  # a dead pool's: requeued by the next worker's look at the leases
+        return f"{held} {runs} held by no live worker: queued again when their lease runs out"
+    on = f"on {workers} {'worker' if workers == 1 else 'workers'}"
     waiting = held - begun
     if not waiting:
         return f"{held} {runs} computing {on}"

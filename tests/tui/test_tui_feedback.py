@@ -5,9 +5,16 @@ workers hold."""
 from __future__ import annotations
 
 import numpy as np
+from textual.widgets import Input, Static
 
+from slopetui.queue import jobs
+from slopetui.tui.app import SlopeApp
+from slopetui.tui.screens.confirm import ConfirmScreen
+from slopetui.tui.screens.new_sweep import NewSweepScreen
+from slopetui.tui.screens.queue import QueueScreen
 from slopetui.tui.widgets.phase_grid import GridData, PhaseGrid
-from tests.tui.support import run
+from tests.support import submit_quick
+from tests.tui.support import open_form, run, wait_until
 from tests.tui.test_tui_scale import GridApp, lattice
 
 
@@ -48,5 +55,65 @@ def test_z_on_a_large_lattice_zooms_without_a_notice():
             await pilot.press("z")
             await pilot.pause()
             assert not grid.full
+
+    run(scenario)
+
+
+def app_for(db) -> SlopeApp:
+    return SlopeApp(db.display_url, start_workers=False, refresh_s=0.2)
+
+
+def test_ctrl_q_in_a_filled_form_asks_first_and_keep_keeps_it(db):
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(120, 40)) as pilot:
+            form = await open_form(app, pilot)
+            form.query_one("#x-stop", Input).value = "30"
+            await pilot.pause()
+            await pilot.press("ctrl+q")
+            await wait_until(pilot, lambda: isinstance(app.screen, ConfirmScreen))
+            question = app.screen.question
+            assert question.startswith("Quit slopetui? The new sweep's form")
+            assert "(x stop) would be lost" in question
+            await pilot.press("n")  # keep editing
+            await wait_until(pilot, lambda: isinstance(app.screen, NewSweepScreen))
+            assert app.return_code is None
+            assert form.query_one("#x-stop", Input).value == "30"
+            await pilot.press("ctrl+q")
+            await wait_until(pilot, lambda: isinstance(app.screen, ConfirmScreen))
+            await pilot.press("y")
+            await wait_until(pilot, lambda: app.return_code is not None)
+        assert app.return_code == 0
+
+    run(scenario)
+
+
+def test_ctrl_q_in_an_untouched_form_quits_at_once(db):
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(120, 40)) as pilot:
+            await open_form(app, pilot)
+            await pilot.press("ctrl+q")
+            await wait_until(pilot, lambda: app.return_code is not None)
+        assert app.return_code == 0
+
+    run(scenario)
+
+
+def test_the_queue_screen_says_runs_are_claimed_in_batches(db):
+    submit_quick(db, 5)
+    batch = jobs.claim_batch(db, "w", 4)
+    jobs.begin(db, batch[:1], "w")
+
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(120, 40)) as pilot:
+            await wait_until(pilot, lambda: app.db is not None)
+            await pilot.press("2")
+            line = lambda: str(app.screen.query_one("#queue-claimed", Static).render())  # noqa: E731
+            await wait_until(pilot, lambda: isinstance(app.screen, QueueScreen)
+                             and "held" in line())
+            assert line() == ("4 runs held by no live worker: queued again when their lease "
+                              "runs out")
 
     run(scenario)

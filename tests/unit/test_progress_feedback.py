@@ -76,7 +76,7 @@ def test_claimed_text_says_what_the_held_runs_are():
                                       "31 waiting their turn)")
     assert claimed_text(2, 2, 2) == "2 runs computing on 2 workers"
     assert claimed_text(1, 1, 1) == "1 run computing on 1 worker"
-    assert claimed_text(3, 0, 0).startswith("3 runs claimed in batches by no live worker")
+    assert claimed_text(3, 0, 0).startswith("3 runs held by no live worker: queued again")
 
 
 def test_the_store_counts_held_and_begun_runs(store):
@@ -95,5 +95,5 @@ def test_status_says_runs_claimed_in_batches(db, db_url, capsys):
     jobs.claim_batch(db, "w", 4)
     assert main(["status", "--db", db_url]) == 0
     out = capsys.readouterr().out
-    assert "4 runs claimed in batches by no live worker" in out
+    assert "4 runs held by no live worker" in out
 
