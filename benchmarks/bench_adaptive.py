@@ -44,10 +44,11 @@ from pathlib import Path
 
 from sqlalchemy import select
 
-from core import run_point
+from core.point import run_point
 from slopetui.queue import jobs
-from slopetui.store import Database, open_store
+from slopetui.store.database import Database
 from slopetui.store.models import Run, Sweep
+from slopetui.store.open import open_store
 from slopetui.sweeps.adaptive import advance
 from slopetui.sweeps.refinement import FAILED, refine_in_memory
 from slopetui.sweeps.spec import parse_spec

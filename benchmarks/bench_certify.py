@@ -20,10 +20,11 @@ import argparse
 import statistics
 import time
 
-from core import Params, SolverSettings, run_point
 from core.certify import certify
 from core.classify import classify
-from core.solve import simulate
+from core.params import Params
+from core.point import run_point
+from core.solve import SolverSettings, simulate
 
 POINTS = {
     "k=10 tau=10 (orbit)": Params(k=10, tau=10),

@@ -43,6 +43,14 @@ prints the median of their figures with the range (low-high) of the ratios over 
 ``--small-groups FILE`` also times groups of 2 to 5 points of one tau (tau = 10), the
 batches an adaptive sweep's refined levels make, against the single kernel, in ns per
 point-step (best of 3): where core.batch.MIN_LANES comes from.
+
+``--against DIR`` instead times this tree's kernels against those of another checkout's
+core/ (e.g. ``git archive main | tar -x -C DIR``), interleaved A/B in one process and one
+thread, CPU time: the batched kernels on 64 lanes (k 6-16, tau = 10), the single kernels
+(core.solve.simulate) on 4 points (k, tau) = (10, 10), (12, 6.4321), (6, 5), (8, 1), and
+with ``--spectrum`` core.spectrum's tangent kernels with N = 2; it prints the median ns
+per step of each and the median of the rounds' new / old ratios. The other core/ is
+copied under the package name ``core_against``.
 """
 
 from __future__ import annotations
@@ -51,9 +59,12 @@ import argparse
 import json
 import os
 import platform
+import re
+import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from collections.abc import Callable
@@ -64,10 +75,10 @@ from typing import Any, TypeVar
 import numpy as np
 import yardstick  # beside this script (python puts the script's folder on sys.path)
 
-from core import Params, SolverSettings, simulate
 from core.batch import simulate_batch
 from core.model import coefficients
-from core.solve import make_grid
+from core.params import Params
+from core.solve import SolverSettings, make_grid, simulate
 
 TAUS = (5.0, 6.4321, 10.0)
 POINTS = [Params(k=float(k), tau=tau) for tau in TAUS for k in np.linspace(6.0, 16.0, 64)]
@@ -227,6 +238,90 @@ def in_processes(n: int, t_end: float, repeat: int) -> list[tuple[str, dict[str,
     return rows
 
 
+#: --against: the points, and model time per run of each variant (~1e6 steps).
+AGAINST_POINTS = ((10.0, 10.0), (12.0, 6.4321), (6.0, 5.0), (8.0, 1.0))
+AGAINST_T = {"euler": 700.0, "rk4": 2000.0, "stiff": 400.0}
+
+
+def other_core(tree: Path) -> Any:
+    """DIR/core imported as the package ``core_against`` (its imports of core rewritten)."""
+    folder = Path(tempfile.mkdtemp(prefix="bench-against-"))
+    shutil.copytree(tree / "core", folder / "core_against")
+    for path in (folder / "core_against").glob("*.py"):
+        text = re.sub(r"\b(from|import) core(\.| import)", r"\1 core_against\2", path.read_text())
+        path.write_text(text)
+    sys.path.insert(0, str(folder))
+    import core_against.batch
+    import core_against.params
+    import core_against.solve
+    import core_against.spectrum
+    return core_against
+
+
+def one_call(pkg: Any, fn: Callable[..., Any], method: str, lyap: bool, run: bool, k: float,
+             tau: float, t: float) -> int:
+    """One run (``run``) or spectrum of N = 2 with package pkg's ``fn``: the steps taken."""
+    p = pkg.params.Params(k=k, tau=tau)
+    s = pkg.solve.SolverSettings(method=method, t_end=t, window=t / 100, lyap=lyap)
+    if run:
+        return int(fn(p, s).steps_done)
+    fn(p, s, 2)
+    return int(pkg.solve.make_grid(p, s).n_steps)
+
+
+def batched_call(pkg: Any, fn: Callable[..., Any], method: str, lyap: bool, t: float) -> int:
+    """One batch of 64 points at tau = 10 with package pkg's simulate_batch: point-steps."""
+    points = [pkg.params.Params(k=float(k), tau=10.0) for k in np.linspace(6.0, 16.0, 64)]
+    s = pkg.solve.SolverSettings(method=method, t_end=t, window=t / 100, lyap=lyap)
+    return sum(int(tr.steps_done) for tr in fn(points, s))
+
+
+def interleaved(old_call: Callable[[], int], new_call: Callable[[], int],
+                repeat: int) -> tuple[float, float, float]:
+    """Median ns per step of each, and the median of the rounds' new / old ratios."""
+    new_call(), old_call()  # compile or load
+    ns: dict[str, list[float]] = {"old": [], "new": []}
+    for r in range(repeat):
+        pair = [("old", old_call), ("new", new_call)]
+        for name, fn in (pair if r % 2 == 0 else pair[::-1]):
+            t0 = time.process_time()
+            steps = fn()
+            ns[name].append((time.process_time() - t0) / steps * 1e9)
+    ratio = statistics.median(b / a for a, b in zip(ns["old"], ns["new"], strict=True))
+    return statistics.median(ns["old"]), statistics.median(ns["new"]), ratio
+
+
+def against(tree: Path, repeat: int, spectra: bool) -> list[str]:
+    """This tree's single kernels against DIR's, interleaved (see the docstring)."""
+    from core.spectrum import spectrum
+
+    old = other_core(tree)
+    out = []
+    for method, lyap in VARIANTS:  # the batched kernels, 64 lanes
+        t = AGAINST_T[method] / 2
+        a, b, ratio = interleaved(
+            partial(batched_call, old, old.batch.simulate_batch, method, lyap, t),
+            partial(batched_call, sys.modules["core"], simulate_batch, method, lyap, t), repeat)
+        out.append(f"| {method}{' + λmax' if lyap else ''}, batched (64 lanes) | 6-16 | 10 | "
+                   f"{a:.2f} | {b:.2f} | {ratio:.3f} |")
+        print(out[-1], flush=True)
+    cases = [(m, lyap, "run") for m in ("euler", "rk4", "stiff") for lyap in (False, True)]
+    cases += [(m, False, "spectrum N = 2") for m in (("euler", "rk4") if spectra else ())]
+    for method, lyap, what in cases:
+        t = AGAINST_T[method] / (4 if what != "run" else 1)
+        for k, tau in AGAINST_POINTS:
+            run = what == "run"
+            new_call = partial(one_call, sys.modules["core"], simulate if run else spectrum,
+                               method, lyap, run, k, tau, t)
+            old_call = partial(one_call, old, old.solve.simulate if run else old.spectrum.spectrum,
+                               method, lyap, run, k, tau, t)
+            a, b, ratio = interleaved(old_call, new_call, repeat)
+            label = method + (" + λmax" if lyap else "") + ("" if what == "run" else f", {what}")
+            out.append(f"| {label} | {k:g} | {tau:g} | {a:.2f} | {b:.2f} | {ratio:.3f} |")
+            print(out[-1], flush=True)
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--t-end", type=float, default=2000.0,
@@ -238,8 +333,17 @@ def main() -> None:
     ap.add_argument("--processes", type=int, default=1,
                     help="measure in this many fresh processes: the median, and the ratios' "
                          "ranges (default 1: this process)")
+    ap.add_argument("--against", type=Path, metavar="DIR",
+                    help="time the single kernels against DIR's core/ instead (see above)")
+    ap.add_argument("--spectrum", action="store_true",
+                    help="with --against: also the spectrum's tangent kernels")
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.against:
+        print("| variant | k | tau | other, ns/step | this tree | this / other (median of rounds) |")
+        print("|---|---:|---:|---:|---:|---:|")
+        as_workers_run(partial(against, args.against, args.repeat, args.spectrum))
+        return
     if args.child:  # one process of --processes: its figures as JSON on the last line
         print(json.dumps([(method + (" + λmax" if lyap else ""),
                            as_workers_run(partial(measure, method, lyap, args.t_end,

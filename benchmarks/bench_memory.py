@@ -27,7 +27,9 @@ from pathlib import Path
 #: Short runs through every kernel a batch may call: the single and batched Euler kernels
 #: and the stiff one (a lane's re-integration).
 WARM_UP = """
-from core import Params, SolverSettings, run_batch
+from core.params import Params
+from core.point import run_batch
+from core.solve import SolverSettings
 from core.batch import MIN_LANES
 short = dict(dt=1e-3, t_end=50, window=10, lyap=True)
 for method, n in (("euler", 1), ("euler", MIN_LANES), ("stiff", 1)):

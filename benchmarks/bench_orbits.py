@@ -4,7 +4,7 @@ In one process, CPU time (time.process_time), contenders interleaved:
   - one orbit with its ten leading Floquet multipliers (core.periodic_orbit.find_orbit:
     a seed simulation to t = 3000 with RK4, Newton-Krylov, Arnoldi), against
   - one run to t = 1e5 at the paper's settings (Euler, dt = 1e-3, with lambda_max:
-    core.run_point), at the same point;
+    core.point.run_point), at the same point;
 and a branch of 100 points (core.continuation from the orbit at k = 10, tau = 10, each
 point with six multipliers) against 100 such runs (timed on SIM_SAMPLE runs and scaled:
 the runs' cost does not depend on the point).
@@ -18,11 +18,13 @@ import argparse
 import statistics
 import time
 
-from core import Params, SolverSettings, run_point
 from core.continuation import Branch, walk
 from core.orbit import PeriodMap
+from core.params import Params
 from core.periodic_orbit import find_orbit
+from core.point import run_point
 from core.shooting import Solution
+from core.solve import SolverSettings
 
 POINTS = [dict(k=10.0, tau=10.0), dict(k=20.0, tau=5.0), dict(k=12.0, tau=2.0)]
 SIM_SAMPLE = 3

@@ -99,11 +99,12 @@ import numpy as np
 # benchmarks/ is this script's folder, so it is on sys.path when the script runs
 from numpy_euler import euler_loop
 
-from core import Params, SolverSettings, run_point, simulate
 from core.batch import LANES, simulate_batch
 from core.classify import find_peaks
 from core.lyapunov import LyapunovEstimate, estimate
-from core.solve import Trajectory
+from core.params import Params
+from core.point import run_point
+from core.solve import SolverSettings, Trajectory, simulate
 
 #: The periodic point: paper defaults with k = 10, tau = 10 (Fig. 2B, period-1).
 POINT = Params(k=10.0, tau=10.0)
@@ -464,7 +465,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     print(f"Point: a = {POINT.a}, b = {POINT.b}, c = {POINT.c}, d = {POINT.d}, v = {POINT.v}, "
           f"delta = {POINT.delta}, k = {POINT.k}, tau = {POINT.tau}: {check.regime} "
           f"(period_count {check.period_count}), period {check.period:.6f}, "
-          f"amplitude of m_y {check.amplitude:.6f} (core.run_point, RK4 dt = {RK4_DT:g}).\n")
+          f"amplitude of m_y {check.amplitude:.6f} (core.point.run_point, RK4 dt = {RK4_DT:g}).\n")
     if check.regime != "oscillatory" or check.period_count != 1:
         print("The benchmark point is not a period-1 cycle: amplitude and period mean nothing.")
         return 1

@@ -39,7 +39,8 @@ from pathlib import Path
 from sqlalchemy import create_engine, func, select
 from sqlalchemy.engine import make_url
 
-from slopetui.store import Run, open_store
+from slopetui.store.models import Run
+from slopetui.store.open import open_store
 from slopetui.sweeps.spec import SweepSpec, parse_spec
 from slopetui.sweeps.submit import submit
 
@@ -70,7 +71,7 @@ def pg_database(server: str, name: str):
 
 def compute_cpu_ms(runs: int) -> float:
     """CPU per run of computing the plane's runs as a worker does (batches of 8), here (ms)."""
-    from core import run_batch
+    from core.point import run_batch
     spec = _plane(runs)
     params = [p for _, _, p in spec.points()]
     settings = spec.solver

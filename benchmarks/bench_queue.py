@@ -27,9 +27,11 @@ import time
 from datetime import datetime
 from pathlib import Path
 
-from core import Params, SolverSettings, run_point
+from core.params import Params
+from core.point import run_point
+from core.solve import SolverSettings
 from slopetui.queue import jobs
-from slopetui.store import open_store
+from slopetui.store.open import open_store
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 

@@ -74,7 +74,7 @@ def slopetui_command() -> list[str]:
 
 def make_store(folder: Path, n_sweeps: int) -> str:
     """A SQLite store at the current schema with ``n_sweeps`` queued sweeps of 5 runs."""
-    from slopetui.store import open_store
+    from slopetui.store.open import open_store
     from slopetui.sweeps.spec import parse_spec
     from slopetui.sweeps.submit import submit
 

@@ -9,7 +9,9 @@ again with Euler at dt = 2.5e-4 to see which one a finer step agrees with.
 
 from __future__ import annotations
 
-from core import Params, SolverSettings, run_point
+from core.params import Params
+from core.point import run_point
+from core.solve import SolverSettings
 
 POINTS = [
     dict(k=3.0, tau=10.0), dict(k=5.0, tau=10.0), dict(k=7.0, tau=10.0), dict(k=10.0, tau=10.0),

@@ -7,7 +7,7 @@ anti-damping moves the onset) Euler's peak-to-peak m_y is 0.790, RK4's (dt = 1e-
 agree to 1e-7) 0.496. Nothing in the window shows it; a second integration does.
 
 **The estimate.** From the run's own final state (the five variables and m_x over the last
-delay: core.recording.hand_over, or the window's samples for a batched run), the run's
+delay: core.chunk_state.ChunkState.carried, or the window's samples for a batched run), the run's
 scheme integrates a span S twice: at the run's step dt and at dt / 2 (its history given at
 the half steps by core.history.half_steps, 4th order). The dt shadow continues the run's
 attractor; the dt / 2 shadow relaxes from it to the finer scheme's. Over the second half
@@ -38,15 +38,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from core.classify import AMPLITUDE_FLOOR, Summary, find_peaks
+from core.classify import AMPLITUDE_FLOOR, Summary, find_peaks, maxima_words
 from core.history import CarriedState, half_steps
+from core.methods import method
 from core.params import Params
 from core.solve import SolverSettings, Trajectory, simulate
 
-#: The order of each scheme's global error in dt (Richardson's p). Euler's and RK4's are
-#: measured (docs/numerics.md: RK4 4.35 -> 4.13 from dt = 0.1 to 0.00625); the stiff
-#: scheme is linearly implicit Euler, first order (core.stiff).
-ORDER: dict[str, int] = {"euler": 1, "rk4": 4, "stiff": 1}
 #: Above this relative change of amplitude or period the run is flagged dt-sensitive: the
 #: issue's 1 %.
 TOLERANCE = 0.01
@@ -167,7 +164,7 @@ def dt_error(tr: Trajectory, summary: Summary) -> DtError:
         coarse, fine = _joined(coarse, c_more), _joined(fine, f_more)
         relaxed = _relaxed(coarse, fine)
     a, b = (_measures(x, summary.period, continuum) for x in (coarse, fine))
-    order = ORDER[s.method]
+    order = method(s.method).order  # Richardson's p
     amp, per = (_richardson(a[i], b[i], order) for i in (0, 1))
     value = max((abs(v) for v in (amp, per) if math.isfinite(v)), default=math.nan)
     span = float(coarse.window_t[-1])
@@ -294,7 +291,7 @@ def _measures(tr: Trajectory, period: float, continuum: bool) -> tuple[float, fl
     at, top = find_peaks(t, y)
     major = top > float(y.min()) + 0.5 * amplitude
     at, top = at[major], top[major]
-    label = "continuum" if continuum else f"{_distinct(top, amplitude)} distinct maxima"
+    label = "continuum" if continuum else _distinct_words(_distinct(top, amplitude))
     if len(at) < 2 or not math.isfinite(period):
         return amplitude, math.nan, label
     per_return = max(1, round(period * (len(at) - 1) / float(at[-1] - at[0])))  # mean spacing
@@ -314,6 +311,11 @@ def _distinct(heights: np.ndarray, amplitude: float) -> int:
     if heights.size == 0:
         return 0
     return 1 + int(np.count_nonzero(np.diff(np.sort(heights)) > LABEL_GAP * amplitude))
+
+
+def _distinct_words(n: int) -> str:
+    """"1 distinct maximum", "2 distinct maxima": a shadow's label."""
+    return maxima_words(n).replace(" max", " distinct max")
 
 
 def _richardson(q_dt: float, q_half: float, order: int) -> float:

@@ -11,7 +11,7 @@ vectorises (AVX-512: 8 lanes per instruction).
 interval), so they share one step counter and every event (a window or trace sample, a
 tangent renormalisation, the end) falls on the same step for all of them. simulate_batch
 groups the points it is given by grid; the workers claim runs of one tau together
-(slopetui.store.claims), and a plane of n x m points has n points per tau.
+(slopetui.store.runs.claims), and a plane of n x m points has n points per tau.
 
 The layout is what lets LLVM vectorise the lane loop with plain vector loads and stores:
 
@@ -29,6 +29,10 @@ The layout is what lets LLVM vectorise the lane loop with plain vector loads and
 * the rings start half a row of lanes (256 bytes) away from st modulo 512 bytes, so that a
   load never waits on a recent store to another row at the same 12 low address bits
   (skewed_buffers, SKEW).
+
+**Resumable.** A batch's whole state is arrays (start_batch: the state rows, the rings,
+the samplers' and the batch's counters), which batch_steps reads and leaves at the step it
+stops at, so that a batch continues in chunks as the single kernels do (core.methods).
 
 **Events** (a tangent renormalisation, the end) are handled between chunks of steps: the
 steps up to the next event of the group run as one tight loop (at most MAX_CHUNK steps),
@@ -78,6 +82,7 @@ import numpy as np
 from numba import njit, uint64
 
 from core.closure import REALISABLE_TOL, Realisability
+from core.methods import method
 from core.model import JIT, coefficients, rhs, rhs_tangent
 from core.params import Params
 from core.recording import blown_up
@@ -529,13 +534,36 @@ def batch(rk4, coef, dt, n_delay, n_steps, sampler, trace_stride, lyap, renorm, 
     win_stride, sample_jump, win_start). win, trace: (lanes, columns, 5). logs: (lanes,
     renormalisations), filled only if lyap.
     """
+    st, ring, e_ring, smp, lane_of, at = start_batch(rk4, coef, n_delay, sampler, trace_stride,
+                                                     lyap, renorm, win, trace)
+    batch_steps(rk4, dt, n_delay, n_steps, n_steps, lyap, renorm, st, ring, e_ring, smp,
+                lane_of, at, win, trace, logs, done, lows, cross)
+
+
+# Fields of a batch's counters ``at`` (int64; start_batch, batch_steps): the step, the ring
+# position, the active lanes, the next step a sample is due, the next renormalisation's
+# log index and step.
+(B_N, B_POS, B_ACTIVE, B_DUE, B_I_R, B_R_NEXT) = range(6)
+
+
+@njit(**BATCH_JIT)
+def ring_size(rk4, n_delay):
+    """Slots of a batch's ring: RK4's (m_x, m_y) at steps n - N..n, Euler's m_x over
+    (t - tau, t] (one slot without delay)."""
+    return n_delay + 1 if rk4 else max(n_delay, 1)
+
+
+@njit(**BATCH_JIT)
+def start_batch(rk4, coef, n_delay, sampler, trace_stride, lyap, renorm, win, trace):
+    """A batch's whole state at t = 0 (eq. 19 in every lane): (st, ring, e_ring, smp,
+    lane_of, at), what batch_steps continues from."""
     n_lanes = coef.shape[0]
     lane_of = np.arange(n_lanes)
     width = n_lanes
     # rk4: (m_x, m_y) at steps n - N..n, rows 2 pos and 2 pos + 1, and the history slot
     # ``size`` after them (rk4_steps); Euler: m_x over (t - tau, t], the history before
     # t = 0 being delta (core.history)
-    size = n_delay + 1 if rk4 else max(n_delay, 1)
+    size = ring_size(rk4, n_delay)
     n_ring = 2 * (size + 1) * width if rk4 else size * width
     st, ring, e_ring = skewed_buffers(n_ring, n_ring if lyap else 0)
     start_lanes(n_lanes, coef, st)
@@ -543,14 +571,27 @@ def batch(rk4, coef, dt, n_delay, n_steps, sampler, trace_stride, lyap, renorm, 
     first, last = (2 * size, 2 * size + 1) if rk4 else (0, size)
     for r in range(first, last):
         ring[r * width:r * width + n_lanes] = coef[:, 5]
+    smp = np.array([sampler[0], 0, sampler[1], sampler[2], sampler[3], win.shape[1],
+                    0, 0, trace_stride, trace.shape[1]], dtype=np.int64)
+    at = np.array([0, 0, n_lanes, next_due(smp), 0, renorm], dtype=np.int64)
+    return st, ring, e_ring, smp, lane_of, at
+
+
+@njit(**BATCH_JIT)
+def batch_steps(rk4, dt, n_delay, n_steps, stop, lyap, renorm, st, ring, e_ring, smp, lane_of,
+                at, win, trace, logs, done, lows, cross):
+    """Integrate the batch from its state (start_batch's arrays, ``at`` its counters) to
+    step ``stop`` or, at n_steps, to its end (batch's outputs), and leave the state there:
+    a batch continued from step to step gives each lane what one call gives (the kernel
+    contract, core.methods, item 6), but for ``cross``, which is then a chunk end no later
+    than one call's (_realisability finds the exact step from either)."""
+    width = lane_of.shape[0]
+    size = ring_size(rk4, n_delay)
     # the ring rows in the tangent's norm: RK4's N + 1 slots (two rows each), Euler's N,
     # none without delay (core.euler's empty history)
     rows = 2 * size if rk4 else n_delay
-    smp = np.array([sampler[0], 0, sampler[1], sampler[2], sampler[3], win.shape[1],
-                    0, 0, trace_stride, trace.shape[1]], dtype=np.int64)
-    due = next_due(smp)
-    i_r, r_next = 0, renorm
-    n, pos, n_a = 0, 0, n_lanes
+    n, pos, n_a, due = at[B_N], at[B_POS], at[B_ACTIVE], at[B_DUE]
+    i_r, r_next = at[B_I_R], at[B_R_NEXT]
     while n_a > 0:
         if lyap and n == r_next:
             if rk4:  # the stale slot (step n - N - 1) must vanish from the norm
@@ -573,7 +614,9 @@ def batch(rk4, coef, dt, n_delay, n_steps, sampler, trace_stride, lyap, renorm, 
                 for v in range(3):
                     lows[lane_of[j], v] = st[(LO_X + v) * LANES + j]
             break
-        end = min(n_steps, n + MAX_CHUNK)
+        if n >= stop:
+            break
+        end = min(n_steps, n + MAX_CHUNK, stop)
         if lyap:
             end = min(end, r_next)
         if rk4:
@@ -585,6 +628,7 @@ def batch(rk4, coef, dt, n_delay, n_steps, sampler, trace_stride, lyap, renorm, 
         n_a = drop_blown(n_a, width, st, ring, e_ring, lane_of, done)
         crossed(n_a, st, lane_of, cross, end)
         n = end
+    at[B_N], at[B_POS], at[B_ACTIVE], at[B_DUE], at[B_I_R], at[B_R_NEXT] = n, pos, n_a, due, i_r, r_next
 
 
 def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) -> list[Trajectory]:
@@ -601,7 +645,7 @@ def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None) ->
     if s.history != "constant":
         raise ValueError(f"the batched kernels start from the constant history only, not "
                          f"{s.history!r}: compute such runs with core.solve.simulate")
-    if s.method == "stiff":  # no batched kernel (core.stiff): one run after another
+    if not method(s.method).batched:  # no lane kernel (core.methods): one run after another
         return [simulate(p, s) for p in points]
     grids = [make_grid(p, s) for p in points]
     groups: dict[Grid, list[int]] = {}

@@ -19,6 +19,8 @@ from core.floquet import Multipliers
 from core.hopf_start import HopfPoint
 from core.orbit import Grid, PeriodMap
 from core.params import Params
+from core.periodic_orbit import find_orbit
+from core.shooting import Solution
 
 #: The amplitude of the first orbit of a branch from the Hopf point (peak-to-peak scale
 #: of the critical eigenvector's m_x; small enough that the Hopf normal form holds: the
@@ -51,8 +53,6 @@ def start(spec: BranchSpec) -> tuple[Branch, HopfPoint | None]:
     """The branch's first corrected orbit: at the Hopf point (then onward in the direction
     of growing amplitude), or on the simulated orbit heading towards ``end`` (down when
     ``end`` is below the start, else up). Raises OrbitError when there is no orbit."""
-    from core.periodic_orbit import find_orbit
-    from core.shooting import Solution
     if spec.from_hopf:
         return Branch.from_hopf(spec.params, spec.name, spec.dt, HOPF_EPS, HOPF_FIRST_STEP,
                                 spec.max_step)

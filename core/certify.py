@@ -30,6 +30,7 @@ import numpy as np
 
 from core.classify import Summary, find_peaks, maxima_words
 from core.params import Params
+from core.rest_stability import NEUTRAL_TOL, rest_exponent
 from core.returns import distinct_maxima
 from core.solve import Trajectory
 from core.stability import hopf_period, leading_exponent
@@ -156,7 +157,6 @@ def certify(tr: Trajectory, s: Summary) -> Certificate:
 
 def _fixed_point(tr: Trajectory, s: Summary) -> Certificate:
     """Linear theory and the window's decay agree (the module docstring)."""
-    from core.rest_stability import NEUTRAL_TOL, rest_exponent
     p = tr.params
     try:
         root = rest_exponent(p)
@@ -188,7 +188,6 @@ def _fixed_point(tr: Trajectory, s: Summary) -> Certificate:
 
 def _unstable_rest(p: Params) -> Certificate:
     """A window still at a rest state that linear theory calls unstable (core.classify)."""
-    from core.rest_stability import rest_exponent
     try:
         root = f"{rest_exponent(p):+.2e}/t"
     except ArithmeticError:

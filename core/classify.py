@@ -50,6 +50,7 @@ import numpy as np
 
 from core.lyapunov import LyapunovEstimate
 from core.params import Params, sliding_branches
+from core.rest_stability import NEUTRAL_TOL, rest_exponent
 from core.returns import Return, clusters, distinct_maxima, find_return, lag_defects
 from core.stability import hopf_period, leading_exponent
 
@@ -309,7 +310,6 @@ def _follow_theory(s: Summary, p: Params | None, follow_branch: bool = True) -> 
     (core.heading)."""
     if p is None or s.attractor != "fixed-point":
         return s
-    from core.rest_stability import NEUTRAL_TOL, rest_exponent
     try:
         root = rest_exponent(p)
     except ArithmeticError as exc:

@@ -51,14 +51,6 @@ class Realisability:
     min_det: float
     t_first: float | None
 
-    @classmethod
-    def of_kernel(cls, real: np.ndarray, dt: float) -> Realisability:
-        """From a kernel's ``real`` output: the three minima, then the first violating
-        step (-1: none)."""
-        first = int(real[3])
-        return cls(float(real[0]), float(real[1]), float(real[2]),
-                   first * dt if first >= 0 else None)
-
     @property
     def realisable(self) -> bool:
         return self.t_first is None

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from core.continuation import Branch, bifurcations, criticality
 from core.orbit import OrbitError
 from core.params import Params
+from core.stability import hopf_friction, hopf_k
 
 #: Branch points a search for the fold may take before giving up (the fold at tau = 10
 #: is reached in ~30 points from the Hopf point).
@@ -99,10 +100,8 @@ def fold_curve(p: Params, values: Iterable[float], second: str = "tau", name: st
         try:
             q = p.with_(**{second: value})
             if name == "k":
-                from core.stability import hopf_k
                 q = q.with_(k=hopf_k(q.tau, q.F1))
             elif name in ("a", "b", "c"):
-                from core.stability import hopf_friction
                 q = q.with_(**{name: hopf_friction(q, name)[0]})
             point = fold_of_cycles(q, name, dt)
         except ValueError as exc:  # OrbitError, ParameterError, or no Hopf point here

@@ -63,6 +63,7 @@ from core.model import coefficients
 from core.orbit import Grid, OrbitError
 from core.params import Params
 from core.period_map import flow
+from core.rest_stability import NEUTRAL_TOL, rest_exponent
 
 #: The kick in m_y (model units) that lets a branch leave a rest state found unstable,
 #: and the spans of t_settle it may take to land (settled, and not still growing away
@@ -282,7 +283,6 @@ def _still_old(first: WarmPoint, p: Params, g: Grid, state: np.ndarray, t_settle
     """Settle at p from ``state``: whether it is still on the first point's kind of state
     (the module docstring says how each direction is decided), the final state, and
     whether linear theory decided."""
-    from core.rest_stability import NEUTRAL_TOL, rest_exponent
     try:
         final, t, win, growth = settle(p, g, state, t_settle, window)
     except OrbitError:

@@ -18,11 +18,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from core.methods import REGISTRY
 from core.params import Params
 from core.stability import leading_exponent
-
-#: Order of each scheme's global error, hence of its lambda_max bias.
-ORDER = {"euler": 1, "stiff": 1, "rk4": 4}
 
 
 @dataclass(frozen=True)
@@ -64,7 +62,9 @@ def bias_note(p: Params, attractor: str, method: str, dt: float, measured: float
     """One line beside a lambda_max: which map it belongs to and, where theory gives the
     continuous exponent, the bias against it, e.g. "Euler map at dt = 0.001; continuous
     -0.179662 (linear theory): bias +1.4e-04 (0.078 %), O(dt)"."""
-    order = "O(dt)" if ORDER.get(method, 1) == 1 else f"O(dt^{ORDER[method]})"
+    # the order of the scheme's global error is that of its lambda_max bias
+    p_dt = REGISTRY[method].order if method in REGISTRY else 1
+    order = "O(dt)" if p_dt == 1 else f"O(dt^{p_dt})"
     head = f"{method} map at dt = {dt:g}"
     exact = continuous_exponent(p, attractor) if math.isfinite(measured) else None
     if exact is None:

@@ -30,6 +30,7 @@ from numba import njit
 from core.model import JIT, coefficients
 from core.params import Params
 from core.recording import BLOWUP_BOUND
+from core.solve import SolverSettings, simulate
 
 
 @njit(**JIT)
@@ -146,8 +147,6 @@ class Comparison:
 def compare_with_mean_field(p: Params, n_blocks: int, t_end: float, dt: float = 1e-3,
                             sample_dt: float = 0.1, seed: int = 0) -> Comparison:
     """Run eq. 5 and eqs. 6a-6e (Euler, the same dt) and measure how far apart they are."""
-    from core.solve import SolverSettings, simulate
-
     ens = simulate_ensemble(p, n_blocks, t_end, dt, sample_dt, seed)
     n = len(ens.t)
     settings = SolverSettings(method="euler", dt=dt, t_end=t_end, window=min(t_end, 1.0),

@@ -8,7 +8,8 @@ Two samplers write the five variables into preallocated (5, n) arrays:
   - the trace: every ``stride`` steps from t = 0, a few thousand points for plots.
 The tangent-linear renormalisation (for lambda_max) also lives here, because both
 schemes share it, and so do the running minima of the covariance over every step
-(lowest: whether the run stayed realisable, core.closure).
+(lowest: whether the run stayed realisable, core.closure) and the write-back of a
+kernel's state where the next chunk continues from it (keep, core.chunk_state).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import math
 
 from numba import njit
 
+from core import chunk_state as cs
 from core.closure import REALISABLE_TOL
 from core.model import JIT
 
@@ -51,15 +53,16 @@ def sample(n, next_n, i, stride, jump, resume, out, m_x, m_y, s_x, s_y, u):
 
 
 @njit(**JIT)
-def hand_over(final, m_x, m_y, s_x, s_y, u, ring, oldest):
-    """The state a warm start takes over (core.history.CarriedState): the five variables
-    in final[:5], and in final[5:5 + N] m_x at t_end - tau + j dt, j = 0..N-1, read from
-    the ring of m_x (N slots, or N + 1 for RK4) starting at its oldest slot."""
-    final[0], final[1], final[2], final[3], final[4] = m_x, m_y, s_x, s_y, u
-    size = ring.shape[0]
-    for j in range(final.shape[0] - 5):
-        i = oldest + j
-        final[5 + j] = ring[i - size if i >= size else i]
+def keep(now, counts, m_x, m_y, s_x, s_y, u, e_x, e_y, e_sx, e_sy, e_u, lo_x, lo_y, lo_d,
+         n, pos, next_w, i_w, next_t, i_t, next_r, i_r, first):
+    """Write a kernel's state back into ``now`` and ``counts`` (layout: core.chunk_state),
+    where a later call continues from it: at step n, ring position pos."""
+    now[cs.M_X], now[cs.M_Y], now[cs.S_X], now[cs.S_Y], now[cs.U] = m_x, m_y, s_x, s_y, u
+    now[cs.E_X], now[cs.E_Y], now[cs.E_SX], now[cs.E_SY], now[cs.E_U] = e_x, e_y, e_sx, e_sy, e_u
+    now[cs.LO_X], now[cs.LO_Y], now[cs.LO_D] = lo_x, lo_y, lo_d
+    counts[cs.N_AT], counts[cs.POS], counts[cs.FIRST] = n, pos, first
+    counts[cs.NEXT_W], counts[cs.I_W], counts[cs.NEXT_T], counts[cs.I_T] = next_w, i_w, next_t, i_t
+    counts[cs.NEXT_R], counts[cs.I_R] = next_r, i_r
 
 
 @njit(**JIT)
@@ -80,12 +83,6 @@ def lowest(lo_x, lo_y, lo_d, first, n, s_x, s_y, u):
     if first < 0 and (lo_x < -REALISABLE_TOL or lo_y < -REALISABLE_TOL or lo_d < -REALISABLE_TOL):
         first = n
     return lo_x, lo_y, lo_d, first
-
-
-@njit(**JIT)
-def keep_lowest(real, lo_x, lo_y, lo_d, first):
-    """The kernel's ``real`` output: the minima of lowest, then its first step."""
-    real[0], real[1], real[2], real[3] = lo_x, lo_y, lo_d, first
 
 
 @njit(**JIT)

@@ -57,9 +57,6 @@ SAMPLE_TIME_NOISE = 0.1
 #: Longer returns than this many maxima are not told from a continuum (quasi-periodic or
 #: chaotic); the three-hump orbits at tau = 10 need 3, the square waves at large tau ~6.
 MAX_MAXIMA = 16
-#: A return time within this distance of an integer number of basic periods counts as that
-#: number (measured period-1 ratios: 0.93-1.02, see core.stability.hopf_period).
-PERIOD_RATIO_TOL = 0.25
 
 #: Maxima not separated by a dip deeper than this fraction of the amplitude are one
 #: maximum (the highest of them): a plateau's round-off ripple, not slips. On the

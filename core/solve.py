@@ -27,20 +27,22 @@ from typing import Literal
 
 import numpy as np
 
+from core.chunk_state import BLOWN, N_AT, ChunkState, plan_of, start_arrays
 from core.classify import N_SUBWINDOWS
 from core.closure import Realisability
 from core.history import CarriedState, check_history
 from core.history import start as history_start
-from core.methods import METHODS
+from core.methods import METHOD_TABLE, METHODS, method
 from core.params import ParameterError, Params, check_positive
 
 Method = Literal["euler", "rk4", "stiff"]
 
-#: Default step per method. Euler: the paper's dt = 1e-3. RK4: 1e-2, which costs about
-#: as much per time unit as Euler at 1e-3 and is ~1e6 times more accurate. Stiff: 1e-3,
-#: first order like Euler, with errors against Radau about as large or smaller; it stays
-#: stable at any step, and 1e-3 keeps the runs comparable with Euler's (core.stiff).
-DEFAULT_DT: dict[str, float] = {"euler": 1e-3, "rk4": 1e-2, "stiff": 1e-3}
+#: Default step per method (core.methods.METHOD_TABLE). Euler: the paper's dt = 1e-3.
+#: RK4: 1e-2, which costs about as much per time unit as Euler at 1e-3 and is ~1e6 times
+#: more accurate. Stiff: 1e-3, first order like Euler, with errors against Radau about as
+#: large or smaller; it stays stable at any step, and 1e-3 keeps the runs comparable with
+#: Euler's (core.stiff).
+DEFAULT_DT: dict[str, float] = {m.name: m.default_dt for m in METHOD_TABLE}
 #: The paper's analysis window, [99000, 100000]: the default when the run is long enough
 #: (see default_window).
 DEFAULT_WINDOW = 1000.0
@@ -76,10 +78,10 @@ MAX_STEPS = 10**10
 #: Such runs are rare (tau over 10^5 time units at dt = 1e-3, or more than 2.7e8
 #: lambda_max renormalisations); a worker should then compute them with --batch 1.
 MAX_RUN_BYTES = 2 * 1024**3
-#: Bytes per delay step of the ring buffers: m_x for Euler and stiff, (m_x, m_y) for RK4,
-#: and as much again for the tangent, which the single-run kernels allocate even without
-#: lambda_max (core.euler, core.rk4, core.stiff).
-RING_BYTES: dict[str, int] = {"euler": 2 * 8, "rk4": 2 * 2 * 8, "stiff": 2 * 8}
+#: Bytes per delay step of the ring buffers: m_x for Euler and stiff, (m_x, m_y) for RK4
+#: (core.methods: ring_rows), and as much again for the tangent, which the single-run
+#: kernels carry even without lambda_max (core.chunk_state).
+RING_BYTES: dict[str, int] = {m.name: 2 * m.ring_rows * 8 for m in METHOD_TABLE}
 #: Bytes per window or trace sample: five variables and the sample's time.
 SAMPLE_BYTES = 6 * 8
 #: Bytes per lambda_max log: one float per tangent renormalisation.
@@ -194,6 +196,13 @@ class Grid:
     @property
     def t_end(self) -> float:
         return self.n_steps * self.dt
+
+    def step_at(self, t: float) -> int:
+        """The first step at or after model time t (n_steps at most), as n_steps is of
+        t_end."""
+        if not t < self.t_end:
+            return self.n_steps
+        return max(0, math.ceil(t / self.dt - 1e-9))
 
     @property
     def renorm_interval(self) -> float:
@@ -383,8 +392,8 @@ class Trajectory:
     runtime_s: float = 0.0
     mid_t: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
     mid: np.ndarray = field(default_factory=lambda: np.zeros((5, 0)), repr=False)
-    #: The state at t_end to hand over (core.history.CarriedState); None after a blow-up
-    #: and from the batched kernels.
+    #: The state at t_end to hand over (core.history.CarriedState); None after a blow-up,
+    #: before t_end (a chunk: see ``chunk``) and from the batched kernels.
     final: CarriedState | None = field(default=None, repr=False)
     #: The carried state the run started from, if its history is one.
     carried: CarriedState | None = field(default=None, repr=False)
@@ -398,10 +407,21 @@ class Trajectory:
     #: The running minima of s_x, s_y and s_x s_y - u^2 over every step, and the first
     #: violation (core.closure.Realisability); None where no kernel kept them.
     realisability: Realisability | None = None
+    #: The whole state at steps_done of a run stopped before t_end (simulate's ``until``),
+    #: from which ``simulate(..., resume=)`` continues it; None once the run is at t_end,
+    #: after a blow-up and from the batched kernels.
+    chunk: ChunkState | None = field(default=None, repr=False, compare=False)
+    #: The kernel said it left the bounds (core.chunk_state: BLOWN), also at its last step.
+    blown: bool = False
 
     @property
     def blew_up(self) -> bool:
-        return self.steps_done < self.grid.n_steps
+        return self.blown or (self.steps_done < self.grid.n_steps and self.chunk is None)
+
+    @property
+    def t_done(self) -> float:
+        """Model time the run has reached (t_end once it is whole)."""
+        return self.steps_done * self.grid.dt
 
     @property
     def t_blowup(self) -> float | None:
@@ -410,44 +430,74 @@ class Trajectory:
 
 
 def simulate(p: Params, s: SolverSettings | None = None,
-             carried: CarriedState | None = None) -> Trajectory:
+             carried: CarriedState | None = None, *, until: float | None = None,
+             resume: Trajectory | None = None) -> Trajectory:
     """Integrate eqs. 6a-6e from the initial conditions of eq. 19 and the history of
-    ``s.history`` (``carried``: the state that history names, when it names one)."""
-    # imported here: they load numba (~0.3 s), which validating a spec or a run's
-    # settings (make_grid, for `slopetui submit`) never needs
-    from core.euler import euler
-    from core.model import coefficients
-    from core.rk4 import rk4
-    from core.stiff import stiff
+    ``s.history`` (``carried``: the state that history names, when it names one).
+
+    In chunks: ``until`` (model time) stops the run at the first step at or after it
+    (t_end if later), with ``chunk`` set to continue from. ``resume``, such a chunk of the
+    same (p, s), continues it, writing into its arrays (its own views stay as they were),
+    to ``until`` or t_end. The chunks of a run end, bit for bit, where one call to the same
+    time ends: its samples, lambda_max logs, minima, state and steps (the kernel contract,
+    core.methods)."""
+    from core.model import coefficients  # numba's (~0.3 s): loaded where a run is integrated
 
     s = s or SolverSettings()
     g = make_grid(p, s)
-    win = np.full((5, g.n_samples), np.nan)
-    trace = np.full((5, g.n_trace), np.nan)
-    logs = np.zeros(g.n_steps // g.renorm_steps if s.lyap else 0)
-    init, hx = history_start(p, g.dt, g.n_delay, s.history, carried)
-    final = np.full(5 + g.n_delay, np.nan)
-    real = np.empty(4)
+    m = method(s.method)
+    if resume is None:
+        buffers = (np.full((5, g.n_samples), np.nan), np.full((5, g.n_trace), np.nan),
+                   np.zeros(g.n_steps // g.renorm_steps if s.lyap else 0))
+        init, hx = history_start(p, g.dt, g.n_delay, s.history, carried)
+        now, counts, ring, e_ring = start_arrays(m, g.n_delay, g.sample_start, g.renorm_steps,
+                                                 init, hx)
+        spent = 0.0
+    else:
+        state, buffers, carried = _resumable(p, s, resume)
+        hx = history_start(p, g.dt, g.n_delay, s.history, carried)[1]
+        now, counts, ring, e_ring = state.arrays()
+        spent = resume.runtime_s
+    end = g.n_steps if until is None else max(int(counts[N_AT]), min(g.n_steps, g.step_at(until)))
+    plan = plan_of(end, g.sample_start, g.win_stride, g.sample_jump, g.win_start,
+                   g.trace_stride, g.renorm_steps)
+    win, trace, logs = buffers
     t0 = time.perf_counter()
-    done = {"euler": euler, "rk4": rk4, "stiff": stiff}[s.method](
-        coefficients(p), g.dt, g.n_delay, g.n_steps,
-        win, g.sample_start, g.win_stride, g.sample_jump, g.win_start, trace, g.trace_stride,
-        s.lyap, g.renorm_steps, logs, init, hx, final, real,
-    )
-    tr = trajectory_of(p, s, g, int(done), win, trace, logs, time.perf_counter() - t0,
-                       Realisability.of_kernel(real, g.dt))
-    end = CarriedState(p.tau, g.dt, final[:5], final[5:]) if not tr.blew_up else None
-    return replace(tr, final=end, carried=carried)
+    done = int(m.kernel()(coefficients(p), g.dt, g.n_delay, s.lyap, plan, hx, now, counts, ring,
+                          e_ring, win, trace, logs))
+    runtime = spent + time.perf_counter() - t0
+    after = ChunkState(s.method, g.dt, g.n_delay, now, counts, ring, e_ring)
+    blown = bool(counts[BLOWN] >= 0)
+    tr = trajectory_of(p, s, g, done, win, trace, logs, runtime, after.realisability(),
+                       blew_up=blown)
+    return replace(tr, carried=carried, blown=blown,
+                   final=after.carried(p.tau) if done == g.n_steps and not blown else None,
+                   chunk=after if done < g.n_steps and not blown else None)
+
+
+def _resumable(p: Params, s: SolverSettings, tr: Trajectory
+               ) -> tuple[ChunkState, tuple[np.ndarray, np.ndarray, np.ndarray], CarriedState | None]:
+    """The state, arrays and carried history to continue ``tr`` from, or ValueError."""
+    if tr.chunk is None or tr.buffers is None:
+        raise ValueError("only a run stopped before t_end (simulate's until) can be resumed")
+    if tr.params != p or tr.settings != s:
+        raise ValueError("a run is resumed with its own parameters and settings")
+    return tr.chunk, tr.buffers, tr.carried
 
 
 def trajectory_of(p: Params, s: SolverSettings, g: Grid, done: int, win: np.ndarray,
                   trace: np.ndarray, logs: np.ndarray, runtime: float,
-                  realisability: Realisability | None = None) -> Trajectory:
+                  realisability: Realisability | None = None,
+                  blew_up: bool | None = None) -> Trajectory:
     """Wrap a kernel's outputs (done steps, samplers, tangent logs, the running minima of
-    the covariance) as a Trajectory."""
+    the covariance) as a Trajectory. ``blew_up`` None: the run blew up if it stopped
+    before t_end (a batched kernel's, which runs every lane to t_end)."""
     trace_n = g.trace_stride * np.arange(g.n_trace)
-    # after a blow-up at step `done`, only the states before it were sampled
-    last = g.n_steps if done == g.n_steps else done - 1
+    # after a blow-up at step `done`, only the states before it were sampled; a run
+    # stopped at `done` sampled the state there
+    if blew_up is None:
+        blew_up = done < g.n_steps
+    last = done - 1 if blew_up else done
     n_w = (_sampled(g.mid_start, g.win_stride, g.n_mid, last)
            + _sampled(g.win_start, g.win_stride, g.n_win, last))
     n_t = int(np.count_nonzero(trace_n <= last))

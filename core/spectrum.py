@@ -23,9 +23,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from core.chunk_state import ring_shape
 from core.history import CarriedState
 from core.history import start as history_start
 from core.lyapunov import estimate, format_with_error
+from core.methods import METHOD_TABLE, method
 from core.params import ParameterError, Params
 from core.solve import MAX_RUN_BYTES, SolverSettings, make_grid
 
@@ -34,8 +36,8 @@ from core.solve import MAX_RUN_BYTES, SolverSettings, make_grid
 #: each exponent costs one more tangent (docs/speed.md), so 16 bounds a run at about
 #: 16 times a lambda_max run's tangent work.
 MAX_EXPONENTS = 16
-#: The schemes with a tangent kernel (core.tangents). The stiff scheme has none.
-SPECTRUM_METHODS = ("euler", "rk4")
+#: The schemes with a tangent kernel (core.tangents; core.methods). The stiff scheme has none.
+SPECTRUM_METHODS = tuple(m.name for m in METHOD_TABLE if m.tangents_name)
 #: Seed of the random initial tangents: the same spectrum to the bit on every rerun.
 TANGENT_SEED = 20261203
 #: An exponent is zero "with confidence" when |value| <= ZERO_SIGMAS * its error and
@@ -88,7 +90,7 @@ def check_spectrum(p: Params, s: SolverSettings, n: int) -> None:
         raise ParameterError("spectrum", n, "1 <= N <= 4 at tau = 0 (m_y, s_x, s_y, u: "
                                             "the m_x shift is quotiented out)")
     g = make_grid(p, s)
-    rows = 1 if s.method == "euler" else 2
+    rows = method(s.method).ring_rows
     need = 8 * n * (rows * (g.n_delay + 1) + g.n_steps // g.renorm_steps)
     if need > MAX_RUN_BYTES:
         most = max(1, n * MAX_RUN_BYTES // need)
@@ -102,19 +104,19 @@ def spectrum(p: Params, s: SolverSettings, n: int,
     """The top n exponents of the run (p, s) from its history (``carried`` as for
     core.solve.simulate); None if the scheme blew up before the end."""
     from core.model import coefficients
-    from core.tangents import euler_tangents, orthonormalise, rk4_tangents
+    from core.tangents import orthonormalise
 
     check_spectrum(p, s, n)
     g = make_grid(p, s)
     init, hx = history_start(p, g.dt, g.n_delay, s.history, carried)
-    rows, slots = (1, g.n_delay) if s.method == "euler" else (2, g.n_delay + 1)
+    m = method(s.method)
+    rows, slots = ring_shape(m, g.n_delay)
     rng = np.random.default_rng(TANGENT_SEED)
     e = rng.standard_normal((n, 5))
     h = rng.standard_normal((n, rows, slots))
     orthonormalise(e, h, slots, g.dt, np.zeros((1, n)), 0)
     logs = np.zeros((g.n_steps // g.renorm_steps, n))
-    kernel = euler_tangents if s.method == "euler" else rk4_tangents
-    done = kernel(coefficients(p), g.dt, g.n_delay, g.n_steps, g.renorm_steps, init, hx, e, h,
+    done = m.tangents()(coefficients(p), g.dt, g.n_delay, g.n_steps, g.renorm_steps, init, hx, e, h,
                   logs)
     if done < g.n_steps:
         return None

@@ -83,11 +83,11 @@ time off by 3.8e-3, ten times more.
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
+from core import chunk_state as cs
 from core.model import JIT, damping, rhs, rhs_tangent
-from core.recording import blown_up, hand_over, keep_lowest, lowest, renormalise, sample
+from core.recording import blown_up, keep, lowest, renormalise, sample
 
 #: Largest -G h of a W-step. Where G < 0 the frozen covariance grows at up to -2G; the step
 #: is split so that -G h <= 1/4, which keeps the step positive (module docstring).
@@ -123,36 +123,33 @@ def w_solve(f_x, f_y, f_sx, f_sy, f_u, g, dt, k):
 
 
 @njit(**JIT)
-def stiff(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_resume, trace, trace_stride,
-          lyap, renorm_steps, logs, init, hx, final, real):
-    """Integrate n_steps W-steps; return the number of steps done (< n_steps on blow-up).
+def stiff(coef, dt, n_delay, lyap, plan, hx, now, counts, ring, e_ring, win, trace, logs):
+    """W-steps from step counts[N_AT] to plan[END]; return the steps done (plan[END], or
+    n + 1 after a blow-up at step n).
 
-    Arguments as core.euler.euler: coef [a, q, F1, k, d, delta], n_delay = tau/dt (0: no
-    delay), win and trace (5, n) sampler outputs, logs the tangent's log-growth per
-    renormalisation (every renorm_steps steps), filled only if lyap; init, hx and final
-    as there (the start and the history before it, the state handed over at the end).
+    The contract, its arguments and the state arrays' layout: core.methods and
+    core.chunk_state. The rings as core.euler.euler's (1, N): m_x over (t - tau, t].
     """
     a, q, f1, k, d = coef[0], coef[1], coef[2], coef[3], coef[4]
-    m_x, m_y, s_x, s_y, u = init[0], init[1], init[2], init[3], init[4]  # (19)
-    hist = np.empty(n_delay)           # m_x over (t - tau, t]
-    for j in range(n_delay):
-        hist[j] = hx[2 * j]            # the history, m_x(-tau + j dt)
-    e_hist = np.zeros((1, n_delay))    # tangent m_x history
-    e_x, e_y, e_sx, e_sy, e_u = 0.0, 1.0, 1.0, 1.0, 1.0
-    pos = 0
-    next_w, i_w, next_t, i_t = win_start, 0, 0, 0
-    next_r, i_r = renorm_steps, 0
-    lo_x = lo_y = lo_d = np.inf         # realisability: running minima (lowest)
-    first = -1
-    for n in range(n_steps):
+    m_x, m_y, s_x, s_y, u = now[cs.M_X], now[cs.M_Y], now[cs.S_X], now[cs.S_Y], now[cs.U]
+    e_x, e_y, e_sx, e_sy, e_u = now[cs.E_X], now[cs.E_Y], now[cs.E_SX], now[cs.E_SY], now[cs.E_U]
+    lo_x, lo_y, lo_d = now[cs.LO_X], now[cs.LO_Y], now[cs.LO_D]   # realisability: running minima
+    n0, pos, first = counts[cs.N_AT], counts[cs.POS], counts[cs.FIRST]
+    next_w, i_w, next_t, i_t = counts[cs.NEXT_W], counts[cs.I_W], counts[cs.NEXT_T], counts[cs.I_T]
+    next_r, i_r = counts[cs.NEXT_R], counts[cs.I_R]
+    end, w_stride, w_jump, w_resume = plan[cs.END], plan[cs.WIN_STRIDE], plan[cs.WIN_JUMP], plan[cs.WIN_RESUME]
+    t_stride, renorm_steps = plan[cs.TRACE_STRIDE], plan[cs.RENORM_STEPS]
+    hist = ring[0]                     # m_x over (t - tau, t]
+    blown = False
+    for n in range(n0, end):
         lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, n, s_x, s_y, u)
-        next_w, i_w = sample(n, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
-        next_t, i_t = sample(n, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
+        next_w, i_w = sample(n, next_w, i_w, w_stride, w_jump, w_resume, win, m_x, m_y, s_x, s_y, u)
+        next_t, i_t = sample(n, next_t, i_t, t_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
         if n_delay > 0:
             m_x_tau = hist[pos]
             hist[pos] = m_x
-            e_x_tau = e_hist[0, pos]
-            e_hist[0, pos] = e_x
+            e_x_tau = e_ring[0, pos]
+            e_ring[0, pos] = e_x
             pos += 1
             if pos == n_delay:
                 pos = 0
@@ -179,20 +176,26 @@ def stiff(coef, dt, n_delay, n_steps, win, win_start, win_stride, win_jump, win_
             s_y += w[3]
             u += w[4]
             if blown_up(m_y, s_y) or split == MAX_SPLIT:
-                keep_lowest(real, lo_x, lo_y, lo_d, first)
-                return n + 1
+                blown = True
+                break
             if h >= left:
                 break
             left -= h
             split += 1
+        if blown:
+            counts[cs.BLOWN] = n
+            keep(now, counts, m_x, m_y, s_x, s_y, u, e_x, e_y, e_sx, e_sy, e_u, lo_x, lo_y, lo_d,
+                 n + 1, pos, next_w, i_w, next_t, i_t, next_r, i_r, first)
+            return n + 1
         if lyap and n + 1 == next_r:
-            logs[i_r], e_x, e_y, e_sx, e_sy, e_u = renormalise(e_x, e_y, e_sx, e_sy, e_u, e_hist,
-                                                                     e_hist.shape[1], dt)
+            logs[i_r], e_x, e_y, e_sx, e_sy, e_u = renormalise(e_x, e_y, e_sx, e_sy, e_u, e_ring,
+                                                                     e_ring.shape[1], dt)
             i_r += 1
             next_r += renorm_steps
-    sample(n_steps, next_w, i_w, win_stride, win_jump, win_resume, win, m_x, m_y, s_x, s_y, u)
-    sample(n_steps, next_t, i_t, trace_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
-    lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, n_steps, s_x, s_y, u)
-    keep_lowest(real, lo_x, lo_y, lo_d, first)
-    hand_over(final, m_x, m_y, s_x, s_y, u, hist, pos)
-    return n_steps
+    # the state it stops at: recorded again by a call that continues it (idempotent)
+    next_w, i_w = sample(end, next_w, i_w, w_stride, w_jump, w_resume, win, m_x, m_y, s_x, s_y, u)
+    next_t, i_t = sample(end, next_t, i_t, t_stride, -1, 0, trace, m_x, m_y, s_x, s_y, u)
+    lo_x, lo_y, lo_d, first = lowest(lo_x, lo_y, lo_d, first, end, s_x, s_y, u)
+    keep(now, counts, m_x, m_y, s_x, s_y, u, e_x, e_y, e_sx, e_sy, e_u, lo_x, lo_y, lo_d,
+         end, pos, next_w, i_w, next_t, i_t, next_r, i_r, first)
+    return end

@@ -1,8 +1,8 @@
 """Kernels for the Lyapunov spectrum: a run's own scheme with N tangents (core.spectrum).
 
-Each kernel integrates eqs. 6a-6e exactly as core.euler or core.rk4 does (the same steps
-from the same history, so the same trajectory up to how LLVM fuses multiply-adds in each
-kernel) and co-iterates N tangent vectors of that discrete map, each with its own delay
+Each kernel integrates eqs. 6a-6e exactly as core.euler or core.rk4 does (their step
+functions, from the same history: the same discrete map) and co-iterates N tangent vectors
+of that map (the same tangent steps), each with its own delay
 ring, re-orthonormalising them every ``renorm_steps`` steps (``orthonormalise``). The main
 kernels stay as they are: a run with --spectrum pays for this second pass, and a run
 without it pays nothing.
@@ -21,8 +21,10 @@ import math
 import numpy as np
 from numba import njit
 
-from core.model import JIT, rhs, rhs_tangent
+from core.euler import euler_step, euler_tangent_step
+from core.model import JIT
 from core.recording import blown_up
+from core.rk4 import hermite_mid, rk4_step, rk4_tangent_step
 
 
 @njit(**JIT)
@@ -117,20 +119,13 @@ def euler_tangents(coef, dt, n_delay, n_steps, renorm_steps, init, hx, e, h, log
                 h[i, 0, pos] = e[i, 0]
             else:
                 e_x_tau = e[i, 0]
-            f = rhs_tangent(m_y, s_y, u, e[i, 0], e[i, 1], e[i, 2], e[i, 3], e[i, 4], e_x_tau,
-                            a, q, f1, k)
-            for m in range(5):
-                e[i, m] += dt * f[m]
+            e[i, 0], e[i, 1], e[i, 2], e[i, 3], e[i, 4] = euler_tangent_step(
+                m_y, s_y, u, e[i, 0], e[i, 1], e[i, 2], e[i, 3], e[i, 4], e_x_tau, dt, a, q, f1, k)
         if n_delay > 0:
             pos += 1
             if pos == n_delay:
                 pos = 0
-        f = rhs(m_x, m_y, s_x, s_y, u, m_x_tau, a, q, f1, k, d)
-        m_x += dt * f[0]
-        m_y += dt * f[1]
-        s_x += dt * f[2]
-        s_y += dt * f[3]
-        u += dt * f[4]
+        m_x, m_y, s_x, s_y, u = euler_step(m_x, m_y, s_x, s_y, u, m_x_tau, dt, a, q, f1, k, d)
         if blown_up(m_y, s_y):
             return n + 1
         if n + 1 == next_r:
@@ -141,41 +136,17 @@ def euler_tangents(coef, dt, n_delay, n_steps, renorm_steps, init, hx, e, h, log
 
 
 @njit(**JIT)
-def _rk4_tangent(e, i, exs, ys, sys, us, y2, sy2, u2, y3, sy3, u3, y4, sy4, u4, a, q, f1, k, dt,
-                 no_delay):
-    """One RK4 step of tangent i: core.rk4's stages differentiated, exs = (e_x,tau at the
-    step's start, middle and end)."""
-    h2 = 0.5 * dt
-    x, y, sx, sy, uu = e[i, 0], e[i, 1], e[i, 2], e[i, 3], e[i, 4]
-    t1 = rhs_tangent(ys, sys, us, x, y, sx, sy, uu, x if no_delay else exs[0], a, q, f1, k)
-    g = (x + h2 * t1[0], y + h2 * t1[1], sx + h2 * t1[2], sy + h2 * t1[3], uu + h2 * t1[4])
-    t2 = rhs_tangent(y2, sy2, u2, g[0], g[1], g[2], g[3], g[4], g[0] if no_delay else exs[1],
-                     a, q, f1, k)
-    g = (x + h2 * t2[0], y + h2 * t2[1], sx + h2 * t2[2], sy + h2 * t2[3], uu + h2 * t2[4])
-    t3 = rhs_tangent(y3, sy3, u3, g[0], g[1], g[2], g[3], g[4], g[0] if no_delay else exs[1],
-                     a, q, f1, k)
-    g = (x + dt * t3[0], y + dt * t3[1], sx + dt * t3[2], sy + dt * t3[3], uu + dt * t3[4])
-    t4 = rhs_tangent(y4, sy4, u4, g[0], g[1], g[2], g[3], g[4], g[0] if no_delay else exs[2],
-                     a, q, f1, k)
-    w = dt / 6.0
-    for m in range(5):
-        e[i, m] += w * (t1[m] + 2.0 * (t2[m] + t3[m]) + t4[m])
-
-
-@njit(**JIT)
 def rk4_tangents(coef, dt, n_delay, n_steps, renorm_steps, init, hx, e, h, logs):
     """core.rk4.rk4's steps with the N = e.shape[0] tangents e (N, 5) and their rings h
     (N, 2, n_delay + 1) of tangent (m_x, m_y), laid out as core.rk4's: slot j >= 1 holds
     step j - 1 - N at the start, which the tangents read through the same Hermite cubic
     (the state reads hx before t = 0). logs as euler_tangents."""
     a, q, f1, k, d = coef[0], coef[1], coef[2], coef[3], coef[4]
-    hh = 0.5 * dt
     m_x, m_y, s_x, s_y, u = init[0], init[1], init[2], init[3], init[4]  # (19)
     size = n_delay + 1
     hist = np.empty((2, size))         # rows: m_x, m_y
     nv = e.shape[0]
     no_delay = n_delay == 0
-    exs = np.zeros(3)                  # e_x,tau at the stage times, per tangent
     pos = 0
     next_r, i_r = renorm_steps, 0
     for n in range(n_steps):
@@ -193,27 +164,18 @@ def rk4_tangents(coef, dt, n_delay, n_steps, renorm_steps, init, hx, e, h, logs)
             x0, xh, x1 = hx[2 * n], hx[2 * n + 1], hx[2 * n + 2]
         else:
             x0, x1 = hist[0, old], hist[0, nxt]
-            xh = 0.5 * (x0 + x1) + 0.125 * dt * (hist[1, old] - hist[1, nxt])
-        xs, ys, sxs, sys, us = m_x, m_y, s_x, s_y, u
-        k1 = rhs(xs, ys, sxs, sys, us, xs if no_delay else x0, a, q, f1, k, d)
-        x2, y2, sx2, sy2, u2 = m_x + hh * k1[0], m_y + hh * k1[1], s_x + hh * k1[2], s_y + hh * k1[3], u + hh * k1[4]
-        k2 = rhs(x2, y2, sx2, sy2, u2, x2 if no_delay else xh, a, q, f1, k, d)
-        x3, y3, sx3, sy3, u3 = m_x + hh * k2[0], m_y + hh * k2[1], s_x + hh * k2[2], s_y + hh * k2[3], u + hh * k2[4]
-        k3 = rhs(x3, y3, sx3, sy3, u3, x3 if no_delay else xh, a, q, f1, k, d)
-        x4, y4, sx4, sy4, u4 = m_x + dt * k3[0], m_y + dt * k3[1], s_x + dt * k3[2], s_y + dt * k3[3], u + dt * k3[4]
-        k4 = rhs(x4, y4, sx4, sy4, u4, x4 if no_delay else x1, a, q, f1, k, d)
+            xh = hermite_mid(x0, x1, hist[1, old], hist[1, nxt], dt)
+        x_new, y_new, sx_new, sy_new, u_new, stages = rk4_step(m_x, m_y, s_x, s_y, u, x0, xh, x1,
+                                                              no_delay, dt, a, q, f1, k, d)
         for i in range(nv):
+            ex0 = exh = ex1 = 0.0
             if not no_delay:
-                exs[0], exs[2] = h[i, 0, old], h[i, 0, nxt]
-                exs[1] = 0.5 * (exs[0] + exs[2]) + 0.125 * dt * (h[i, 1, old] - h[i, 1, nxt])
-            _rk4_tangent(e, i, exs, ys, sys, us, y2, sy2, u2, y3, sy3, u3, y4, sy4, u4,
-                         a, q, f1, k, dt, no_delay)
-        w = dt / 6.0
-        m_x += w * (k1[0] + 2.0 * (k2[0] + k3[0]) + k4[0])
-        m_y += w * (k1[1] + 2.0 * (k2[1] + k3[1]) + k4[1])
-        s_x += w * (k1[2] + 2.0 * (k2[2] + k3[2]) + k4[2])
-        s_y += w * (k1[3] + 2.0 * (k2[3] + k3[3]) + k4[3])
-        u += w * (k1[4] + 2.0 * (k2[4] + k3[4]) + k4[4])
+                ex0, ex1 = h[i, 0, old], h[i, 0, nxt]
+                exh = hermite_mid(ex0, ex1, h[i, 1, old], h[i, 1, nxt], dt)
+            e[i, 0], e[i, 1], e[i, 2], e[i, 3], e[i, 4] = rk4_tangent_step(
+                m_y, s_y, u, stages, e[i, 0], e[i, 1], e[i, 2], e[i, 3], e[i, 4], ex0, exh, ex1,
+                no_delay, dt, a, q, f1, k)
+        m_x, m_y, s_x, s_y, u = x_new, y_new, sx_new, sy_new, u_new
         if blown_up(m_y, s_y):
             return n + 1
         if n + 1 == next_r:

@@ -23,6 +23,10 @@ from __future__ import annotations
 from types import TracebackType
 from typing import TYPE_CHECKING
 
+from slopetui.store.open import open_store as open_database
+from slopetui.sweeps.control import UnknownSweep
+from slopetui.sweeps.frames import runs_frame, sweeps_frame
+
 if TYPE_CHECKING:
     import pandas as pd
 
@@ -70,7 +74,6 @@ class Store:
 
             measured = runs[(runs.status == "done") & ~runs.inferred]
         """
-        from slopetui.sweeps.frames import runs_frame
         return runs_frame(self._db(), sweep, regime=regime, status=status)
 
     def sweeps(self) -> pd.DataFrame:
@@ -78,14 +81,10 @@ class Store:
         (parameter, start, stop, num, spacing), adaptive levels, and its runs counted per
         status (queued, running, done, failed, cancelled), inferred and cached; the
         columns are described in ``slopetui.sweeps.frames.SWEEP_COLUMNS``."""
-        from slopetui.sweeps.frames import sweeps_frame
         return sweeps_frame(self._db())
 
     def sweep(self, sweep_id: int) -> pd.Series:
         """One sweep's row of ``sweeps()``. Raises UnknownSweep if there is none."""
-        from slopetui.sweeps.control import UnknownSweep
-        from slopetui.sweeps.frames import sweeps_frame
-
         frame = sweeps_frame(self._db(), [sweep_id])
         if frame.empty:
             raise UnknownSweep(sweep_id)
@@ -122,7 +121,6 @@ def open_store(url: str | None = None) -> Store:
     """
     import sys
 
-    from slopetui.store.open import open_store as open_database
     db = open_database(url, read_only_ok=True)  # a Store only reads
     if db.read_only is not None:
         print(f"slopetui.open_store: {db.read_only}", file=sys.stderr)

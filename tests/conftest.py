@@ -18,7 +18,8 @@ from pathlib import Path
 
 import pytest
 
-from slopetui.store import Database, open_store
+from slopetui.store.database import Database
+from slopetui.store.open import open_store
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 from tests.support import (

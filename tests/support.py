@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     from sqlalchemy import Engine
 
     from slopetui.queue.jobs import Job
-    from slopetui.store import Database
+    from slopetui.store.database import Database
     from slopetui.sweeps.submit import Submitted
 
 #: A cheap point: RK4, tau = 2, t_end = 200, a few ms per run.
@@ -87,7 +87,7 @@ def claim_one(db: Database, worker: str) -> Job | None:
 
 def finish_all(db: Database, worker: str = "test") -> int:
     """Compute every queued run in this process, as a worker would; returns how many."""
-    from core import run_point
+    from core.point import run_point
     from slopetui.queue import jobs
 
     n = 0
@@ -170,7 +170,7 @@ class PgServer:
     def template(self) -> str:
         """The template database at the current schema, made on first use."""
         if self._template is None:
-            from slopetui.store import open_store
+            from slopetui.store.open import open_store
 
             name = f"{self.prefix}_template"
             # (one of the same name is a leftover of a killed pytest with the same pid)

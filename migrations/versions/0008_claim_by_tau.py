@@ -5,7 +5,7 @@ Revises: 0007
 Create Date: 2026-12-02 05:30:00
 
 A batch is the oldest queued runs that share the oldest queued run's solver settings and
-tau (slopetui.store.claims.claim_batch: the batched kernels' lanes share tau). On the
+tau (slopetui.store.runs.claims.claim_batch: the batched kernels' lanes share tau). On the
 (status, id) index alone the claim read every queued run whenever the tau had fewer
 queued runs than the batch (the last batch of each tau, every batch of a sweep over tau
 alone): 6 ms a claim with 10,000 runs queued, 0.1 ms on (status, tau, id).

@@ -1,47 +1,75 @@
 # PYTHON_ARGCOMPLETE_OK
-"""The ``slopetui`` command line: one module per subcommand, wired here."""
+"""The ``slopetui`` command line, built from a table: each command's arguments are declared
+by a light module of ``slopetui.cli.arguments`` (``--help`` and shell completion build the
+whole parser from them), and its handler's module, which imports at its top whatever the
+command needs (the store, numpy, numba's kernels), is imported only when that command runs.
+
+A new command is a module of ``slopetui.cli.arguments`` with ``declare(sub)`` (named in
+ARGUMENTS), and its handler, ``handle(args) -> exit status``, in a module of its own
+(named in HANDLERS); tests/unit/test_cli.py checks that the two tables agree.
+"""
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import cast
 
 from slopetui import __version__
-from slopetui.cli import (
-    branch,
-    cluster,
-    completion,
-    continuation,
-    control,
-    db,
-    delete,
-    example,
-    figure,
-    hysteresis,
-    nblock,
-    orbit,
-    reproduce,
-    run,
-    runs,
-    show,
-    sql,
-    status,
-    submit,
-    worker,
-    workers,
-)
+from slopetui.cli import completion
 from slopetui.store.failures import DatabaseFailure, StoreError
 from slopetui.store.location import checked_url
 from slopetui.store.url_text import holds_password
 
+#: The modules of slopetui.cli.arguments that declare the commands' arguments, in the
+#: order ``slopetui --help`` lists the commands (imported by name: bound here, `run` or
+#: `sql` would hide the handlers' modules of the same names).
+ARGUMENTS = ("run", "orbit", "continuation", "branch", "hysteresis", "submit", "example",
+             "status", "show", "figure", "runs", "control", "delete", "sql", "worker",
+             "workers", "db", "cluster", "nblock", "reproduce", "completion")
+
+#: Each command's handler, ``module:function``: the module is imported on dispatch only.
+HANDLERS = {
+    "run": "slopetui.cli.run:handle",
+    "orbit": "slopetui.cli.orbit:handle",
+    "continue": "slopetui.cli.continuation:handle",
+    "branch": "slopetui.cli.branch:handle",
+    "hysteresis": "slopetui.cli.hysteresis:handle",
+    "submit": "slopetui.cli.submit:handle",
+    "example": "slopetui.cli.example:handle",
+    "status": "slopetui.cli.status:handle",
+    "show": "slopetui.cli.show:handle",
+    "figure": "slopetui.cli.figure:handle",
+    "runs": "slopetui.cli.runs:handle_runs",
+    "export": "slopetui.cli.export:handle",
+    "cancel": "slopetui.cli.control:handle",
+    "pause": "slopetui.cli.control:handle",
+    "resume": "slopetui.cli.control:handle",
+    "delete": "slopetui.cli.delete:handle",
+    "sql": "slopetui.cli.sql:handle",
+    "worker": "slopetui.cli.worker:handle",
+    "workers": "slopetui.cli.workers:handle",
+    "db": "slopetui.cli.db:handle",
+    "cluster": "slopetui.cli.cluster:handle",
+    "nblock": "slopetui.cli.nblock:handle",
+    "reproduce": "slopetui.cli.reproduce:handle",
+    "completion": "slopetui.cli.completion:handle",
+}
+#: Without a command: the terminal application, imported as a handler is.
+APPLICATION = "slopetui.tui.app:run_app"
+
 #: Errors that are the user's input or environment, not a bug: one line, no traceback,
-#: exit 2. Named by module rather than imported: a class whose module was never loaded
-#: cannot have raised, and importing them all (the store, numpy) would cost every
-#: command, `--help` included, the imports only some need (slopetui.cli.options).
-USER_ERRORS = (("core.params", "ParameterError"), ("core.orbit", "OrbitError"), ("slopetui.sweeps.spec", "SpecError"),
-               ("slopetui.store.failures", "StoreError"),
+#: exit 2. Named by module, and looked up in sys.modules once the handler has raised: the
+#: handler's module imports at its top every module it uses, so a class whose module is
+#: not loaded then cannot have been raised, and the check is exact. Importing the classes
+#: here instead would give every command, `example` and `completion` included, the
+#: imports of the heaviest: core.orbit loads numba (0.5 s), slopetui.sweeps.spec numpy
+#: (0.15 s), slopetui.sweeps.control the store (0.3 s) (python -c "import M", this host).
+USER_ERRORS = (("core.params", "ParameterError"), ("core.orbit", "OrbitError"),
+               ("slopetui.sweeps.spec", "SpecError"), ("slopetui.store.failures", "StoreError"),
                ("slopetui.sweeps.control", "UnknownSweep"), ("slopetui.cli.options", "UsageError"))
 #: The commands that run for hours (a pool, the application; None is the application):
 #: a password on their command line is in `ps` all that time, so they warn of it.
@@ -66,10 +94,15 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-workers", action="store_true",
                         help="with no COMMAND: do not start or attach to a local worker pool")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for module in (run, orbit, continuation, branch, hysteresis, submit, example, status, show, figure, runs,
-                   control, delete, sql, worker, workers, db, cluster, nblock, reproduce, completion):
-        module.register(sub)
+    for name in ARGUMENTS:
+        importlib.import_module(f"slopetui.cli.arguments.{name}").declare(sub)
     return parser
+
+
+def imported(target: str) -> Callable[..., int]:
+    """The function named by ``target`` (``module:function``), its module imported now."""
+    module, _, function = target.partition(":")
+    return cast("Callable[..., int]", getattr(importlib.import_module(module), function))
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -92,11 +125,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                   "`ps` shows to every user of this host for as long as it runs: set "
                   "$SLOPETUI_DB or use a ~/.pgpass file instead (the pools slopetui starts get "
                   "the URL in their environment)", file=sys.stderr)
-    if args.command is None:  # the application
-        from slopetui.tui.app import run_app
-        return run_app(args.tui_db, start_workers=not args.no_workers)
+    if args.command is None:
+        return int(imported(APPLICATION)(args.tui_db, start_workers=not args.no_workers))
     try:
-        return int(args.handler(args))
+        return int(imported(HANDLERS[args.command])(args))
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130

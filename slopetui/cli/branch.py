@@ -8,27 +8,14 @@ import shutil
 from typing import TYPE_CHECKING
 
 from slopetui.cli.continuation import print_bifurcations, print_point
-from slopetui.cli.options import UsageError, add_db_option, int_arg, open_db
+from slopetui.cli.options import UsageError, int_arg, open_db
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
+from slopetui.plots.branch_plot import render_branch
+from slopetui.sweeps.branches import branch_of, listing
 
 if TYPE_CHECKING:
     from slopetui.sweeps.branches import StoredBranch
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("branch", help="stored continuations of periodic orbits, or one of them",
-                       description="Without ID: every stored continuation (status, points, "
-                                   "what was found). With ID: its branch point by point, the "
-                                   "Hopf point and criticality when it started there, and "
-                                   "the bifurcations located on it once it is done.")
-    p.add_argument("id", nargs="?", metavar="ID", help="a continuation's id")
-    p.add_argument("--plot", action="store_true",
-                   help="with ID: draw the branch (amplitude against the parameter, stable "
-                        "and unstable orbits apart) instead of listing its points")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    add_db_option(p)
-    p.set_defaults(handler=handle)
 
 
 
@@ -40,7 +27,6 @@ def _found(branch: StoredBranch) -> str:
 
 
 def _listing(args: argparse.Namespace) -> int:
-    from slopetui.sweeps.branches import listing
     branches = listing(open_db(args))
     if args.json:
         print(json_text({"continuations": [b.summary() for b in branches]}))
@@ -59,7 +45,6 @@ def _listing(args: argparse.Namespace) -> int:
 
 
 def _one(args: argparse.Namespace) -> int:
-    from slopetui.sweeps.branches import branch_of
     branch = branch_of(open_db(args), args.id)
     if branch is None:
         raise UsageError(f"no continuation {args.id} in this store (slopetui branch lists them)")
@@ -70,7 +55,6 @@ def _one(args: argparse.Namespace) -> int:
                          "bifurcations": branch.bifurcations}))
         return 0
     if args.plot:
-        from slopetui.plots.branch_plot import render_branch
         size = shutil.get_terminal_size((100, 30))
         print(render_branch(branch.param, branch.points, branch.bifurcations,
                             title=f"continuation {branch.id} in {branch.param}",

@@ -31,32 +31,14 @@ import sys
 import warnings
 from collections.abc import Callable, Iterator
 
+from slopetui.display_text import terminal_safe
+from slopetui.store.id_lists import newest_run_ids, sweep_ids
+from slopetui.store.location import default_url
+
 #: Options that take a run id but predate the RUN metavar convention.
 RUN_OPTIONS = frozenset({"--from-run"})
-#: The shells argcomplete writes code for.
-SHELLS = ("bash", "zsh", "fish", "tcsh", "powershell")
 #: The longest sweep name shown as a description (a menu line, not the whole name).
 NAME_WIDTH = 60
-
-INSTALL = """\
-Install it once, in your shell's start-up file:
-  bash  (~/.bashrc):   eval "$(slopetui completion bash)"
-  zsh   (~/.zshrc, after compinit):   eval "$(slopetui completion zsh)"
-  fish  (~/.config/fish/config.fish):   slopetui completion fish | source
-then open a new shell. `slopetui show <TAB>` lists the sweep ids (zsh and fish with
-their names), `slopetui continue --from-run <TAB>` the newest run ids."""
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("completion", help="print the shell code that completes slopetui's "
-                                          "commands, options and sweep or run ids",
-                       description="Print the code that makes SHELL complete slopetui's "
-                                   "subcommands, options,\nand the sweep and run ids of the "
-                                   "store (with argcomplete).",
-                       epilog=INSTALL, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("shell", choices=SHELLS, metavar="SHELL",
-                   help="one of " + ", ".join(SHELLS))
-    p.set_defaults(handler=handle)
 
 
 def handle(args: argparse.Namespace) -> int:
@@ -100,7 +82,6 @@ def walk(parser: argparse.ArgumentParser) -> Iterator[argparse.Action]:
 def complete_sweeps(prefix: str, parsed_args: argparse.Namespace, **_: object) -> dict[str, str]:
     """Sweep id -> the sweep's name."""
     def read(url: str) -> dict[str, str]:
-        from slopetui.store.id_lists import sweep_ids
         return {str(i): shorten(name) for i, name in sweep_ids(url, prefix)}
 
     return quietly(read, parsed_args)
@@ -109,7 +90,6 @@ def complete_sweeps(prefix: str, parsed_args: argparse.Namespace, **_: object) -
 def complete_runs(prefix: str, parsed_args: argparse.Namespace, **_: object) -> dict[str, str]:
     """Run id -> "sweep N, regime" (or its status while it has no regime)."""
     def read(url: str) -> dict[str, str]:
-        from slopetui.store.id_lists import newest_run_ids
         return {str(i): shorten(f"sweep {sweep}, {regime or status}")
                 for i, sweep, regime, status in newest_run_ids(url, prefix)}
 
@@ -129,8 +109,6 @@ def quietly(read: Callable[[str], dict[str, str]], parsed_args: argparse.Namespa
 
 def store_url(parsed_args: argparse.Namespace) -> str:
     """The store the command being completed would open: its --db, else the default."""
-    from slopetui.store.location import default_url
-
     return getattr(parsed_args, "db", None) or default_url()
 
 
@@ -138,8 +116,6 @@ def shorten(text: str) -> str:
     """Stored text as one safe menu line: control characters escaped (a stored escape
     sequence must not drive the terminal, a newline or tab would break the shell's list),
     at most NAME_WIDTH characters."""
-    from slopetui.display_text import terminal_safe
-
     safe = terminal_safe(text)
     return safe if len(safe) <= NAME_WIDTH else safe[:NAME_WIDTH - 3] + "..."
 

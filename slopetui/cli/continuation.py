@@ -10,55 +10,24 @@ import time
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from core.branch_start import MIN_STEP, BranchSpec, past_end, start
+from core.continuation import bifurcations, criticality, walk
+from core.orbit import OrbitError
 from core.params import PARAM_NAMES, ParameterError, Params
-from slopetui.cli.options import float_arg, int_arg
-from slopetui.cli.orbit import add_point_options, check_seed_steps, point_of
+from core.periodic_orbit import SEED_T_END
+from slopetui.cli.arguments.continuation import MAX_STEP
+from slopetui.cli.options import float_arg, int_arg, open_db, say_queued
+from slopetui.cli.orbit import check_seed_steps, point_of
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
+from slopetui.queue.warm_up import say_if_compiling
+from slopetui.store.queries import run_by_id
 from slopetui.sweeps.branch_records import bifurcation_record, point_record
+from slopetui.sweeps.branches import submit
 
 if TYPE_CHECKING:
     from core.branch_start import BranchSpec
     from core.continuation import Bifurcation, BranchPoint
-
-#: Parameters a branch can follow: every parameter of the model but delta, which only
-#: places the seed (eq. 19), not the orbit.
-CONTINUABLE = tuple(n for n in PARAM_NAMES if n != "delta")
-#: The largest --max-step: a step along the branch in (parameter, period) space; a larger
-#: one is no request a continuation can honour (its steps adapt far below it).
-MAX_STEP = 1e3
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("continue", help="continue periodic orbits in one parameter: folds, "
-                                        "period doublings, tori",
-                       description="Pseudo-arclength continuation of a family of periodic "
-                                   "orbits, from the Hopf point (--from-hopf), from a stored "
-                                   "run's parameters (--from-run ID) or from the orbit a "
-                                   "simulation at the given point settles on (default).")
-    add_point_options(p)
-    p.add_argument("--param", required=True, choices=CONTINUABLE,
-                   help="the parameter to continue in")
-    start = p.add_mutually_exclusive_group()
-    start.add_argument("--from-hopf", action="store_true",
-                       help="start at the Hopf point of the steady state in --param")
-    start.add_argument("--from-run", dest="from_run", metavar="ID",
-                       help="start from the orbit at a stored run's parameters")
-    p.add_argument("--to", metavar="VALUE",
-                   help="stop once the parameter passes VALUE (default: the Hopf point or "
-                        "--points)")
-    p.add_argument("--points", default="300", metavar="N",
-                   help="at most N points (default 300, from 2 to 5000)")
-    p.add_argument("--max-step", dest="max_step", default="0.5", metavar="X",
-                   help=f"largest step along the branch (default 0.5, at most {MAX_STEP:g})")
-    p.add_argument("--submit", action="store_true",
-                   help="queue the continuation for the workers (`slopetui worker`, the "
-                        "application's pool) instead of computing it here; it is stored point "
-                        "by point, resumes where it stopped, and `slopetui branch ID` shows it")
-    p.add_argument("--db", metavar="URL",
-                   help="the store of --from-run and --submit (default as for run)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(handler=handle)
 
 
 def _end_value(args: argparse.Namespace, params: Params) -> float | None:
@@ -94,8 +63,6 @@ def _check(args: argparse.Namespace) -> None:
 
 def _params_of_run(args: argparse.Namespace, params: Params) -> Params:
     """The stored run's parameters (flags given explicitly still win)."""
-    from slopetui.cli.options import open_db
-    from slopetui.store.queries import run_by_id
     run = run_by_id(open_db(args), args.from_run)
     if run is None:
         raise ParameterError("from-run", args.from_run, "the id of a run in this store")
@@ -128,8 +95,6 @@ def print_bifurcations(param: str, found: Sequence[Mapping[str, Any]]) -> None:
 
 
 def _submit(args: argparse.Namespace, spec: BranchSpec) -> int:
-    from slopetui.cli.options import open_db, say_queued
-    from slopetui.sweeps.branches import submit
     cid = submit(open_db(args), spec, args.from_run)
     return say_queued(args.json, "continuation", cid, f"slopetui branch {cid}")
 
@@ -143,18 +108,13 @@ def handle(args: argparse.Namespace) -> int:
             params = _params_of_run(args, params)
         _not_the_start(args, params, end)
         if not args.from_hopf:  # a simulated orbit's seed, held in memory
-            from core.periodic_orbit import SEED_T_END
             check_seed_steps(params, dt, SEED_T_END)
     except ParameterError as exc:
         print(f"slopetui continue: error: {exc}", file=sys.stderr)
         return 2
-    from core.branch_start import MIN_STEP, BranchSpec, past_end, start
     spec = BranchSpec(params, args.param, dt, args.from_hopf, end, args.points, args.max_step)
     if args.submit:
         return _submit(args, spec)
-    from core.continuation import bifurcations, criticality, walk
-    from core.orbit import OrbitError
-    from slopetui.queue.warm_up import say_if_compiling
     say_if_compiling("continue")
     t0 = time.process_time()
     try:

@@ -13,25 +13,13 @@ from __future__ import annotations
 import argparse
 import sys
 
-from slopetui.cli.options import UsageError, add_db_option, open_db, sweep_arg
+from slopetui.cli.options import UsageError, open_db, sweep_arg
 from slopetui.display_text import terminal_safe
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    help_ = "delete a sweep and its runs (asks first; refused while runs of it are running)"
-    p = sub.add_parser("delete", help=help_, description=help_ + ". Runs of other sweeps "
-                       "that copied a result from its runs keep it.")
-    p.add_argument("sweep", metavar="SWEEP", help="sweep id")
-    p.add_argument("--yes", "-y", action="store_true",
-                   help="do not ask (needed when stdin is not a terminal)")
-    add_db_option(p)
-    p.set_defaults(handler=handle)
+from slopetui.sweeps import control
+from slopetui.sweeps.progress import sweep_progress
 
 
 def handle(args: argparse.Namespace) -> int:
-    from slopetui.sweeps import control
-    from slopetui.sweeps.progress import sweep_progress
-
     sweep = sweep_arg(args.sweep)  # before the database opens
     db = open_db(args)
     found = sweep_progress(db, [sweep])

@@ -20,50 +20,22 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from slopetui.cli.options import UsageError, add_db_option, int_arg, open_db, sweep_arg
+from slopetui.cli.arguments.figure import FORMATS_TEXT, MAX_RUNS
+from slopetui.cli.options import UsageError, int_arg, open_db, sweep_arg
+from slopetui.cli.show import fold_curve_of
 from slopetui.display_text import terminal_safe
+from slopetui.figures.figure_files import DEFAULT_FORMAT, runs_figure, runs_stem, sweep_figure, sweep_stem
+from slopetui.figures.output import FigureError, check_output, write
+from slopetui.sweeps.diagram import load_diagram
+from slopetui.sweeps.recompute import load_run
 
 if TYPE_CHECKING:
     from slopetui.figures.output import Drawing
     from slopetui.store.database import Database
     from slopetui.sweeps.recompute import StoredRun
 
-#: Runs one comparison overlays at most: beyond this the lines are no longer told apart.
-MAX_RUNS = 8
-#: The formats, by extension (slopetui.figures.output.FORMATS; not imported: it loads
-#: nothing heavy, but --help should not depend on it).
-FORMATS_TEXT = ".pdf, .svg or .png"
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "figure", help="write a sweep's or runs' figure (PDF, SVG, PNG) with its data (CSV)",
-        description="Draw a publication figure with matplotlib: a sweep's phase diagram (2-D) "
-                    "or bifurcation diagram (1-D), or a run's time series, phase portrait, "
-                    "spectrum and running λmax (recomputed), or several runs overlaid. Fonts are "
-                    "embedded (TrueType), dense layers rasterised; the data of the figure is "
-                    "written beside it as CSV (<name>.csv, <name>.<table>.csv). No display needed.",
-        epilog="examples: slopetui figure 3 -o fig4.pdf · slopetui figure 3 --fold -o plane.png · "
-               "slopetui figure --run 120 --run 121 -o compare.svg")
-    p.add_argument("sweep", metavar="SWEEP", nargs="?", help="sweep id (or give --run)")
-    p.add_argument("--run", metavar="RUN", action="append", default=[],
-                   help=f"a run id; repeat to overlay up to {MAX_RUNS} runs")
-    p.add_argument("-o", "--output", metavar="FILE",
-                   help=f"the figure file, {FORMATS_TEXT} (default: sweep-N.pdf, run-N.pdf or "
-                        "runs-N-M.pdf in the current folder)")
-    p.add_argument("--no-hopf", dest="hopf", action="store_false",
-                   help="do not draw the exact Hopf curve over a phase diagram")
-    p.add_argument("--fold", action="store_true",
-                   help="also draw the fold of cycles over a (k, tau), (a, tau), (b, tau) or "
-                        "(c, tau) plane (continuation at each tau: seconds to minutes)")
-    add_db_option(p)
-    p.set_defaults(handler=handle)
-
 
 def handle(args: argparse.Namespace) -> int:
-    from slopetui.figures.figure_files import DEFAULT_FORMAT, runs_stem, sweep_stem
-    from slopetui.figures.output import FigureError, check_output
-
     if (args.sweep is None) == (not args.run):
         raise UsageError("give a SWEEP or one or more --run RUN (not both)")
     if args.run and (args.fold or not args.hopf):
@@ -88,7 +60,6 @@ def handle(args: argparse.Namespace) -> int:
     else:
         drawing = _runs_drawing(db, run_ids)
     try:
-        from slopetui.figures.output import write
         written = write(drawing, path)
     except FigureError as exc:  # the folder changed since the check: still nothing partial
         raise UsageError(str(exc)) from None
@@ -97,18 +68,11 @@ def handle(args: argparse.Namespace) -> int:
 
 
 def _sweep_drawing(db: Database, sweep: int, *, hopf: bool, fold: bool) -> Drawing:
-    from slopetui.cli.show import fold_curve_of
-    from slopetui.figures.figure_files import sweep_figure
-    from slopetui.sweeps.diagram import load_diagram
-
     diagram = load_diagram(db, sweep)  # UnknownSweep: exit 2, nothing written
     return sweep_figure(diagram, hopf=hopf, fold=fold_curve_of(diagram.spec) if fold else None)
 
 
 def _runs_drawing(db: Database, run_ids: list[int]) -> Drawing:
-    from slopetui.figures.figure_files import runs_figure
-    from slopetui.sweeps.recompute import load_run
-
     runs = []
     for run_id in run_ids:
         run = load_run(db, run_id)

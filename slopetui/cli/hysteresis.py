@@ -13,62 +13,25 @@ from collections.abc import Mapping, Sequence
 from dataclasses import asdict
 from typing import TYPE_CHECKING, Any
 
-from core.params import PARAM_NAMES, ParameterError, Params
-from slopetui.cli.options import UsageError, add_db_option, int_arg, open_db, say_queued
-from slopetui.cli.orbit import add_point_options, point_of
+from core.hysteresis import T_SETTLE, TOL, WINDOW, hysteresis
+from core.params import ParameterError, Params
+from core.solve import MAX_RUN_BYTES, MAX_STEPS
+from slopetui.cli.options import UsageError, int_arg, open_db, say_queued
+from slopetui.cli.orbit import point_of
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
+from slopetui.plots.hysteresis_plot import render_hysteresis
+from slopetui.queue.hysteresis_jobs import TOL_MAX, transition_fields
+from slopetui.queue.warm_up import say_if_compiling
+from slopetui.sweeps.hysteresis_runs import HysteresisSpec, hysteresis_of, submit
 
 if TYPE_CHECKING:
     from core.hysteresis import WarmPoint
     from slopetui.sweeps.hysteresis_runs import StoredHysteresis
 
-#: Parameters a warm-started sweep can follow: not tau (the state's history is one delay
-#: long and would change size) nor delta (which only places the first point's start).
-FOLLOWABLE = tuple(n for n in PARAM_NAMES if n not in ("tau", "delta"))
 #: Bytes a step of the window takes: core.hysteresis.settle keeps the window's five rows
 #: of float64, every step.
 WINDOW_STEP_BYTES = 5 * 8
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("hysteresis", help="warm-started sweep up and down one parameter: "
-                                          "where the outcome depends on the path",
-                       description="Along --param from --from to --to and back, each point "
-                                   "starts from the final state of the previous one (the five "
-                                   "variables and m_x, m_y over the last delay), so each branch "
-                                   "follows its attractor until it disappears. A rest state "
-                                   "whose perturbations grow (measured along the simulation) is "
-                                   "kicked off. Prints both branches and where each changes "
-                                   "regime; the first point starts from eq. 19 (--delta). "
-                                   "--submit queues the sweep for the workers instead; "
-                                   "--show ID prints a stored one.")
-    add_point_options(p)
-    # Not required=True: --show ID needs none of them (handle() names the missing one).
-    p.add_argument("--param", choices=FOLLOWABLE, help="the parameter to follow")
-    p.add_argument("--from", dest="start", metavar="X", help="first value")
-    p.add_argument("--to", dest="stop", metavar="X", help="last value")
-    p.add_argument("--points", default="40", metavar="N",
-                   help="values from --from to --to, ends included (default 40, 2 to 2000)")
-    p.add_argument("--t-settle", dest="t_settle", default=None, metavar="T",
-                   help="time integrated at each point (default 6000)")
-    p.add_argument("--window", default=None, metavar="T",
-                   help="analysis window at the end of each point (default 1000)")
-    p.add_argument("--tol", default=None, metavar="R",
-                   help="each branch's transition is refined by bisection inside its grid "
-                        "bracket to this tolerance, relative (default 1e-3; above 0, below "
-                        "0.5; ~10 more settle runs at the default)")
-    p.add_argument("--submit", action="store_true",
-                   help="queue the sweep for the workers (`slopetui worker`, the application's "
-                        "pool) instead of computing it here; it is stored point by point, "
-                        "resumes where it stopped, and --show ID prints it")
-    p.add_argument("--show", default=None, metavar="ID",
-                   help="print the stored sweep ID (queued with --submit) as this command "
-                        "prints a sweep it computes, with its status")
-    p.add_argument("--plot", action="store_true", help="also draw both branches")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    add_db_option(p)
-    p.set_defaults(handler=handle)
 
 
 def _number(flag: str, text: str, params: Params | None = None, name: str = "") -> float:
@@ -87,9 +50,6 @@ def _number(flag: str, text: str, params: Params | None = None, name: str = "") 
 
 def _checked(args: argparse.Namespace
              ) -> tuple[Params, float, float, float, float, float, float]:
-    from core.hysteresis import T_SETTLE, TOL, WINDOW
-    from core.solve import MAX_RUN_BYTES, MAX_STEPS
-    from slopetui.queue.hysteresis_jobs import TOL_MAX
     params, dt = point_of(args)
     start = _number("from", args.start, params, args.param)
     stop = _number("to", args.stop, params, args.param)
@@ -164,7 +124,6 @@ def _changes(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping
 
 def _plot(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping[str, Any]],
           title: str) -> None:
-    from slopetui.plots.hysteresis_plot import render_hysteresis
     size = shutil.get_terminal_size((100, 30))
     print(render_hysteresis(param, up, down, title=title, width=size.columns,
                             height=max(size.lines - 2, 12)))
@@ -172,14 +131,12 @@ def _plot(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping[st
 
 def _submit(args: argparse.Namespace, params: Params, dt: float, start: float, stop: float,
             t_settle: float, window: float, tol: float) -> int:
-    from slopetui.sweeps.hysteresis_runs import HysteresisSpec, submit
     sid = submit(open_db(args), HysteresisSpec(params, args.param, start, stop, args.points,
                                                dt, t_settle, window, tol))
     return say_queued(args.json, "hysteresis sweep", sid, f"slopetui hysteresis --show {sid}")
 
 
 def _show(args: argparse.Namespace) -> int:
-    from slopetui.sweeps.hysteresis_runs import hysteresis_of
     args.show = int_arg("show", args.show, 1, note=" (a hysteresis sweep id)")
     sweep = hysteresis_of(open_db(args), args.show)
     if sweep is None:
@@ -230,8 +187,6 @@ def handle(args: argparse.Namespace) -> int:
         return 2
     if args.submit:
         return _submit(args, params, dt, start, stop, t_settle, window, tol)
-    from core.hysteresis import hysteresis
-    from slopetui.queue.warm_up import say_if_compiling
     say_if_compiling("hysteresis")
     t0 = time.process_time()
 
@@ -243,7 +198,6 @@ def handle(args: argparse.Namespace) -> int:
                         tol)
     took = time.process_time() - t0
     up, down = [fields(p) for p in result.up], [fields(p) for p in result.down]
-    from slopetui.queue.hysteresis_jobs import transition_fields
     found = {**transition_fields("onset_up", result.onset),
              **transition_fields("offset_down", result.offset)}
     if args.json:

@@ -6,10 +6,11 @@ import argparse
 import shutil
 from typing import TYPE_CHECKING
 
+from core.nblock import VARIABLES, compare_with_mean_field
 from core.params import PARAM_NAMES, Params
 from slopetui.cli.options import UsageError, int_arg
-from slopetui.cli.run import PARAM_HELP
 from slopetui.cli.show import use_color
+from slopetui.plots.nblock_plots import render_side_by_side
 
 if TYPE_CHECKING:
     from core.nblock import Comparison
@@ -31,29 +32,6 @@ def _numbers(field: str, text: str, kind: type) -> list:
     return values
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "nblock", help="compare the N-block model (eq. 5) with the mean field",
-        description="Integrate the original stochastic N-block model (eq. 5, Euler-Maruyama) "
-                    "and the mean-field equations (6a-6e, Euler) on the same parameters, print "
-                    "how far apart their moments are for each N and d, say where the Gaussian "
-                    "closure holds, and plot both side by side.")
-    for name in PARAM_NAMES:
-        if name != "d":
-            p.add_argument(f"--{name}", dest=name, metavar="X", help=PARAM_HELP[name])
-    p.add_argument("--n", default="10,100,1000", metavar="N,N,..",
-                   help="ensemble sizes (default 10,100,1000)")
-    p.add_argument("--d", default="1e-4,1e-2,1e-1", metavar="D,D,..",
-                   help="noise intensities (default 1e-4,1e-2,1e-1)")
-    p.add_argument("--t-end", dest="t_end", type=float, default=50.0, metavar="T",
-                   help="end time (default 50: about five periods at tau = 10, k = 10)")
-    p.add_argument("--dt", type=float, default=1e-3, metavar="X", help="time step (default 1e-3)")
-    p.add_argument("--seed", default="0", help="random seed, an integer >= 0 (default 0)")
-    p.add_argument("--no-plot", dest="plot", action="store_false",
-                   help="only the table (the plot shows the largest N at the smallest d)")
-    p.add_argument("--color", choices=("auto", "always", "never"), default="auto")
-    p.set_defaults(handler=handle)
-
 
 def _check(args: argparse.Namespace) -> tuple[list[int], list[float]]:
     ns = _numbers("--n", args.n, int)
@@ -72,9 +50,6 @@ def _check(args: argparse.Namespace) -> tuple[list[int], list[float]]:
 
 
 def handle(args: argparse.Namespace) -> int:
-    from core.nblock import VARIABLES, compare_with_mean_field
-    from slopetui.plots.nblock_plots import render_side_by_side
-
     ns, ds = _check(args)
     given = {n: getattr(args, n) for n in PARAM_NAMES if n != "d" and getattr(args, n) is not None}
     base = Params(**given)  # ParameterError names the field

@@ -1,9 +1,5 @@
-"""Options, argument types and errors shared by the subcommands.
-
-Light on purpose: every subcommand module imports this one to build the parser, and
-``slopetui --help`` builds them all. Anything heavy (SQLAlchemy, numba, numpy's engine,
-Textual) is imported inside the handlers that use it; the names a parser shows come from
-homes without numpy (``core.methods.METHODS``, ``slopetui.sweeps.sizes.CONFIRM_ABOVE_RUNS``).
+"""Argument types, errors and the opening of the store, shared by the commands' handlers
+(the parser's shared option, ``--db``, is ``slopetui.cli.arguments.add_db_option``).
 """
 
 from __future__ import annotations
@@ -14,7 +10,6 @@ import sys
 from typing import TYPE_CHECKING
 
 from slopetui.json_text import json_text
-from slopetui.store.location import DB_ENV
 
 if TYPE_CHECKING:
     from slopetui.store.database import Database
@@ -40,18 +35,14 @@ class UsageError(Exception):
     """Bad input on the command line: printed as ``slopetui CMD: error: ...``, exit 2."""
 
 
-def add_db_option(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--db", metavar="URL",
-                        help=f"SQLAlchemy database URL (default: ${DB_ENV}, else SQLite in "
-                             "the user data folder, ~/.local/share/slopetui/slopetui.db)")
-
-
 #: The commands that only read the store: they open a SQLite store this user cannot
 #: write read-only (slopetui.store.database), saying so on stderr, rather than refuse it.
 READ_COMMANDS = frozenset({"status", "show", "sql", "runs", "export", "workers", "branch"})
 
 
 def open_db(args: argparse.Namespace) -> Database:
+    # here: `show` reads a SQLite store without SQLAlchemy (slopetui.sweeps.diagram), and
+    # uses this module's argument types; the store imports SQLAlchemy
     from slopetui.store.open import open_store
     command = getattr(args, "command", None)
     db = open_store(args.db, read_only_ok=command in READ_COMMANDS)

@@ -8,31 +8,18 @@ import sys
 import time
 from typing import TYPE_CHECKING
 
+from core.classify import maxima_words
 from core.params import PARAM_NAMES, ParameterError, Params
-from slopetui.cli.run import PARAM_HELP, accept_negative_numbers
+from core.periodic_orbit import SEED_SPAN, OrbitError, find_orbit
+from slopetui.cli.arguments.orbit import MAX_SEED_STEPS, MIN_T_SEED
 from slopetui.json_text import json_text
+from slopetui.queue.warm_up import say_if_compiling
 
 if TYPE_CHECKING:
     from core.periodic_orbit import Orbit
 
 #: Multipliers printed and in --json (the leading ones, by modulus).
 SHOWN = 10
-#: The seed simulation's shortest length: returns are looked for in its second half,
-#: which must hold a few oscillations (the basic period is about 10 time units); below
-#: it the search read an empty window (a ValueError from numpy).
-MIN_T_SEED = 100.0
-#: Its most steps: the seed's trajectory is held whole, 5 float64 rows (40 bytes a step),
-#: so 5e7 steps take 2 GB, as a run may (core.solve); beyond, MemoryError or hours.
-MAX_SEED_STEPS = 5e7
-
-
-def add_point_options(p: argparse.ArgumentParser) -> None:
-    """The parameter flags of ``run`` (--k, --tau, ...) and the orbit's step."""
-    accept_negative_numbers(p)
-    for name in PARAM_NAMES:
-        p.add_argument(f"--{name}", dest=name, metavar="X", help=PARAM_HELP[name])
-    p.add_argument("--dt", metavar="X", default="0.01",
-                   help="RK4 step of the orbit (default 0.01; tau = N dt exactly)")
 
 
 def point_of(args: argparse.Namespace) -> tuple[Params, float]:
@@ -70,26 +57,11 @@ def seed_length(text: str, params: Params, dt: float) -> float:
 def check_seed_steps(params: Params, dt: float, t_seed: float) -> None:
     """A ParameterError naming dt when the seed simulation (t_seed, and at least 4 tau +
     600: core.periodic_orbit.find_orbit) would take more than MAX_SEED_STEPS of it."""
-    from core.periodic_orbit import SEED_SPAN
     length = max(t_seed, 4 * params.tau + SEED_SPAN)
     if length > MAX_SEED_STEPS * dt:
         raise ParameterError("dt", dt, f"at least {length:g} / {MAX_SEED_STEPS:g} = "
                                        f"{length / MAX_SEED_STEPS:g} (the seed simulation of "
                                        f"{length:g} time units is held in memory)")
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("orbit", help="the periodic orbit at one point, with its Floquet multipliers",
-                       description="Simulate from eq. 19 (offset --delta), find where the state "
-                                   "returns, and correct the orbit by Newton-Krylov shooting; "
-                                   "print its period, amplitude, maxima per period, leading "
-                                   "Floquet multipliers and stability.")
-    add_point_options(p)
-    p.add_argument("--t-seed", dest="t_seed", metavar="X", default="3000",
-                   help=f"length of the seed simulation, from {MIN_T_SEED:g} to "
-                        f"{MAX_SEED_STEPS:g} steps of --dt (default 3000)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(handler=handle)
 
 
 def record(o: Orbit, runtime_s: float) -> dict[str, object]:
@@ -119,7 +91,7 @@ def render(o: Orbit, runtime_s: float) -> str:
     lines = [
         f"point        a={p.a:g} b={p.b:g} c={p.c:g} d={p.d:g} k={p.k:g} v={p.v:g} tau={p.tau:g}",
         f"orbit        period {o.period:.10g}, amplitude {o.amplitude:.6g} (peak-to-peak m_y), "
-        f"{o.maxima_per_period} maxima per period",
+        f"{maxima_words(o.maxima_per_period)} per period",
         f"stability    {'stable' if o.stable else 'unstable'} "
         f"({m.unstable_count} multipliers outside the unit circle)",
         f"checks       flow multiplier {abs(m.flow - 1):.1e} from 1, translation multiplier "
@@ -141,8 +113,6 @@ def handle(args: argparse.Namespace) -> int:
     except ParameterError as exc:
         print(f"slopetui orbit: error: {exc}", file=sys.stderr)
         return 2
-    from core.periodic_orbit import OrbitError, find_orbit
-    from slopetui.queue.warm_up import say_if_compiling
     say_if_compiling("orbit")
     t0 = time.process_time()
     try:

@@ -6,47 +6,16 @@ import argparse
 import sys
 from pathlib import Path
 
-from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.cli.arguments.reproduce import REPORT_RESOLUTION
+from slopetui.cli.options import UsageError, open_db
+from slopetui.reproduce.report import write_report
 from slopetui.sweeps.presets import BY_KEY, PRESETS
 from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
-
-#: The report's default: every phase diagram at 20 x 20 at the paper's t_end, about
-#: 5300 runs, ~40 min on 2 cores (see docs/reproduction.md for the measured time).
-REPORT_RESOLUTION = 20
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "reproduce", help="queue the paper's figures; write the reproduction report",
-        description="List the presets of the paper's figures, queue one (or all), or compute "
-                    "them all and write docs/reproduction.md: the paper's claims beside what "
-                    "slopetui measures.")
-    p.add_argument("figure", nargs="?", metavar="FIG",
-                   help="a preset key (see --list), or 'all'")
-    p.add_argument("--list", action="store_true", help="list the presets")
-    p.add_argument("--report", action="store_true",
-                   help="compute every preset (through the queue, with a local pool) and "
-                        "write the report")
-    p.add_argument("--resolution", type=int, metavar="N",
-                   help="points per axis of a phase diagram (default: the preset's full "
-                        f"resolution; {REPORT_RESOLUTION} for --report)")
-    p.add_argument("--t-end", dest="t_end", type=float, metavar="T",
-                   help="end time (default: the paper's 1e5)")
-    p.add_argument("--out", default="docs/reproduction.md", metavar="FILE",
-                   help="where --report writes (default docs/reproduction.md)")
-    p.add_argument("-j", "--jobs", type=int, metavar="N",
-                   help="worker processes for --report (default: the cores available)")
-    p.add_argument("--yes", action="store_true",
-                   help=f"queue more than {CONFIRM_ABOVE_RUNS} runs")
-    p.add_argument("--no-orbits", dest="orbits", action="store_false",
-                   help="--report without the continuation analysis of the periodic orbits "
-                        "(the fold of cycles over tau takes a few minutes)")
-    add_db_option(p)
-    p.set_defaults(handler=handle)
+from slopetui.sweeps.spec import parse_spec
+from slopetui.sweeps.submit import submit
 
 
 def preset_specs(keys: list[str], resolution: int | None, t_end: float | None) -> list:
-    from slopetui.sweeps.spec import parse_spec
     return [parse_spec(BY_KEY[k].at_resolution(resolution, t_end)) for k in keys]
 
 
@@ -67,14 +36,12 @@ def _check(args: argparse.Namespace) -> list[str]:
 
 def handle(args: argparse.Namespace) -> int:
     if args.list:
-        from slopetui.sweeps.spec import parse_spec
         for p in PRESETS:
             spec = parse_spec(p.spec)
             print(f"{p.key:7} {p.figure:9} {p.title}  [{spec.n_runs} runs at full resolution]")
         return 0
     keys = _check(args)
     if args.report:
-        from slopetui.reproduce.report import write_report
         resolution = args.resolution or REPORT_RESOLUTION
         path, complete = write_report(open_db(args), resolution, args.t_end, Path(args.out),
                                       args.jobs, args.orbits, say=progress_line)
@@ -89,7 +56,6 @@ def handle(args: argparse.Namespace) -> int:
     if total > CONFIRM_ABOVE_RUNS and not args.yes:
         raise UsageError(f"this would queue {total} runs (more than {CONFIRM_ABOVE_RUNS}); add "
                          "--yes, or lower --resolution")
-    from slopetui.sweeps.submit import submit
 
     db = open_db(args)
     for key, spec in zip(keys, specs, strict=True):

@@ -4,15 +4,21 @@ from __future__ import annotations
 
 import argparse
 import math
-import re
 import sys
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from core.methods import METHODS
+from core import jit_cache
+from core.classify import maxima_words
+from core.lyapunov_bias import bias_note
 from core.params import PARAM_NAMES, ParameterError, Params, friction_warnings
+from core.point import run_point
 from core.result_fields import JSON_KEYS as RECORD_JSON_KEYS
+from core.solve import SolverSettings, validate_run
+from core.spectrum import check_count, check_spectrum
+from slopetui.cli.options import open_db
 from slopetui.json_text import json_text as strict_json
+from slopetui.sweeps.carried import final_state_of, parse_history
 
 if TYPE_CHECKING:  # core.point loads numba and the kernels: only `run` itself needs them;
     # core.solve and core.lyapunov_bias load numpy (~0.1 s), which no parser needs
@@ -25,69 +31,10 @@ if TYPE_CHECKING:  # core.point loads numba and the kernels: only `run` itself n
 #: record (derived from core.result_fields, which defines the result once).
 JSON_KEYS = RECORD_JSON_KEYS
 
-PARAM_HELP = {
-    "a": "friction coefficient a (default 3.2)",
-    "b": "friction coefficient b (default 7.2)",
-    "c": "friction coefficient c (default 4.8)",
-    "d": "noise intensity d >= 0 (default 1e-4)",
-    "k": "spring stiffness k >= 0 (default 10)",
-    "v": "steady sliding velocity v (default 0.1)",
-    "tau": "delay tau >= 0 (default 10)",
-    "delta": "initial offset delta of eq. 19 (default 0.1)",
-}
-
-
-#: A negative number as scientific notation ("-1e-3", "-2.5E4") or -inf/-nan. argparse
-#: (Python 3.11, 3.12) only knows "-3" and "-0.5": it took "--a -1e-3" for an option
-#: and stopped with "expected one argument", though the model has negative a, v, delta.
-NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$",
-                             re.IGNORECASE)
-
-
-def accept_negative_numbers(parser: argparse.ArgumentParser) -> None:
-    """Let option values be negative numbers in any notation (see NEGATIVE_NUMBER). The
-    matcher is argparse's private attribute, unchanged since Python 3.2; the parser has
-    no option that looks like a negative number, so nothing else is affected."""
-    parser._negative_number_matcher = NEGATIVE_NUMBER
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("run", help="run one parameter point and print its regime",
-                       description="Integrate eqs. 6a-6e at one point, classify the analysis "
-                                   "window and estimate lambda_max.")
-    accept_negative_numbers(p)
-    for name in PARAM_NAMES:
-        p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="X", help=PARAM_HELP[name])
-    p.add_argument("--method", choices=METHODS, default="euler",
-                   help="euler (paper-faithful, default), rk4 (4th order) or stiff (linearly "
-                        "implicit: what euler and rk4 fall back to where they fail)")
-    p.add_argument("--dt", metavar="X", help="time step (default 1e-3 for euler, 1e-2 for rk4)")
-    p.add_argument("--t-end", dest="t_end", metavar="X", default="1e5",
-                   help="end time of the run (default 1e5)")
-    p.add_argument("--window", metavar="X",
-                   help="analysis window at the end of the run (default min(1000, t_end / 2): "
-                        "the paper's 1000, or half of a shorter run)")
-    p.add_argument("--no-lyap", dest="lyap", action="store_false", help="skip lambda_max")
-    p.add_argument("--spectrum", metavar="N", default="0",
-                   help="also the top N Lyapunov exponents with their errors, the m_x shift "
-                        "quotiented out (1 <= N <= 16; euler or rk4): the evidence for a torus "
-                        "or chaos (a second pass of the scheme, about N tangents' work)")
-    p.add_argument("--history", default="constant", metavar="H",
-                   help="m_x before t = 0: constant (default, m_x = delta: eq. 19 as the paper "
-                        "reads), consistent (m_x = delta (1 + t): no kink at t = 0), or run:ID "
-                        "(the final state of a stored run with the same tau and step, "
-                        "recomputed)")
-    p.add_argument("--db", metavar="URL", help="the store of --history run:ID (default as "
-                                               "for submit)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(handler=handle)
-
 
 def parse_inputs(args: argparse.Namespace) -> tuple[Params, SolverSettings]:
     """Build validated Params and SolverSettings from the flags; raises ParameterError.
     A history run:ID is checked for its form here and resolved by ``carried_of``."""
-    from core.solve import SolverSettings, validate_run
-    from slopetui.sweeps.carried import parse_history
     given = {n: getattr(args, n) for n in PARAM_NAMES if getattr(args, n) is not None}
     params = Params(**given)  # strings are checked and coerced
     name, _ = parse_history(getattr(args, "history", "constant"))
@@ -103,7 +50,6 @@ def spectrum_count(args: argparse.Namespace, params: Params, settings: SolverSet
     given = getattr(args, "spectrum", "0")
     if str(given).strip() == "0":
         return 0
-    from core.spectrum import check_count, check_spectrum
     n = check_count(given)
     check_spectrum(params, settings, n)
     return n
@@ -112,11 +58,9 @@ def spectrum_count(args: argparse.Namespace, params: Params, settings: SolverSet
 def carried_of(args: argparse.Namespace, settings: SolverSettings
                ) -> tuple[SolverSettings, CarriedState | None]:
     """The settings naming the carried state of --history run:ID, and that state."""
-    from slopetui.sweeps.carried import final_state_of, parse_history
     _, run_id = parse_history(args.history)
     if run_id is None:
         return settings, None
-    from slopetui.cli.options import open_db
     end = final_state_of(open_db(args), run_id)
     return replace(settings, history=end.name), end
 
@@ -141,7 +85,7 @@ def render_text(r: PointResult) -> str:
         f"lambda_max {lam}",
         f"amplitude  {s.amplitude:.6g}  (peak-to-peak of m_y)",
         f"period     {s.period:.6g}  (return time: {s.period_count} basic period"
-        f"{'s' if s.period_count > 1 else ''}, {s.maxima_per_period} maxima)"
+        f"{'s' if s.period_count > 1 else ''}, {maxima_words(s.maxima_per_period)})"
         if s.period_count > 0 else f"period     {s.period:.6g}",
         f"attractor  {s.attractor}, {'settled' if s.settled else 'not settled'}"
         + (f"; flags {', '.join(s.flags)}" if s.flags else ""),
@@ -172,7 +116,6 @@ def lambda_text(r: PointResult) -> str:
         interval = r.trajectory.grid.renorm_interval
         return (f"not estimated (the run is too short: one log-growth every {interval:g} "
                 "time units, and the first half of the run is discarded)")
-    from core.lyapunov_bias import bias_note
     note = bias_note(r.params, r.summary.attractor, r.settings.method, r.trajectory.grid.dt,
                      r.lyap.value)
     if not math.isfinite(r.lyap.error):
@@ -190,10 +133,8 @@ def handle(args: argparse.Namespace) -> int:
         return 2
     for w in friction_warnings(params):
         print(f"slopetui run: warning: {w}", file=sys.stderr)
-    from core.jit_cache import compiled
-    from core.point import run_point
 
-    if not compiled(settings.method):  # a silent pause of seconds looks like a hang
+    if not jit_cache.compiled(settings.method):  # a silent pause of seconds looks like a hang
         print(f"slopetui run: compiling the {settings.method} kernel (first use after an "
               "install or a change of the engine; about 4 s, cached after)", file=sys.stderr)
     try:

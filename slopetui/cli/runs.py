@@ -1,70 +1,21 @@
-"""``slopetui runs``: filter and list runs; ``slopetui export SWEEP --csv | --parquet |
---json``: a sweep's runs as a file (the formats: ``slopetui.sweeps.export`` for CSV,
-``slopetui.sweeps.frames`` for the DataFrame that Parquet and JSON are written from)."""
+"""``slopetui runs``: filter and list runs (as a table, or as CSV: ``slopetui.sweeps.export``)."""
 
 from __future__ import annotations
 
 import argparse
-import errno
 import io
-import os
 import sys
 from collections.abc import Callable, Iterable
-from contextlib import closing
-from pathlib import Path
 from typing import IO, TYPE_CHECKING
 
-from core.regimes import REGIMES
-from slopetui.cli.options import UsageError, add_db_option, int_arg, open_db, sweep_arg
+from slopetui.cli.options import int_arg, open_db, sweep_arg
 from slopetui.display_text import terminal_safe, terminal_safe_lines
-from slopetui.store.statuses import RUN_STATUSES
-from slopetui.whole_files import as_text, write_whole
+from slopetui.store.queries import runs_matching
 
 if TYPE_CHECKING:
-    import pandas as pd
 
-    from slopetui.store.database import Database
     from slopetui.store.models import Run
 
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("runs", help="list runs, filtered",
-                       description="List runs, newest first. For anything richer: slopetui sql.")
-    p.add_argument("--sweep", metavar="SWEEP", help="only this sweep (its id)")
-    p.add_argument("--regime", choices=REGIMES, help="only this regime")
-    p.add_argument("--status", choices=RUN_STATUSES, help="only this status")
-    p.add_argument("--limit", default="50", metavar="N",
-                   help="at most N runs (default 50; 0 for all)")
-    p.add_argument("--csv", action="store_true", help="CSV with every column")
-    add_db_option(p)
-    p.set_defaults(handler=handle_runs)
-
-    e = sub.add_parser("export", help="write a sweep's runs as CSV, Parquet or JSON",
-                       description="Every column of every run of the sweep, in grid order, "
-                                   "in one of three formats. --csv: NaN and infinity are "
-                                   "written as nan, inf, -inf; a value that does not exist "
-                                   "(a result of a run that is not done) is an empty cell. "
-                                   "--parquet: the DataFrame of slopetui.open_store(url)"
-                                   ".runs(SWEEP) (needs pyarrow: pip install "
-                                   "'slopetui[parquet]'); binary, so to -o FILE or into a "
-                                   "pipe, never a terminal. --json: strict JSON, a list of one "
-                                   "object per run with the CSV's columns as keys; NaN and "
-                                   "infinity as the strings \"nan\", \"inf\", \"-inf\", "
-                                   "a value that does not exist as null, peaks as an array, "
-                                   "times in ISO 8601. Text is written as stored, except on a "
-                                   "terminal, where control characters are shown escaped "
-                                   "(\\x1b). A file is written whole or not at all.")
-    e.add_argument("sweep", metavar="SWEEP", help="sweep id")
-    formats = e.add_mutually_exclusive_group(required=True)
-    formats.add_argument("--csv", dest="format", action="store_const", const="csv",
-                         help="CSV, one line per run")
-    formats.add_argument("--parquet", dest="format", action="store_const", const="parquet",
-                         help="Parquet (needs pyarrow)")
-    formats.add_argument("--json", dest="format", action="store_const", const="json",
-                         help="JSON, a list of one object per run")
-    e.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
-    add_db_option(e)
-    e.set_defaults(handler=handle_export)
 
 
 def _num(x: float | None, fmt: str = ".4g") -> str:
@@ -92,7 +43,6 @@ def text_to_stdout(write: Callable[[IO[str]], int]) -> int:
 def handle_runs(args: argparse.Namespace) -> int:
     limit = int_arg("--limit", args.limit, 0, note=" (0 for all)")
     sweep = None if args.sweep is None else sweep_arg(args.sweep, "--sweep")
-    from slopetui.store.queries import runs_matching
 
     runs = runs_matching(open_db(args), sweep=sweep, regime=args.regime, status=args.status,
                          limit=limit)
@@ -115,104 +65,7 @@ def handle_runs(args: argparse.Namespace) -> int:
     return 0
 
 
-#: The one line of an export --parquet without pyarrow (an optional extra).
-NO_PYARROW = "export --parquet needs pyarrow: pip install 'slopetui[parquet]'"
-
-
-def handle_export(args: argparse.Namespace) -> int:
-    from slopetui.store.queries import sweep_exists
-    from slopetui.sweeps.control import UnknownSweep
-
-    sweep = sweep_arg(args.sweep)
-    if args.output is not None and not args.output.strip():  # before: stdout, as without -o
-        raise UsageError(f"--output = {args.output!r} is empty: allowed a file name")
-    if args.format == "parquet":  # refused before the store is opened: nothing written
-        _need_pyarrow()
-        if not args.output and sys.stdout.isatty():
-            raise UsageError("export --parquet writes binary data: give -o FILE, or send "
-                             "stdout to a file or a pipe (not a terminal)")
-    db = open_db(args)
-    if not sweep_exists(db, sweep):
-        raise UnknownSweep(sweep)
-    if args.format == "csv":
-        n = _export_csv(db, sweep, args.output)
-    else:
-        n = _export_frame(db, sweep, args.format, args.output)
-    if args.output:
-        print(f"{n} runs of sweep {sweep} written to {terminal_safe(args.output)}",
-              file=sys.stderr)
-    return 0
-
-
-def _export_csv(db: Database, sweep: int, output: str | None) -> int:
-    """The sweep's runs as CSV, streamed from the store, to ``output`` or stdout."""
-    from slopetui.store.queries import runs_of
-
-    with closing(runs_of(db, sweep)) as runs:
-        if not output:
-            return csv_to_stdout(runs)
-        return _write_file(output, lambda out: as_text(out, lambda text: _csv(runs, text)))
-
-
-def _export_frame(db: Database, sweep: int, form: str, output: str | None) -> int:
-    """The sweep's runs as Parquet or JSON, from their DataFrame, to ``output`` or stdout."""
-    from slopetui.sweeps.frames import runs_frame
-
-    frame = runs_frame(db, sweep)
-    if output:
-        if form == "parquet":
-            return _write_file(output, lambda out: _parquet(frame, out))
-        return _write_file(output, lambda out: as_text(out, lambda text: _json(frame, text)))
-    if form == "parquet":  # not a terminal: handle_export refused that
-        sys.stdout.flush()
-        _parquet(frame, sys.stdout.buffer)
-        sys.stdout.buffer.flush()
-        return len(frame)
-    return text_to_stdout(lambda text: _json(frame, text))
-
-
-def _need_pyarrow() -> None:
-    try:
-        import pyarrow  # noqa: F401
-    except ImportError:
-        raise UsageError(NO_PYARROW) from None
-
-
 def _csv(runs: Iterable[Run], out: IO[str]) -> int:
+    # here: slopetui.sweeps.export loads numpy, which `runs` without --csv never needs
     from slopetui.sweeps.export import write_csv
     return write_csv(runs, out)
-
-
-def _json(frame: pd.DataFrame, out: IO[str]) -> int:
-    from slopetui.sweeps.export_files import write_json
-    return write_json(frame, out)
-
-
-def _parquet(frame: pd.DataFrame, out: IO[bytes]) -> int:
-    frame.to_parquet(out, index=False)
-    return len(frame)
-
-
-def _write_file(path: str, write: Callable[[IO[bytes]], int]) -> int:
-    """Write ``path`` whole or not at all: into a new file beside it, which replaces it
-    once written and synced, so that a failure (a full disk, a database error, ^C) leaves
-    no partial file and an older file as it was. A UsageError naming the path and the
-    cause if it cannot be written (a missing folder, no permission, a directory).
-
-    A path that is neither a file nor a directory (``-o /dev/stdout``, a named pipe) is
-    written in place: there is no file to replace, and replacing the device would be
-    wrong. A symbolic link is followed: the file it points to is replaced."""
-    target = Path(os.path.realpath(path))
-    try:
-        if target.is_dir():  # refused before the runs are read and written
-            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR))
-        if target.exists() and not target.is_file():
-            with target.open("wb") as out:
-                return write(out)
-        return write_whole(target, write)
-    except BrokenPipeError:  # -o /dev/stdout into `head`: main() handles it
-        raise
-    except OSError as exc:
-        raise UsageError(f"--output: cannot write {terminal_safe(path)}: "
-                         f"{exc.strerror or exc} (allowed: a file in an existing folder "
-                         "you can write to)") from None

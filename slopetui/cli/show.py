@@ -13,42 +13,14 @@ import shutil
 import sys
 from typing import TYPE_CHECKING
 
-from slopetui.cli.options import UsageError, add_db_option, int_arg, sweep_arg
+from slopetui.cli.arguments.show import MAX_SIZE, MIN_HEIGHT, MIN_WIDTH
+from slopetui.cli.options import UsageError, int_arg, sweep_arg
+from slopetui.plots import render_sweep
+from slopetui.sweeps.diagram import load_drawing
 
 if TYPE_CHECKING:
     from slopetui.sweeps.fold_overlay import Curve
     from slopetui.sweeps.spec import SweepSpec
-
-
-#: The smallest diagram that still has room for its axes, ticks and legend.
-MIN_WIDTH, MIN_HEIGHT = 30, 12
-#: The largest: plotext lays out every cell (a million here, 1.5 s more than 100 x 30), and no
-#: terminal is wider or taller.
-MAX_SIZE = 1000
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("show", help="draw a sweep's phase or bifurcation diagram",
-                       description="Draw the sweep's phase diagram (2-D) or bifurcation "
-                                   "diagram (1-D) in the terminal.")
-    p.add_argument("sweep", metavar="SWEEP", nargs="?",
-                   help="sweep id (default: the newest sweep)")
-    p.add_argument("--width", metavar="N",
-                   help=f"columns, {MIN_WIDTH} to {MAX_SIZE} (default: the terminal's)")
-    p.add_argument("--height", metavar="N",
-                   help=f"lines, {MIN_HEIGHT} to {MAX_SIZE} (default: the terminal's, at most "
-                        "40)")
-    p.add_argument("--color", choices=("auto", "always", "never"), default="auto",
-                   help="auto: colour on a terminal unless NO_COLOR is set")
-    p.add_argument("--no-hopf", dest="hopf", action="store_false",
-                   help="do not draw the exact Hopf curve")
-    p.add_argument("--fold", action="store_true",
-                   help="also draw the fold of cycles over a (k, tau), (a, tau), (b, tau) or "
-                        "(c, tau) plane, computed by "
-                        "continuation at each tau of the sweep (about a second a tau up to "
-                        "tau = 20, minutes at 60)")
-    add_db_option(p)
-    p.set_defaults(handler=handle)
 
 
 def use_color(choice: str) -> bool:
@@ -58,9 +30,6 @@ def use_color(choice: str) -> bool:
 
 
 def handle(args: argparse.Namespace) -> int:
-    from slopetui.plots import render_sweep
-    from slopetui.sweeps.diagram import load_drawing
-
     size = shutil.get_terminal_size((100, 30))
     width = (int_arg("--width", args.width, MIN_WIDTH, MAX_SIZE) if args.width is not None
              else min(size.columns, MAX_SIZE))
@@ -84,6 +53,7 @@ def handle(args: argparse.Namespace) -> int:
 
 def fold_curve_of(spec: SweepSpec) -> Curve | None:
     """The sweep's fold curve, with a line on stderr per tau (it takes a while)."""
+    # here: the continuation loads numba's kernels, which `show` without --fold never needs
     from slopetui.sweeps.fold_overlay import fold_overlay, has_fold_plane
     if not has_fold_plane(spec):
         raise UsageError("--fold draws over a (k, tau), (a, tau), (b, tau) or (c, tau) phase "

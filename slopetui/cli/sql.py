@@ -30,7 +30,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from types import FrameType
 
-from slopetui.cli.options import UsageError, add_db_option, open_db
+from slopetui.cli.options import UsageError, open_db
 from slopetui.display_text import TextOut, for_terminal, terminal_safe
 from slopetui.json_text import json_text
 from slopetui.sql_results import cell_text, error_text, fetch
@@ -53,31 +53,6 @@ EXIT_TIMED_OUT = 1
 EXIT_REJECTED = 2
 EXIT_INTERRUPTED = 130
 
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("sql", help="run a read-only SQL query over the store",
-                       description="Run one read-only SQL statement. The schema is in the "
-                                   "README (tables sweeps, runs, workers). Control "
-                                   "characters in the data are shown escaped (\\x1b) in "
-                                   "the table and on a terminal; --csv and --json into a "
-                                   "file or a pipe are exact. On PostgreSQL, $SLOPETUI_READ_DB "
-                                   "names a role that only reads (docs/store.md). Exit "
-                                   "status: 0 done, 1 stopped by --timeout, 2 refused or "
-                                   "invalid, 130 interrupted.",
-                       epilog="example: slopetui sql \"SELECT regime, count(*) FROM runs "
-                              "WHERE sweep_id = 3 GROUP BY regime\"")
-    p.add_argument("query", metavar="SQL", help="one SQL statement")
-    fmt = p.add_mutually_exclusive_group()
-    fmt.add_argument("--csv", action="store_true", help="CSV output")
-    fmt.add_argument("--json", action="store_true", help="one JSON object per row")
-    p.add_argument("--limit", type=int, default=1000, metavar="N",
-                   help="print at most N rows (default 1000; 0 for all)")
-    # A string: parse_timeout's one-line error beats argparse's usage dump.
-    p.add_argument("--timeout", metavar="S", default=None,
-                   help=f"stop the query after S seconds of database time (default "
-                        f"{DEFAULT_TIMEOUT_S:g}; 0 for no limit)")
-    add_db_option(p)
-    p.set_defaults(handler=handle)
 
 
 # -- output ------------------------------------------------------------------------------

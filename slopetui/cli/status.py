@@ -21,7 +21,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from slopetui.cli.options import add_db_option, open_db, sweep_arg
+from slopetui.cli.options import open_db, sweep_arg
 from slopetui.cli.worker_lines import worker_line
 from slopetui.display_text import terminal_safe
 from slopetui.duration_text import duration_text
@@ -29,17 +29,6 @@ from slopetui.json_text import json_text
 
 if TYPE_CHECKING:
     from slopetui.sweeps.progress import SweepProgress
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("status", help="progress of the sweeps and the live workers",
-                       description="Progress per sweep (done/total, runs per minute over the "
-                                   "last 10 minutes, or over a finished sweep's whole life, ETA, "
-                                   "failures) and the live workers.")
-    p.add_argument("sweeps", nargs="*", metavar="SWEEP", help="only these sweeps (ids)")
-    p.add_argument("--all", action="store_true", help="also finished and cancelled sweeps")
-    p.add_argument("--json", action="store_true", help="machine-readable output")
-    add_db_option(p)
-    p.set_defaults(handler=handle)
 
 
 def handle(args: argparse.Namespace) -> int:

@@ -7,59 +7,12 @@ import sys
 from collections.abc import Mapping
 from typing import Any
 
-from core.methods import METHODS
 from core.params import PARAM_NAMES
-from slopetui.cli.options import add_db_option, open_db
-from slopetui.cli.run import PARAM_HELP, accept_negative_numbers
+from slopetui.cli.options import open_db
 from slopetui.json_text import json_text
 from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "submit", help="queue a 1-D or 2-D sweep",
-        description="Queue a sweep: a TOML spec file (see README), flags, or a file with "
-                    "flags that override it. Axes take PARAM=START:STOP:NUM[:log].",
-        epilog="examples: slopetui submit fig4a; "
-               "slopetui submit --x k=3:24:43 --tau 10 --delta 0.1 --t-end 1e4")
-    accept_negative_numbers(p)
-    p.add_argument("spec", nargs="?", metavar="SPEC.toml",
-                   help="a TOML sweep spec file; or, when no such file exists, the name of a "
-                        "shipped example (`slopetui example` lists them, e.g. fig4a)")
-    p.add_argument("--x", metavar="AXIS", help="x axis, e.g. k=3:24:43 or tau=0.1:60:40:log")
-    p.add_argument("--y", metavar="AXIS", help="y axis (makes a phase diagram)")
-    for name in PARAM_NAMES:
-        p.add_argument(f"--{name}", dest=f"fixed_{name}", metavar="X",
-                       help=f"fixed {PARAM_HELP[name]}")
-    p.add_argument("--name", help="a name for the sweep (at most 200 characters; control "
-                                  "characters such as ESC or bidi overrides are refused)")
-    p.add_argument("--method", choices=METHODS, help="euler (default), rk4 or stiff")
-    p.add_argument("--dt", metavar="X", help="time step (default 1e-3 euler, 1e-2 rk4)")
-    p.add_argument("--t-end", dest="t_end", metavar="X", help="end time (default 1e5)")
-    p.add_argument("--window", metavar="X",
-                   help="analysis window (default min(1000, t_end / 2))")
-    p.add_argument("--no-lyap", dest="lyap", action="store_false", default=None,
-                   help="skip lambda_max (about 1.5x faster with Euler)")
-    p.add_argument("--history", metavar="H",
-                   help="m_x before t = 0 for every run: constant (default, eq. 19) or "
-                        "consistent (delta (1 + t), no kink at t = 0)")
-    p.add_argument("--initial", action="append", metavar="COND",
-                   help="compute every point from this initial condition too (repeat it): "
-                        "delta=X and/or history=H (constant, consistent, run:ID: a stored "
-                        "run's final state), e.g. --initial delta=1e-6 --initial delta=0.1; "
-                        "the phase diagram then shows where they end in different regimes")
-    p.add_argument("--adaptive", metavar="LEVELS",
-                   help="a 2-D sweep as an adaptive phase diagram: compute a lattice "
-                        "2**LEVELS times coarser, refine only where regimes change, infer "
-                        "the rest (LEVELS 1..8; the axes give the final lattice)")
-    p.add_argument("--yes", action="store_true",
-                   help=f"queue sweeps of more than {CONFIRM_ABOVE_RUNS} runs (adaptive: "
-                        "coarse runs)")
-    p.add_argument("--json", action="store_true",
-                   help="print {sweep_id, n_runs, n_cached} (adaptive: also n_points, "
-                        "adaptive_levels)")
-    add_db_option(p)
-    p.set_defaults(handler=handle)
+from slopetui.sweeps.spec import SpecError, parse_axis_flag, parse_spec, read_spec
+from slopetui.sweeps.submit import submit
 
 
 def _merge(data: dict[str, Any], key: str, flags: Mapping[str, Any]) -> None:
@@ -75,7 +28,6 @@ def _merge(data: dict[str, Any], key: str, flags: Mapping[str, Any]) -> None:
 
 def _condition(i: int, text: str) -> dict[str, Any]:
     """One --initial: comma-separated key=value pairs (delta, history)."""
-    from slopetui.sweeps.spec import SpecError
     out: dict[str, Any] = {}
     for part in text.split(","):
         key, sep, value = part.partition("=")
@@ -88,7 +40,6 @@ def _condition(i: int, text: str) -> dict[str, Any]:
 
 def spec_data(args: argparse.Namespace) -> dict[str, Any]:
     """The spec as a mapping: the file's tables, then the flags on top."""
-    from slopetui.sweeps.spec import SpecError, parse_axis_flag, read_spec
     data = read_spec(args.spec) if args.spec else {}
     if args.x:
         data["x"] = parse_axis_flag("--x", args.x)
@@ -113,7 +64,6 @@ def spec_data(args: argparse.Namespace) -> dict[str, Any]:
 def handle(args: argparse.Namespace) -> int:
     # every check happens before the database opens, the admission checks of a new sweep
     # (the engine's limits, the name's characters) included
-    from slopetui.sweeps.spec import parse_spec
     spec = parse_spec(spec_data(args), submitting=True)
     if spec.first_runs > CONFIRM_ABOVE_RUNS and not args.yes:
         what = (f"{spec.first_runs} coarse runs (of a {spec.n_runs}-point lattice)"
@@ -122,7 +72,6 @@ def handle(args: argparse.Namespace) -> int:
               f"{CONFIRM_ABOVE_RUNS}); add --yes to queue it", file=sys.stderr)
         return 2
     db = open_db(args)
-    from slopetui.sweeps.submit import submit
 
     out = submit(db, spec)
     if args.json:

@@ -20,7 +20,7 @@ import sys
 import time
 from typing import TYPE_CHECKING
 
-from slopetui.cli.options import add_db_option, open_db
+from slopetui.cli.options import open_db
 from slopetui.cli.worker_lines import worker_line
 from slopetui.display_text import terminal_safe
 from slopetui.duration_text import duration_text
@@ -34,17 +34,6 @@ if TYPE_CHECKING:
 #: While `worker --stop` waits, it says what it waits for at once, then this often (s).
 SAY_EVERY_S = 10.0
 
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "workers", help="the worker pools of the store and what each worker runs",
-        description="The worker pools of the store: on this host their pid and uptime, on "
-                    "other hosts their workers; for each live worker the run it computes, "
-                    "the runs it has done and the age of its last heartbeat. Stop the "
-                    "pools of this host with `slopetui worker --stop`.")
-    p.add_argument("--json", action="store_true", help="machine-readable output")
-    add_db_option(p)
-    p.set_defaults(handler=handle)
 
 
 def _remote(db: Database) -> dict[str, list[WorkerInfo]]:

@@ -15,6 +15,10 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from slopetui.figures.output import Drawing
+from slopetui.figures.run_figure import run_drawing
+from slopetui.figures.sweep_figure import sweep_drawing
+from slopetui.sweeps.diagram import plane_hopf
+from slopetui.sweeps.recompute import recompute
 from slopetui.whole_files import first_free
 
 if TYPE_CHECKING:
@@ -53,9 +57,6 @@ def _figure_taken(path: Path) -> bool:
 def sweep_figure(diagram: SweepDiagram, *, hopf: bool = True, fold: Curve | None = None) -> Drawing:
     """The sweep's phase diagram (with the exact Hopf curve of its plane, unless ``hopf``
     is False, and the fold of cycles if given) or its bifurcation diagram (1-D)."""
-    from slopetui.figures.sweep_figure import sweep_drawing
-    from slopetui.sweeps.diagram import plane_hopf
-
     curve = plane_hopf(diagram.spec) if hopf and diagram.spec.y is not None else None
     return sweep_drawing(diagram, hopf=curve, fold=fold)
 
@@ -65,9 +66,6 @@ def runs_figure(runs: Sequence[StoredRun], progress: Callable[[StoredRun], None]
     """Recompute the runs (as long as each took; ``progress(run)`` before each) and draw
     one run's four panels, or the comparison of several. Raises ParameterError for a
     run whose stored inputs are invalid."""
-    from slopetui.figures.run_figure import run_drawing
-    from slopetui.sweeps.recompute import recompute
-
     pairs = []
     for run in runs:
         if progress is not None:

@@ -69,6 +69,7 @@ from slopetui.figures.output import Drawing, Table
 from slopetui.figures.style import FOLD_LABEL, FOLD_STYLE, HOPF_LABEL, HOPF_STYLE, REGIME_COLORS
 from slopetui.plots.regime_colors import LEGEND_ORDER, PENDING, regime_counts, run_key
 from slopetui.plots.sweep_diagram import adaptive_notes
+from slopetui.sweeps.initial_dependence import drawn
 
 if TYPE_CHECKING:
     from matplotlib.artist import Artist
@@ -129,8 +130,6 @@ class _Cell:
 def _cells(diagram: SweepDiagram) -> list[_Cell]:
     """What the phase diagram draws: each run of the drawn map, then the lattice points
     without a run as pending; in lattice order (y, then x)."""
-    from slopetui.sweeps.initial_dependence import drawn
-
     out = []
     for r in drawn(diagram).runs:
         measured = r.status == "done" and not r.inferred

@@ -888,6 +888,8 @@ def start(folder: Path, settings: Settings, binaries: Binaries, *,
         try:
             t0 = time.monotonic()
             _provision(folder, port, password, reader_password)
+            # here: `slopetui db --help` reads this module's defaults, and the store
+            # imports SQLAlchemy (slopetui.cli.arguments.db)
             from slopetui.store.open import open_store
             open_store(local_url(folder, port, password)).dispose()  # migrates
             timings["setup"] = time.monotonic() - t0

@@ -28,6 +28,7 @@ import shlex
 from dataclasses import dataclass
 
 from slopetui import __version__
+from slopetui.store.url_text import holds_password, password_hidden
 
 #: As ``slopetui worker -j``: more processes than this on a node is a typo, not a machine.
 MAX_WORKERS_PER_NODE = 512
@@ -162,7 +163,6 @@ def server_database(url: str | None) -> ServerDatabase:
                                f"between nodes): {where}")
     # here, not at the top: the store imports SQLAlchemy, which `slopetui --help` must not
     from slopetui.store.database import parse_url
-    from slopetui.store.url_text import holds_password, password_hidden
     parsed = parse_url(url)
     display = password_hidden(parsed.render_as_string(hide_password=True))
     if parsed.get_backend_name() == "sqlite":

@@ -23,6 +23,8 @@ from slopetui.display_text import terminal_safe
 from slopetui.plots.bifurcation import render_bifurcation
 from slopetui.plots.phase_diagram import render_phase_diagram
 from slopetui.plots.regime_colors import run_key
+from slopetui.sweeps.diagram import plane_hopf
+from slopetui.sweeps.initial_dependence import drawn
 
 if TYPE_CHECKING:  # slopetui.sweeps.diagram loads the store: imported where used
     from slopetui.sweeps.diagram import SweepDiagram
@@ -44,7 +46,6 @@ def render_sweep(diagram: SweepDiagram, *, width: int, height: int, color: bool,
                  f"({diagram.n_done}/{diagram.n_points} done)")
     # a phase diagram of several initial conditions draws their map (common regime,
     # "depends", failed...: Cell.drawn); a bifurcation diagram overlays each one's peaks
-    from slopetui.sweeps.initial_dependence import drawn
     runs = drawn(diagram).runs if spec.y is not None else diagram.runs
     xs = [r.x for r in runs]
     ys = [r.y for r in runs]
@@ -61,7 +62,6 @@ def render_sweep(diagram: SweepDiagram, *, width: int, height: int, color: bool,
         return render_bifurcation(x.param, xs, peaks, regimes, log=x.spacing == "log",
                                   title=title, width=width, height=height, color=color,
                                   cursor=cursor)
-    from slopetui.sweeps.diagram import plane_hopf
 
     y = spec.y
     plane_ys = [math.nan if v is None else v for v in ys]  # every run of a 2-D sweep has y

@@ -8,8 +8,8 @@ comes to, shared with hysteresis sweeps, is slopetui.queue.thread_steps):
 * A worker claims a continuation before runs (``CONTINUATIONS`` comes first in
   slopetui.queue.registry): a branch is asked for interactively and takes one worker for
   seconds to minutes, while a sweep's runs keep the others busy.
-* Each point is saved by the lease holder only, as the next one (slopetui.store
-  .branch_rows.save_point): a killed worker loses at most the point it was computing.
+* Each point is saved by the lease holder only, as the next one (slopetui.store.jobs
+  .continuations.save_point): a killed worker loses at most the point it was computing.
 * A stop (SIGTERM, the pool stopping) comes between two points: the continuation goes
   back to the queue with its attempt given back; an abort gives it back at once and
   leaves the point in progress unsaved.
@@ -31,9 +31,9 @@ from core.params import PARAM_NAMES, ParameterError, Params, check_finite, check
 from slopetui.queue import stored_inputs
 from slopetui.queue.kinds import Activity, Computing, JobKind
 from slopetui.queue.thread_steps import HeldJob, Runner, Stops
-from slopetui.store import branch_rows
-from slopetui.store.branch_rows import ContinuationRow, SavedBranchPoint
 from slopetui.store.database import Database
+from slopetui.store.jobs import continuations
+from slopetui.store.jobs.continuations import ContinuationRow, SavedBranchPoint
 
 if TYPE_CHECKING:  # numpy, scipy and numba: loaded by the worker that computes a branch
     from core.branch_start import BranchSpec, SavedPoint
@@ -60,7 +60,7 @@ def fields_of(spec: BranchSpec, from_run: int | None = None) -> dict[str, Any]:
 
 def submit(db: Database, spec: BranchSpec, from_run: int | None = None) -> int:
     """Queue a continuation; returns its id."""
-    return branch_rows.submit(db, fields_of(spec, from_run))
+    return continuations.submit(db, fields_of(spec, from_run))
 
 
 def spec_of(row: ContinuationRow) -> BranchSpec:
@@ -86,7 +86,7 @@ def claim(db: Database, worker_id: str) -> BranchJob | None:
     stored inputs cannot be computed fails at once with the reason, and the next one is
     claimed."""
     return stored_inputs.claim_computable(
-        branch_rows, branch_rows.claim, "continuation", db, worker_id,
+        continuations, continuations.claim, "continuation", db, worker_id,
         lambda row: BranchJob(row.id, row.attempts, spec_of(row)))
 
 
@@ -141,11 +141,11 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
     from core.branch_start import MIN_STEP, past_end, resume, start
     from core.continuation import bifurcations, check_end, criticality, step
     spec = job.spec
-    rows = branch_rows.saved_points(db, job.id)
+    rows = continuations.saved_points(db, job.id)
     try:  # in this thread: a point that cannot be read back would kill the worker
         saved = [saved_of(r) for r in rows]
     except stored_inputs.INPUT_ERRORS as exc:
-        stored_inputs.refuse(branch_rows, "continuation", db, wid, job.id, ValueError(
+        stored_inputs.refuse(continuations, "continuation", db, wid, job.id, ValueError(
             f"a saved point (branch_points) cannot be read back: {exc}"))
         return
 
@@ -155,7 +155,7 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
         branch, hopf = start(spec)
         return branch, None if hopf is None else (hopf.value, hopf.period)
 
-    held = HeldJob(db, wid, job.id, job.attempts, "continuation", branch_rows, run, control,
+    held = HeldJob(db, wid, job.id, job.attempts, "continuation", continuations, run, control,
                    max_attempts, _no_branch)
     if (begun := held.step(begin)) is None:
         return
@@ -176,7 +176,7 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
         spent += took
         if point is None:
             break
-        if not branch_rows.save_point(db, job.id, wid, point_fields(branch), spent,
+        if not continuations.save_point(db, job.id, wid, point_fields(branch), spent,
                                       hopf if len(branch.points) == 1 else None):
             log.warning("continuation %d: lease lost; the point is not saved", job.id)
             return
@@ -185,7 +185,7 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
         return
     found, took = located
     critical = criticality(branch.points) if spec.from_hopf else None
-    if branch_rows.finish(db, job.id, wid, branch.end, critical, spent + took,
+    if continuations.finish(db, job.id, wid, branch.end, critical, spent + took,
                           [bifurcation_fields(b) for b in found]):
         log.info("continuation %d done: %d points, %s", job.id, len(branch.points),
                  ", ".join(f"{b.type} at {spec.name} = {b.value:.6g}" for b in found)
@@ -202,7 +202,7 @@ class Continuations(JobKind[BranchJob]):
     plural = key = "continuations"
     id_key = "continuation_id"
     shown_by = "slopetui branch"
-    lease = branch_rows.lease
+    lease = continuations.lease
 
     def claim(self, c: Computing) -> BranchJob | None:
         return claim(c.db, c.worker_id)
@@ -211,7 +211,7 @@ class Continuations(JobKind[BranchJob]):
         compute(c.db, c.worker_id, job, c.run, c.control, c.max_attempts)
 
     def describe(self, db: Database) -> Activity:
-        return Activity(branch_rows.status_counts(db), branch_rows.held(db))
+        return Activity(continuations.status_counts(db), continuations.held(db))
 
 
 CONTINUATIONS = Continuations()

@@ -4,7 +4,7 @@ give equal results (the model is deterministic), so a finished run's result is r
 Only computed runs serve: an inferred run of an adaptive sweep (``Run.inferred``) is
 done and has a cache key, but its regime is a guess from its cell's corners and it has
 no measurements, so it must never stand in for a computation. The lookups, which keep to
-that, are the store's (``slopetui.store.cached_results``).
+that, are the store's (``slopetui.store.runs.cached_results``).
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import hashlib
 from collections.abc import Mapping
 from typing import Any
 
-from core import PARAM_NAMES
+from core.params import PARAM_NAMES
 from core.result_fields import RESULT_NAMES
 
 #: The columns of Run that hold a result, in order (defined once in core.result_fields).

@@ -18,7 +18,7 @@ slopetui.queue.thread_steps):
   branch from the up branch's last state, as core.hysteresis.hysteresis does. The state
   is saved to the bit, so a resumed sweep ends exactly as an uninterrupted one.
 * Each point is saved by the lease holder only, as the next one
-  (slopetui.store.hysteresis_rows.save_point): a killed worker loses at most the point
+  (slopetui.store.jobs.hysteresis_sweeps.save_point): a killed worker loses at most the point
   it was computing.
 * A point whose run leaves the finite range (OrbitError) ends the sweep there, as
   core.hysteresis.branch ends a branch: it is saved as "unstable" with no state (nothing
@@ -45,9 +45,9 @@ from core.params import PARAM_NAMES, ParameterError, Params, check_finite, check
 from slopetui.queue import stored_inputs
 from slopetui.queue.kinds import Activity, Computing, JobKind
 from slopetui.queue.thread_steps import HeldJob, Runner, Stops
-from slopetui.store import hysteresis_rows
 from slopetui.store.database import Database
-from slopetui.store.hysteresis_rows import HysteresisRow, SavedHysteresisPoint
+from slopetui.store.jobs import hysteresis_sweeps
+from slopetui.store.jobs.hysteresis_sweeps import HysteresisRow, SavedHysteresisPoint
 
 if TYPE_CHECKING:  # numpy and numba's kernels: loaded by the worker that computes a sweep
     import numpy as np
@@ -111,7 +111,7 @@ def fields_of(spec: HysteresisSpec) -> dict[str, Any]:
 
 def submit(db: Database, spec: HysteresisSpec) -> int:
     """Queue a hysteresis sweep; returns its id."""
-    return hysteresis_rows.submit(db, fields_of(spec))
+    return hysteresis_sweeps.submit(db, fields_of(spec))
 
 
 def spec_of(row: HysteresisRow) -> HysteresisSpec:
@@ -144,7 +144,7 @@ def claim(db: Database, worker_id: str) -> HysteresisJob | None:
     stored inputs cannot be computed fails at once with the reason, and the next one is
     claimed."""
     return stored_inputs.claim_computable(
-        hysteresis_rows, hysteresis_rows.claim, "hysteresis sweep", db, worker_id,
+        hysteresis_sweeps, hysteresis_sweeps.claim, "hysteresis sweep", db, worker_id,
         lambda row: HysteresisJob(row.id, row.attempts, spec_of(row)))
 
 
@@ -181,7 +181,7 @@ def _nan(value: float | None) -> float:
 
 
 def transition_fields(prefix: str, found: Transition | None) -> dict[str, float | None]:
-    """A transition as stored (hysteresis_rows.TRANSITION_COLUMNS) and read back: ``prefix``
+    """A transition as stored (hysteresis_sweeps.TRANSITION_COLUMNS) and read back: ``prefix``
     (onset_up or offset_down) refined, ``prefix_before``/``prefix_after`` its grid bracket;
     all None where the branch keeps its attractor."""
     return {prefix: None if found is None else found.value,
@@ -192,7 +192,7 @@ def transition_fields(prefix: str, found: Transition | None) -> dict[str, float 
 def transitions(spec: HysteresisSpec, g: Grid, rows: Sequence[SavedHysteresisPoint]
                 ) -> dict[str, float | None]:
     """Each branch's transition refined from the saved points and the states they handed
-    over (core.hysteresis.refine), as hysteresis_rows.TRANSITION_COLUMNS."""
+    over (core.hysteresis.refine), as hysteresis_sweeps.TRANSITION_COLUMNS."""
     from core.hysteresis import refine
     out: dict[str, float | None] = {}
     for direction, name in (("up", "onset_up"), ("down", "offset_down")):
@@ -222,11 +222,11 @@ def _finish(db: Database, wid: str, job: HysteresisJob, held: HeldJob, g: Grid,
             spent: float) -> None:
     """Refine both transitions (one step: a stop or an abort gives the sweep back) and
     finish the sweep with them."""
-    rows = hysteresis_rows.saved_points(db, job.id)
+    rows = hysteresis_sweeps.saved_points(db, job.id)
     if (stepped := held.step(partial(transitions, job.spec, g, rows))) is None:
         return
     found, took = stepped
-    if hysteresis_rows.finish(db, job.id, wid, found, spent + took):
+    if hysteresis_sweeps.finish(db, job.id, wid, found, spent + took):
         log.info("hysteresis sweep %d done: %d points, up changes at %s, down at %s", job.id,
                  len(rows), found["onset_up"], found["offset_down"])
     else:
@@ -241,18 +241,18 @@ def compute(db: Database, wid: str, job: HysteresisJob, run: Runner, control: St
     from core.orbit import Grid
     spec = job.spec
     if spec.name == "tau":  # core.hysteresis.hysteresis refuses it too: an answer, no retry
-        hysteresis_rows.fail(db, job.id, wid, "no sweep: a hysteresis sweep cannot follow "
+        hysteresis_sweeps.fail(db, job.id, wid, "no sweep: a hysteresis sweep cannot follow "
                              "tau (the state's history is one delay long)", give_up=True)
         return None
     g = Grid.of(spec.params, spec.dt)
-    saved = hysteresis_rows.saved_points(db, job.id)
+    saved = hysteresis_sweeps.saved_points(db, job.id)
     total = 2 * spec.n_points
     ended = any(r.state is None for r in saved)  # a run left the finite range: the end
     if saved:
         try:  # in this thread: a state that cannot be read back would kill the worker
             state = None if ended else state_of(saved[-1], g)
         except stored_inputs.INPUT_ERRORS as exc:
-            stored_inputs.refuse(hysteresis_rows, "hysteresis sweep", db, wid, job.id,
+            stored_inputs.refuse(hysteresis_sweeps, "hysteresis sweep", db, wid, job.id,
                                  ValueError("the state of a saved point (hysteresis_points) "
                                             f"cannot be read back: {exc}"))
             return None
@@ -261,7 +261,7 @@ def compute(db: Database, wid: str, job: HysteresisJob, run: Runner, control: St
         state = initial_state(spec.params.with_(**{spec.name: first}), g)
     log.info("hysteresis sweep %d in %s: %s (%d saved points)", job.id, spec.name,
              "resumed" if saved else "started", len(saved))
-    held = HeldJob(db, wid, job.id, job.attempts, "hysteresis sweep", hysteresis_rows, run,
+    held = HeldJob(db, wid, job.id, job.attempts, "hysteresis sweep", hysteresis_sweeps, run,
                    control, max_attempts)
     spent = 0.0
     idx = len(saved)
@@ -272,7 +272,7 @@ def compute(db: Database, wid: str, job: HysteresisJob, run: Runner, control: St
             return None
         (pt, state), took = stepped
         direction, _ = spec.plan(idx)
-        if not hysteresis_rows.save_point(db, job.id, wid,
+        if not hysteresis_sweeps.save_point(db, job.id, wid,
                                           point_fields(idx, direction, pt, state),
                                           spent + took):
             log.warning("hysteresis sweep %d: lease lost; the point is not saved", job.id)
@@ -293,7 +293,7 @@ class HysteresisSweeps(JobKind[HysteresisJob]):
     key = "hysteresis_sweeps"
     id_key = "hysteresis_id"
     shown_by = "slopetui hysteresis --show ID"
-    lease = hysteresis_rows.lease
+    lease = hysteresis_sweeps.lease
 
     def claim(self, c: Computing) -> HysteresisJob | None:
         return claim(c.db, c.worker_id)
@@ -302,7 +302,7 @@ class HysteresisSweeps(JobKind[HysteresisJob]):
         compute(c.db, c.worker_id, job, c.run, c.control, c.max_attempts)
 
     def describe(self, db: Database) -> Activity:
-        return Activity(hysteresis_rows.status_counts(db), hysteresis_rows.held(db))
+        return Activity(hysteresis_sweeps.status_counts(db), hysteresis_sweeps.held(db))
 
 
 HYSTERESIS_SWEEPS = HysteresisSweeps()

@@ -2,7 +2,7 @@
 and in the pool the application started (``--owner-pid``), once the application has quit.
 
 A worker looks each time it finds nothing to claim (slopetui.queue.worker_process), at
-the store's backlog (slopetui.store.queue_backlog):
+the store's backlog (slopetui.store.jobs.backlog):
 
 * something claimable or running (on any host): not idle. A running run may come back to
   the queue if its worker dies, and an adaptive sweep queues its next level when a level
@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 from slopetui.queue.local_pool import is_alive, start_ticks
 from slopetui.queue.open_apps import open_apps
-from slopetui.store.queue_backlog import Backlog
+from slopetui.store.jobs.backlog import Backlog
 
 
 @dataclass(frozen=True)

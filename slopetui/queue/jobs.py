@@ -1,7 +1,7 @@
 """The life of a job (a run) in the queue: claim, begin, heartbeat, complete, fail, release.
 
 The statements, and why they cannot hand one run to two workers, are in
-``slopetui.store.claims``; this module holds what a job is and the queue's policy: how many
+``slopetui.store.runs.claims``; this module holds what a job is and the queue's policy: how many
 runs a batch may hold, when a run has used its attempts, the lease's defaults.
 
 A worker claims a run under a lease, which lasts while its heartbeat (database time) is
@@ -32,13 +32,13 @@ from typing import TYPE_CHECKING, Any
 from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.queue import stored_inputs
 from slopetui.queue.defaults import MAX_ATTEMPTS
-from slopetui.store import cached_results, claims, initial_states
-from slopetui.store.claims import ClaimedRow
 from slopetui.store.database import Database
+from slopetui.store.runs import cached_results, claims, initial_states
+from slopetui.store.runs.claims import ClaimedRow
 
 if TYPE_CHECKING:  # core.solve imports numpy: not for `slopetui --help` and `status`
-    from core import SolverSettings
     from core.history import CarriedState
+    from core.solve import SolverSettings
 
 
 @dataclass(frozen=True)
@@ -66,10 +66,9 @@ def _job(m: ClaimedRow, started: bool, states: Mapping[str, bytes]) -> Job:
     grid included) and the state its history names taken from ``states`` (by name).
     Raises one of stored_inputs.INPUT_ERRORS (ParameterError naming the field) for inputs
     that cannot be computed."""
-    from core import SolverSettings
     from core.history import STATE_PREFIX, CarriedState
     from core.history import start as history_start
-    from core.solve import make_grid
+    from core.solve import SolverSettings, make_grid
     stored_inputs.present(m, _INPUTS)
     params = Params(**{n: getattr(m, n) for n in PARAM_NAMES})
     if not isinstance(m.lyap, bool):

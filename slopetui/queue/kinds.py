@@ -1,7 +1,7 @@
 """What a kind of job is to the queue (``JobKind``), and what a worker hands a kind to
 compute one (``Computing``). The kinds themselves, in the order a worker claims them, are
 in slopetui.queue.registry; the lease every kind is held under is one implementation,
-slopetui.store.leases.
+slopetui.store.jobs.leases.
 
 In the style of procrastinate, whose ``manager.JobManager`` holds a job's statements
 (fetch, finish, retry) apart from the worker, which knows no task by name: here the
@@ -20,7 +20,7 @@ from typing import Generic, TypeVar
 
 from slopetui.queue.thread_steps import Controls, Runner
 from slopetui.store.database import Database
-from slopetui.store.leases import Lease
+from slopetui.store.jobs.leases import Lease
 
 J = TypeVar("J")
 
@@ -70,7 +70,7 @@ class JobKind(ABC, Generic[J]):
     id_key: str
     #: The command that shows its jobs, for ``status`` ("slopetui branch").
     shown_by: str
-    #: The lease of its table (slopetui.store.leases): its heartbeat and its requeues.
+    #: The lease of its table (slopetui.store.jobs.leases): its heartbeat and its requeues.
     lease: Lease
 
     @abstractmethod

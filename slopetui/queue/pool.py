@@ -15,7 +15,7 @@ and on the signal pipe together, counts the signals and sets the workers' ``stop
 lock (the handler runs in the main thread, between two bytecodes of whatever it does).
 The workers only ever read the Events (is_set), never wait on them: multiprocessing's
 Event.set() waits until every process sleeping in Event.wait() has woken, so one worker
-stuck in a handler used to hang the pool's set(), and with it the whole pool.
+stuck in a handler would hang the pool's set(), and with it the whole pool.
 
 A worker that exits with status 0 left on purpose (a SIGTERM sent to it alone, an idle
 queue with exit_when_idle or once the pool's owner has quit: slopetui.queue.idle_exit):

@@ -5,13 +5,13 @@ to every kind at once: heartbeat, requeue, the backlog, the activity ``status`` 
 The order: a continuation first, then a hysteresis sweep (both are asked for
 interactively and take one worker for seconds to minutes, while a sweep's runs keep the
 others busy), then a batch of runs. It is also the order of the job tables in every
-statement that spans several (slopetui.store.leases: the lock order).
+statement that spans several (slopetui.store.jobs.leases: the lock order).
 
 A new kind of job is one module plus its table. It writes:
 
 1. its table: a ``LeasedJob`` model in slopetui.store.models (and its points' model, if
    it saves points) and a migration that creates them;
-2. its rows module in slopetui.store (as hysteresis_rows): a ``PointJobs`` over the
+2. its rows module in slopetui.store.jobs (as hysteresis_sweeps): a ``PointJobs`` over the
    table with the frozen dataclasses its rows are read into, and its finish;
 3. its module in slopetui.queue (as hysteresis_jobs): what a job is, built and checked
    from its row, and a ``JobKind`` (slopetui.queue.kinds) with its claim, compute and
@@ -32,9 +32,9 @@ from slopetui.queue.defaults import LEASE_S, MAX_ATTEMPTS
 from slopetui.queue.hysteresis_jobs import HYSTERESIS_SWEEPS
 from slopetui.queue.kinds import Activity, JobKind
 from slopetui.queue.run_batches import RUNS
-from slopetui.store import leases
 from slopetui.store.database import Database
-from slopetui.store.queue_backlog import Backlog, run_backlog
+from slopetui.store.jobs import leases
+from slopetui.store.jobs.backlog import Backlog, run_backlog
 
 #: Every kind, in claim order (module docstring).
 KINDS: tuple[JobKind[Any], ...] = (CONTINUATIONS, HYSTERESIS_SWEEPS, RUNS)

@@ -2,7 +2,7 @@
 writes each result as soon as it is known.
 
 A batch is up to ``batch`` queued runs with the same solver settings and tau (the batched
-kernels' lanes share tau: store.claims.claim_batch), cut to the worker's memory budget
+kernels' lanes share tau: store.runs.claims.claim_batch), cut to the worker's memory budget
 (slopetui.queue.batch_memory). Euler and RK4 batches (BATCHED_METHODS) go through the
 batched kernels (core.batch) in one call, which reports nothing until every lane is done
 (core.run_batch has no per-lane callback), so their results are written when it returns,
@@ -24,34 +24,36 @@ from concurrent.futures import Future
 from functools import partial
 from typing import TYPE_CHECKING, Any
 
+from core.methods import METHOD_TABLE
 from slopetui.queue import jobs
 from slopetui.queue.batch_memory import MIB, fitting
 from slopetui.queue.kinds import Activity, Computing, JobKind
-from slopetui.store import claims
 from slopetui.store.database import Database
+from slopetui.store.runs import claims
 
 if TYPE_CHECKING:  # numpy: loaded by the kernels, after the worker has started
     from core.history import CarriedState
 
 log = logging.getLogger("slopetui.worker")
 
-#: Methods computed with the batched kernels (core.batch), whose lanes share tau; a run of
-#: another method (stiff) is claimed alone and computed by the single-run kernel.
-BATCHED_METHODS = frozenset({"euler", "rk4"})
+#: Methods computed with the batched kernels (core.batch; core.methods says which), whose
+#: lanes share tau; a run of another method (stiff) is claimed alone and computed by the
+#: single-run kernel.
+BATCHED_METHODS = frozenset(m.name for m in METHOD_TABLE if m.batched)
 
 Records = list[dict[str, Any]]
 
 
 def _compute_one(job: jobs.Job, carried: CarriedState | None = None) -> Records:
     # core loads numpy and the kernels: not for `status`, which reads the registry
-    from core import run_point
+    from core.point import run_point
     return [run_point(job.params, job.settings, carried).as_record()]
 
 
 def _compute_together(batch: list[jobs.Job]) -> Records:
     # core.run_batch has no per-lane callback (one numba call integrates every lane), so
     # its results are all known, and written, when it returns.
-    from core import run_batch
+    from core.point import run_batch
     return [result.as_record() for result in run_batch([job.params for job in batch],
                                                        batch[0].settings)]
 

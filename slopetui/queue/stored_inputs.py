@@ -92,8 +92,8 @@ def log_refused(what: str, job_id: int, text: str) -> None:
 
 def refuse(rows: LeaseRows, what: str, db: Database, worker_id: str, job_id: int,
            error: BaseException) -> None:
-    """Fail a held job computed point by point (``rows``: slopetui.store.branch_rows,
-    hysteresis_rows) whose stored inputs cannot be computed, at once with the reason, and
+    """Fail a held job computed point by point (``rows``: slopetui.store.jobs.continuations,
+    hysteresis_sweeps) whose stored inputs cannot be computed, at once with the reason, and
     log its one line; ``what`` names its kind ("continuation")."""
     text = reason(error)
     rows.fail(db, job_id, worker_id, text, give_up=True)

@@ -41,8 +41,8 @@ class Controls(Stops, Protocol):
 
 
 class LeaseRows(Protocol):
-    """The statements on a held job a step's outcome needs (slopetui.store.branch_rows,
-    hysteresis_rows): record its error, give it back."""
+    """The statements on a held job a step's outcome needs (slopetui.store.jobs.continuations,
+    hysteresis_sweeps): record its error, give it back."""
 
     def fail(self, db: Database, job_id: int, worker_id: str, error: str, /, *,
              give_up: bool) -> bool: ...

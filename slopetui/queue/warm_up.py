@@ -86,8 +86,10 @@ def say_if_compiling(command: str, modules: tuple[str, ...] = ANALYSIS_KERNELS) 
 def warm_up() -> None:
     """Compile (or load from numba's cache) every kernel a run can use, with a short run
     of each method, so the first real job does not pay for compilation."""
-    from core import Params, SolverSettings, run_batch, run_point
     from core.batch import MIN_LANES
+    from core.params import Params
+    from core.point import run_batch, run_point
+    from core.solve import SolverSettings
     # stiff: the fallback of every explicit run that blows up (core.point)
     for method in ("euler", "rk4", "stiff"):
         settings = SolverSettings(method=method, t_end=20.0, window=10.0)

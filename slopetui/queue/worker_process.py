@@ -58,7 +58,7 @@ from slopetui.queue.priority import lower_priority
 from slopetui.queue.stop_signals import STOP_SIGNALS, SignalPipe, die_with_parent
 from slopetui.queue.warm_up import watched_warm_up
 from slopetui.store.database import Database
-from slopetui.store.worker_rows import register_worker, unregister_worker
+from slopetui.store.workers import register_worker, unregister_worker
 from slopetui.store.write_checks import write_refusal
 
 log = logging.getLogger("slopetui.worker")

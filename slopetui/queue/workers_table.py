@@ -11,7 +11,7 @@ from datetime import datetime
 
 from slopetui.queue.defaults import LEASE_S
 from slopetui.store.database import Database
-from slopetui.store.worker_rows import live_worker_rows
+from slopetui.store.workers import live_worker_rows
 
 
 @dataclass(frozen=True)

@@ -14,8 +14,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from core import Params, run_point
 from core.lyapunov import format_with_error
+from core.params import Params
+from core.point import run_point
 from slopetui.reproduce import measures as m
 from slopetui.reproduce.orbit_analysis import Band, OrbitAnalysis
 from slopetui.sweeps.diagram import RunPoint, SweepDiagram

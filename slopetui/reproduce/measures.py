@@ -7,9 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core import Params
 from core.closure import classifier_detail
-from core.params import sliding_branches
+from core.params import Params, sliding_branches
 from core.stability import hopf_k
 from slopetui.sweeps.diagram import RunPoint, SweepDiagram
 

@@ -15,12 +15,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from core import Params
 from core.classify import find_peaks
 from core.continuation import Bifurcation, Branch, bifurcations, criticality, walk
 from core.fold_curve import FoldPoint, fold_curve
 from core.orbit import Grid
-from core.orbit_seed import simulate, simulate_from
+from core.orbit_seed import simulate, simulate_from, state_at
+from core.params import Params
 from slopetui.sweeps.diagram import SweepDiagram
 from slopetui.sweeps.fold_overlay import curve_of
 from slopetui.sweeps.initial_dependence import (
@@ -150,7 +150,6 @@ def _offset_checks(p: Params, g: Grid) -> list[tuple[float, float, bool]]:
 def _distance(branch: Branch, i: int, traj: np.ndarray, g: Grid) -> float:
     """The weighted distance (core.orbit's norm) between the orbit of point i and the
     closest state of the last period of the simulation."""
-    from core.orbit_seed import state_at
     z = branch.points[i].z
     w = g.weights
     best = math.inf

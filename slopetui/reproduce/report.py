@@ -14,13 +14,15 @@ from slopetui.queue.pool import default_jobs, run_pool
 from slopetui.queue.worker_process import WorkerOptions
 from slopetui.reproduce import measures as m
 from slopetui.reproduce.delta_maps import MAP_FIGURES, DeltaMap, delta_map, friction_folds, maps_section
-from slopetui.reproduce.findings import FINDINGS, Diagrams, Finding
+from slopetui.reproduce.findings import FINDINGS, Diagrams, Finding, band_lines
 from slopetui.reproduce.orbit_analysis import OrbitAnalysis, Say, analyse
 from slopetui.store.database import Database
 from slopetui.store.queries import runtime_total, unfinished_runs
+from slopetui.sweeps.adaptive import advance_all
 from slopetui.sweeps.diagram import SweepDiagram, load_diagram
 from slopetui.sweeps.fold_overlay import has_fold_plane, inside
 from slopetui.sweeps.presets import BY_KEY, PRESETS
+from slopetui.sweeps.progress import PoolProgress
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 
@@ -36,8 +38,6 @@ def compute(db: Database, resolution: int, t_end: float | None, jobs: int | None
         ids[p.key] = submit(db, parse_spec(p.at_resolution(resolution, t_end))).sweep_id
     t0 = time.perf_counter()
     if unfinished_runs(db, ids.values()):
-        from slopetui.sweeps.adaptive import advance_all
-        from slopetui.sweeps.progress import PoolProgress
         # idle_grace_s = 0: the report waits for its own sweeps, which it never pauses,
         # not for the grace period that a paused sweep elsewhere in the store would hold
         opts = WorkerOptions(db_url=db.url.render_as_string(hide_password=False),
@@ -158,7 +158,6 @@ def orbit_section(o: OrbitAnalysis) -> str:
            "**The fold of cycles over tau** (each value an independent continuation from the "
            "Hopf point, at the defaults of eq. 8):", "", *o.fold_table(), ""]
     if o.band is not None:
-        from slopetui.reproduce.findings import band_lines
         out += ["**Against Figs. 5A/5B:**", "", *[f"- {line}" for line in band_lines(o.band)], ""]
     out += [f"The analysis took {o.runtime_s:.0f} s of CPU.", ""]
     return "\n".join(out)

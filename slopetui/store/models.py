@@ -186,7 +186,7 @@ class Run(Base):
         CheckConstraint("attempts >= 0", name="attempts"),
         # The claim: the oldest queued run (of an active sweep).
         Index(None, "status", "id"),
-        # A batch's claim: the oldest queued runs of one tau (store.claims.claim_batch). On
+        # A batch's claim: the oldest queued runs of one tau (store.runs.claims.claim_batch). On
         # (status, id) alone it read the whole queue whenever a tau had fewer queued runs
         # than the batch (6 ms a claim at 10,000 queued runs; migration 0008).
         Index(None, "status", "tau", "id"),
@@ -235,7 +235,7 @@ class LeasedJob:
 
     if TYPE_CHECKING:
         # Defined by each job class itself (the id first, the compute time among its
-        # results), and used by the lease statements (slopetui.store.leases, point_jobs).
+        # results), and used by the lease statements (slopetui.store.jobs.leases, point_jobs).
         __table__: ClassVar[FromClause]
         id: Mapped[int]
         runtime_s: Mapped[float]

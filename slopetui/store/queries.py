@@ -4,9 +4,9 @@ each behind a name: the faces call these and import no SQLAlchemy (import-linter
 
 Reads only, on ``Database.sessions()``. What belongs to a sweeps-level concept (a
 diagram, the progress of a sweep, pause/resume/cancel) is read and written by the
-modules of the store named after it (``sweep_reads``, ``sweep_rows``, ``adaptive_rows``),
-which ``slopetui.sweeps`` calls; the queue's statements are in ``claims``,
-``cached_results`` and ``worker_rows``.
+modules of the store named after it (``sweeps``, ``diagrams``), which
+``slopetui.sweeps`` calls; the queue's statements are in ``runs``, ``jobs`` and
+``workers``.
 """
 
 from __future__ import annotations

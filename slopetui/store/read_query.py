@@ -35,6 +35,8 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
+from slopetui.store.pg_read_guard import refusal
+
 if TYPE_CHECKING:
     from sqlalchemy import Engine
 
@@ -221,8 +223,6 @@ class ReadQuery:
     @contextmanager
     def _postgres_guard(self, conn: Any, raw: Any
                         ) -> Iterator[tuple[list[str] | None, Callable[[int], list[Row]]]]:
-        from slopetui.store.pg_read_guard import refusal
-
         # READ ONLY refuses writes to tables only (pg_read_guard lists what else it lets by)
         why = refusal(self.sql)
         if why is not None:
@@ -269,6 +269,7 @@ class ReadQuery:
     def _translate(self, error: BaseException) -> Exception:
         """A driver's exception as one of ours: the flags say whether an abort was a
         cancel or the time limit."""
+        # here: slopetui.store.database imports SQLAlchemy (the comment above the limit)
         from slopetui.store.database import is_refusal
 
         if self._cancel_requested:

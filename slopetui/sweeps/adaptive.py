@@ -22,7 +22,7 @@ Decisions, and why:
   re-reads the condition there: two workers that both see a level complete queue the
   next one once. Calling it again, or on a sweep that is not ready, changes nothing.
   The store opens that transaction and makes the check
-  (``slopetui.store.adaptive_rows.advance_if_ready``); the step it calls back is here.
+  (``slopetui.store.sweeps.refinement.advance_if_ready``); the step it calls back is here.
 - *A level is complete when none of its runs is queued or running.* A failed run is
   complete: its label is ``failed``, so the cells around it refine (the failure is
   surrounded by computed points) and an inferred point never takes a failed label
@@ -49,8 +49,8 @@ from __future__ import annotations
 import logging
 
 from core.jit_cache import source_digest
-from slopetui.store.adaptive_rows import LockedSweep, advance_if_ready, ready_sweeps
 from slopetui.store.database import Database
+from slopetui.store.sweeps.refinement import LockedSweep, advance_if_ready, ready_sweeps
 from slopetui.sweeps.refinement import FAILED, Point, Refinement, RefinementError
 from slopetui.sweeps.run_rows import run_rows
 from slopetui.sweeps.spec import SweepSpec, parse_spec

@@ -1,6 +1,6 @@
 """Continuations for the faces (the CLI's ``continue --submit`` and ``branch``, the TUI's
 branches screen): queue one, list them, read one back with its points and bifurcations
-as plain records. No UI here, and no SQL (slopetui.store.branch_rows owns it)."""
+as plain records. No UI here, and no SQL (slopetui.store.jobs.continuations owns it)."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from slopetui.queue import branch_jobs
-from slopetui.store import branch_rows
-from slopetui.store.branch_rows import ContinuationRow
 from slopetui.store.database import Database
+from slopetui.store.jobs import continuations
+from slopetui.store.jobs.continuations import ContinuationRow
 from slopetui.sweeps.branch_records import (
     BifurcationRecord,
     PointRecord,
@@ -43,17 +43,17 @@ def submit(db: Database, spec: BranchSpec, from_run: int | None = None) -> int:
 
 def listing(db: Database) -> list[StoredBranch]:
     """Every continuation, newest first, without its points."""
-    return [StoredBranch(row, [], []) for row in branch_rows.continuations(db)]
+    return [StoredBranch(row, [], []) for row in continuations.continuations(db)]
 
 
 def branch_of(db: Database, cid: int) -> StoredBranch | None:
     """Continuation ``cid`` with its points and bifurcations; None if there is none."""
-    row = branch_rows.continuation(db, cid)
+    row = continuations.continuation(db, cid)
     if row is None:
         return None
     points = [point_record(p.value, p.period, p.amplitude, p.stable,
                            complex(p.leading_re, p.leading_im))
-              for p in branch_rows.points(db, cid)]
+              for p in continuations.points(db, cid)]
     bifs = [bifurcation_record(b.type, b.value, b.period, complex(b.mu_re, b.mu_im))
-            for b in branch_rows.bifurcations(db, cid)]
+            for b in continuations.bifurcations(db, cid)]
     return StoredBranch(row, points, bifs)

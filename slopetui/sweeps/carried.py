@@ -39,8 +39,11 @@ def parse_history(text: str) -> tuple[str, int | None]:
 def final_state_of(db: Database, run_id: int) -> CarriedState:
     """Run ``run_id``'s state at its t_end, recomputed from its parameters and settings as
     its worker computed it (the stiff scheme where it fell back to it)."""
+    # here: slopetui.sweeps.spec reads run:ID with parse_history, and `show` reads specs;
+    # the recomputation loads numba's kernels (core.point), which neither needs
     from core.point import run_point
     from slopetui.sweeps.recompute import load_run
+
     run = load_run(db, run_id)
     if run is None:
         raise ParameterError("history", f"{RUN_PREFIX}{run_id}", "run:ID of a run in this store")

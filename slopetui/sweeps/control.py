@@ -8,7 +8,7 @@ sweep then goes on refining: the runs of its current level are queued again, and
 they finish a worker's idle poll queues the next level (``sweeps.adaptive``: cancelled
 sweeps do not advance, active ones do). Delete is not undone by anything: the faces ask
 first (``slopetui delete`` on a terminal or with --yes, the application's modal), and it
-refuses while runs of the sweep are running (``store.sweep_rows.delete_sweep`` says why;
+refuses while runs of the sweep are running (``store.sweeps.writes.delete_sweep`` says why;
 ``SweepBusy`` says what to do: cancel an active sweep, wait for a cancelled one).
 """
 
@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 from slopetui.store.database import Database
 from slopetui.store.queries import sweep_status
-from slopetui.store.sweep_rows import (
+from slopetui.store.sweeps.writes import (
     Deletion,
     cancel_sweep,
     delete_sweep,
@@ -82,7 +82,7 @@ def pause(db: Database, sweep_id: int) -> str:
 
 def resume(db: Database, sweep_id: int) -> Resumed:
     """A paused sweep's runs are handed out again; a cancelled sweep's cancelled runs are
-    queued again (with the attempts they had: see store.sweep_rows.resume_sweep) and it
+    queued again (with the attempts they had: see store.sweeps.writes.resume_sweep) and it
     is active."""
     out = resume_sweep(db, sweep_id, ("paused", "cancelled"))
     if out is None:

@@ -12,7 +12,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from slopetui.store.sqlite_diagram_reads import NeedsDatabase, read_sqlite_diagram
+from slopetui.store.diagrams.sqlite_reads import NeedsDatabase, read_sqlite_diagram
 from slopetui.sweeps.hopf_plane import Curve, hopf_boundary
 from slopetui.sweeps.spec import SweepSpec, parse_spec
 
@@ -113,7 +113,7 @@ UNMEASURED: dict[str, Any] = {"peaks": None, "drift": math.nan, "error": None, "
 
 def run_points(columns: Sequence[str], rows: Iterable[Sequence[Any]],
                has_y: bool) -> list[RunPoint]:
-    """Runs of a diagram read (``store.diagram_rows.DiagramRead``: values in ``columns``
+    """Runs of a diagram read (``store.diagrams.result.DiagramRead``: values in ``columns``
     order) as a diagram's points (their measurements NaN or None where the read had
     none)."""
     absent = {k: v for k, v in UNMEASURED.items() if k not in columns}
@@ -155,7 +155,9 @@ def load_diagram(db: Database, sweep_id: int, *, drawn_only: bool = False) -> Sw
     ``drawn_only``, a phase diagram's runs come without their measurements (peaks,
     lambda_max...): what a drawing in the terminal shows, read in about half the time (a
     1-D sweep is read whole: its drawing shows the peaks)."""
-    from slopetui.store.diagram_reads import read_diagram
+    # here, as the store's other imports below: `show` reads a SQLite file without
+    # SQLAlchemy (load_drawing), and SQLAlchemy costs it 0.3-0.4 s
+    from slopetui.store.diagrams.reads import read_diagram
 
     read = read_diagram(db, sweep_id, read_spec, drawn_only=drawn_only)
     if read is None:
@@ -173,7 +175,7 @@ def load_drawing(url: str | None, sweep_id: int | None,
     no sweep. Raises UnknownSweep if there is no sweep ``sweep_id``.
 
     A SQLite file at the current schema is read without SQLAlchemy
-    (``store.sqlite_diagram_reads``, 0.35-0.45 s less for `slopetui show`); any other
+    (``store.diagrams.sqlite_reads``, 0.35-0.45 s less for `slopetui show`); any other
     store is opened with ``open_store`` (created, migrated) and read by ``load_diagram``;
     a SQLite file this user cannot write is opened read-only, and ``say`` is told so.
     """

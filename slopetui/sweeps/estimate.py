@@ -1,7 +1,7 @@
 """What a sweep will cost: runs, steps, and wall time on the workers.
 
 The cost of a step is measured: the median over the newest runs this store's workers
-computed with the same method (``slopetui.store.run_speeds``), which is what they will
+computed with the same method (``slopetui.store.runs.speeds``), which is what they will
 take, batched or not, on this machine. Before any run of a method was computed, the
 reference speeds below stand in, and the estimate says so. They are the kernel speeds the
 workers use, measured by ``benchmarks/bench_kernels.py --repeat 3`` on this project's
@@ -17,6 +17,7 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 from slopetui.duration_text import duration_text
+from slopetui.store.runs.speeds import seconds_per_step
 from slopetui.sweeps.spec import SweepSpec
 
 if TYPE_CHECKING:
@@ -39,7 +40,6 @@ Speeds = Mapping[tuple[str, bool], float]
 
 def measured_speeds(db: Database) -> dict[tuple[str, bool], float]:
     """The seconds per step measured on this store, for each (method, lyap) with runs."""
-    from slopetui.store.run_speeds import seconds_per_step
     out = {}
     for method, lyap in REFERENCE_S_PER_STEP:
         cost = seconds_per_step(db, method, lyap)

@@ -14,7 +14,7 @@ from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
-from core import PARAM_NAMES
+from core.params import PARAM_NAMES
 from core.result_fields import RESULT_NAMES
 from slopetui.json_text import json_text
 

@@ -20,6 +20,8 @@ from typing import IO, TYPE_CHECKING
 from slopetui.json_text import json_text
 from slopetui.store.queries import runs_of, sweep_exists
 from slopetui.sweeps.control import UnknownSweep
+from slopetui.sweeps.export import write_csv
+from slopetui.sweeps.frames import json_rows, runs_frame
 from slopetui.whole_files import as_text, first_free, write_whole
 
 if TYPE_CHECKING:
@@ -51,8 +53,6 @@ def write_json(frame: pd.DataFrame, out: IO[str]) -> int:
     """Strict JSON (no NaN literal: jq and JavaScript refuse it; NaN and ±inf are null,
     slopetui.json_text), one run a line, the text as stored: what ``slopetui export
     --json`` writes."""
-    from slopetui.sweeps.frames import json_rows
-
     rows = json_rows(frame)
     out.write("[\n" if rows else "[")
     out.write(",\n".join(json_text(row, ensure_ascii=False) for row in rows))
@@ -71,13 +71,11 @@ def export_sweep(db: Database, sweep_id: int, fmt: str, folder: Path) -> Exporte
         raise UnknownSweep(sweep_id)
     write: Callable[[IO[str]], int]
     if fmt == "csv":
-        from slopetui.sweeps.export import write_csv
 
         def write(out: IO[str]) -> int:
             with closing(runs_of(db, sweep_id)) as runs:  # the session closes if a write fails
                 return write_csv(runs, out)
     else:
-        from slopetui.sweeps.frames import runs_frame
 
         frame = runs_frame(db, sweep_id)
 

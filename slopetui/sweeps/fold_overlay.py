@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from core.fold_curve import fold_curve
 from slopetui.sweeps.spec import SweepSpec
 
 if TYPE_CHECKING:  # core.fold_curve loads scipy: imported where the curve is computed
@@ -50,7 +51,6 @@ def fold_overlay(spec: SweepSpec, progress: Callable[[float, float | None], None
     there, e.g. a supercritical Hopf point)."""
     if not has_fold_plane(spec):
         return None
-    from core.fold_curve import fold_curve
     assert spec.y is not None
     points = []
     for point in fold_curve(spec.base, [float(t) for t in spec.y.values()], name=spec.x.param):

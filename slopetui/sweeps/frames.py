@@ -33,7 +33,7 @@ measurement is a value iff ``status == "done"`` and not ``inferred``
 **Sweeps** (``sweeps_frame``): one row per sweep, by id; ``SWEEP_COLUMNS`` says what each
 column holds.
 
-The store owns every query (``slopetui.store.frame_reads``); pandas is imported by this
+The store owns every query (``slopetui.store.runs.frames``); pandas is imported by this
 module only, which the faces import when they need a DataFrame, so that ``import
 slopetui`` and ``slopetui --help`` stay light.
 
@@ -54,11 +54,11 @@ from typing import Any, Literal
 import numpy as np
 import pandas as pd
 
-from core import PARAM_NAMES
+from core.params import PARAM_NAMES
 from core.regimes import REGIMES
 from core.result_fields import BY_NAME, RESULT_NAMES
 from slopetui.store.database import Database
-from slopetui.store.frame_reads import run_rows, sweep_specs
+from slopetui.store.runs.frames import run_rows, sweep_specs
 from slopetui.store.statuses import RUN_STATUSES
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.export import COLUMNS

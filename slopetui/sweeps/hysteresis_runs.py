@@ -1,6 +1,6 @@
 """Hysteresis sweeps for the faces (the CLI's ``hysteresis --submit`` and ``--show``, the
 TUI's branches screen): queue one, list them, read one back with its points as plain
-records. No UI here, and no SQL (slopetui.store.hysteresis_rows owns it)."""
+records. No UI here, and no SQL (slopetui.store.jobs.hysteresis_sweeps owns it)."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ from typing import Any
 
 from slopetui.queue import hysteresis_jobs
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
-from slopetui.store import hysteresis_rows
 from slopetui.store.database import Database
-from slopetui.store.hysteresis_rows import HysteresisPointRow, HysteresisRow
+from slopetui.store.jobs import hysteresis_sweeps
+from slopetui.store.jobs.hysteresis_sweeps import HysteresisPointRow, HysteresisRow
 from slopetui.sweeps.stored_jobs import StoredJob
 
 #: value, regime, amplitude (peak to peak of m_y), detail, growth (1 / time unit), jumped,
@@ -54,15 +54,15 @@ def submit(db: Database, spec: HysteresisSpec) -> int:
 
 def listing(db: Database) -> list[StoredHysteresis]:
     """Every hysteresis sweep, newest first, without its points."""
-    return [StoredHysteresis(row, []) for row in hysteresis_rows.hysteresis_sweeps(db)]
+    return [StoredHysteresis(row, []) for row in hysteresis_sweeps.hysteresis_sweeps(db)]
 
 
 def hysteresis_of(db: Database, sid: int) -> StoredHysteresis | None:
     """Hysteresis sweep ``sid`` with its points; None if there is none."""
-    row = hysteresis_rows.hysteresis_sweep(db, sid)
+    row = hysteresis_sweeps.hysteresis_sweep(db, sid)
     if row is None:
         return None
-    return StoredHysteresis(row, [warm_record(p) for p in hysteresis_rows.points(db, sid)])
+    return StoredHysteresis(row, [warm_record(p) for p in hysteresis_sweeps.points(db, sid)])
 
 
 __all__ = ["HysteresisRow", "HysteresisSpec", "StoredHysteresis", "WarmRecord", "hysteresis_of",

@@ -3,7 +3,7 @@ live view; ``slopetui show`` reads a diagram once, ``diagram.load_diagram``).
 
 The first refresh reads the whole sweep; each later one only the runs inserted since
 (ids above the highest read) and those that finished since the previous read, less
-OVERLAP (``store.diagram_reads`` says why both keys are safe across hosts). Whatever else
+OVERLAP (``store.diagrams.reads`` says why both keys are safe across hosts). Whatever else
 changed (a cancel, a resume, a run given back to the queue) shows in the runs counted per
 status, read in the same snapshot: when the copy's counts differ from the store's, the
 copy missed something and the whole sweep is read again. A 10,000-run sweep costs one
@@ -22,8 +22,8 @@ from datetime import datetime, timedelta
 from typing import Any
 
 from slopetui.store.database import Database
-from slopetui.store.diagram_reads import read_diagram
-from slopetui.store.diagram_rows import DiagramRead
+from slopetui.store.diagrams.reads import read_diagram
+from slopetui.store.diagrams.result import DiagramRead
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.diagram import RunPoint, SweepDiagram, read_spec, run_points
 from slopetui.sweeps.spec import SweepSpec

@@ -38,7 +38,7 @@ from datetime import datetime, timedelta
 from slopetui.duration_text import duration_text
 from slopetui.queue.workers_table import WorkerInfo, live_workers
 from slopetui.store.database import Database
-from slopetui.store.sweep_reads import active_sweep_ids, running_runs, sweep_tallies
+from slopetui.store.sweeps.progress import active_sweep_ids, running_runs, sweep_tallies
 
 __all__ = ["RATE_WINDOW_MIN", "PoolProgress", "SweepProgress", "WorkerInfo", "claimed_line",
            "claimed_text", "live_workers", "sweep_progress"]
@@ -144,7 +144,7 @@ def claimed_text(held: int, begun: int, workers: int) -> str:
     computed in turn: "39 running" read as 39 computations on 2 workers); "2 runs
     computing on 2 workers" when every held run has begun; "" when none is held.
     ``held``: running runs; ``begun``: those of them with started_at set
-    (``store.sweep_reads.running_runs``); ``workers``: the live workers."""
+    (``store.sweeps.progress.running_runs``); ``workers``: the live workers."""
     if not held:
         return ""
     runs = "run" if held == 1 else "runs"

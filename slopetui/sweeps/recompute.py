@@ -16,13 +16,16 @@ from typing import TYPE_CHECKING, Any, TypeVar, dataclass_transform
 
 import numpy as np
 
-from core import Params, SolverSettings, run_point
 from core.classify import Summary, power_spectrum
 from core.history import CarriedState
 from core.lyapunov import LyapunovEstimate, running
 from core.lyapunov_bias import bias_note
-from core.params import PARAM_NAMES
+from core.params import PARAM_NAMES, Params
+from core.point import run_point
 from core.result_fields import RESULT_FIELDS, Kind
+from core.solve import SolverSettings
+from slopetui.store.queries import run_by_id
+from slopetui.store.runs.initial_states import load_state
 
 if TYPE_CHECKING:
     from slopetui.store.database import Database
@@ -88,7 +91,7 @@ class StoredRun:
     level: int | None
     history: str
     ic: int
-    #: The final state the history names (slopetui.store.initial_states), if it names one.
+    #: The final state the history names (slopetui.store.runs.initial_states), if it names one.
     carried: bytes | None
 
     if TYPE_CHECKING:  # the result fields, added by _with_result_fields
@@ -119,9 +122,6 @@ class StoredRun:
 def load_run(db: Database, run_id: int) -> StoredRun | None:
     """The run's copy (with the final state its history names, if any), or None if the
     store has no such run."""
-    from slopetui.store.initial_states import load_state
-    from slopetui.store.queries import run_by_id
-
     row = run_by_id(db, run_id)
     if row is None:
         return None

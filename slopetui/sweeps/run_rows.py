@@ -1,12 +1,12 @@
 """Rows of the runs table for a sweep's lattice points, with their cache keys: what
 submission and adaptive refinement share (the store inserts them,
-``slopetui.store.sweep_rows.insert_runs``)."""
+``slopetui.store.sweeps.writes.insert_runs``)."""
 
 from __future__ import annotations
 
 from collections.abc import Iterable
 
-from core import PARAM_NAMES
+from core.params import PARAM_NAMES
 from slopetui.queue.cache import cache_key
 from slopetui.sweeps.spec import SweepSpec
 

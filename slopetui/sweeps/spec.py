@@ -58,10 +58,12 @@ from typing import Any
 
 import numpy as np
 
-from core import PARAM_NAMES, ParameterError, Params, SolverSettings
-from core.solve import DEFAULT_DT, LimitError, validate_run
+from core.history import check_history
+from core.params import PARAM_NAMES, ParameterError, Params
+from core.solve import DEFAULT_DT, LimitError, SolverSettings, validate_run
 from slopetui import examples
 from slopetui.display_text import unsafe_characters
+from slopetui.sweeps.carried import parse_history
 
 SPACINGS = ("linear", "log")
 #: Hard limit: one sweep is one transaction of inserts.
@@ -313,8 +315,6 @@ def _parse_solver(data: object) -> SolverSettings:
 def _parse_initial(data: object, axes: list[Axis], adaptive: bool
                    ) -> tuple[InitialCondition, ...]:
     """The ``[[initial]]`` conditions: 1 to MAX_INITIAL tables of delta and history."""
-    from core.history import check_history
-    from slopetui.sweeps.carried import parse_history
     if not isinstance(data, list) or not 1 <= len(data) <= MAX_INITIAL:
         raise SpecError("initial", f"expected 1 to {MAX_INITIAL} tables [[initial]] with delta "
                                    "and/or history")

@@ -9,8 +9,8 @@ from typing import Any, ClassVar, Generic, Protocol, TypeVar
 
 
 class JobRow(Protocol):
-    """A point-by-point job's row as the store reads it (slopetui.store.branch_rows
-    .ContinuationRow, hysteresis_rows.HysteresisRow): its fields are its columns."""
+    """A point-by-point job's row as the store reads it (slopetui.store.jobs.continuations
+    .ContinuationRow, hysteresis_sweeps.HysteresisRow): its fields are its columns."""
 
     @property
     def id(self) -> int: ...

@@ -14,8 +14,8 @@ from core.jit_cache import source_digest
 from core.params import ParameterError
 from core.solve import make_grid
 from slopetui.store.database import Database
-from slopetui.store.initial_states import save_state
-from slopetui.store.sweep_rows import insert_sweep
+from slopetui.store.runs.initial_states import save_state
+from slopetui.store.sweeps.writes import insert_sweep
 from slopetui.sweeps.adaptive import advance
 from slopetui.sweeps.carried import RUN_PREFIX, final_state_of, parse_history
 from slopetui.sweeps.refinement import coarse_points

@@ -17,8 +17,8 @@ from typing import Any
 
 from sqlalchemy import func, select
 
-from slopetui.store import Database, Run
-from slopetui.store.models import Worker
+from slopetui.store.database import Database
+from slopetui.store.models import Run, Worker
 
 #: RK4 to t_end = 5e4: about 0.2 s a run here, long enough to be caught in the kernel.
 MEDIUM = {"t_end": 5e4}

@@ -14,9 +14,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings
 from core.classify import find_peaks
+from core.params import Params
 from core.point import run_point
+from core.solve import SolverSettings
 from tests.radau_reference import radau
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 from core.branch_start import BranchSpec
 from core.params import Params
 from slopetui.queue import branch_jobs
-from slopetui.store import branch_rows
+from slopetui.store.jobs import continuations
 from tests.integration.pool_support import interrupt_twice_then_finish
 
 #: ~0.1 s a point at tau = 10 with short steps; the two interruptions take about ten points
@@ -18,7 +18,7 @@ SPEC = BranchSpec(Params(tau=10.0), "k", 0.01, from_hopf=True, max_points=30, ma
 
 
 def _row(db):
-    return branch_rows.continuation(db, 1)
+    return continuations.continuation(db, 1)
 
 
 def test_a_branch_survives_kill_9_and_a_stop_and_finishes_once(tmp_path, db, db_url):
@@ -29,7 +29,7 @@ def test_a_branch_survives_kill_9_and_a_stop_and_finishes_once(tmp_path, db, db_
     assert done.status == "done" and done.n_points == SPEC.max_points
     # the kill cost an attempt; the stop gave its attempt back
     assert done.attempts == 2
-    assert [p.idx for p in branch_rows.points(db, cid)] == list(range(SPEC.max_points))
+    assert [p.idx for p in continuations.points(db, cid)] == list(range(SPEC.max_points))
     text = log.read_text()
     assert text.count(f"continuation {cid} done") == 1
     assert "died (exit code -9): 1 jobs requeued" in text

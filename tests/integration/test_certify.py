@@ -7,11 +7,12 @@ import dataclasses
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings, run_batch, run_point
 from core.certify import STABLE_MARGIN, certify, relabel
 from core.classify import classify
+from core.params import Params
 from core.periodic_orbit import find_orbit
-from core.solve import simulate
+from core.point import run_batch, run_point
+from core.solve import SolverSettings, simulate
 from core.stability import hopf_period, leading_exponent
 
 

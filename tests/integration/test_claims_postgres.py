@@ -21,8 +21,8 @@ import pytest
 from sqlalchemy import text
 
 from slopetui.queue import jobs
-from slopetui.store import open_store
 from slopetui.store.database import Database
+from slopetui.store.open import open_store
 from tests.support import claim_one, pg_database, submit_quick
 from tests.unit.test_claims_tau import submit_interleaved
 

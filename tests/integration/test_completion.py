@@ -19,7 +19,8 @@ from pathlib import Path
 import pytest
 
 from slopetui.cli import build_parser
-from slopetui.cli.completion import SHELLS, attach, complete_runs, complete_sweeps, walk
+from slopetui.cli.arguments.completion import SHELLS
+from slopetui.cli.completion import attach, complete_runs, complete_sweeps, walk
 from slopetui.store.database import parse_url, sqlite_path
 from slopetui.store.id_lists import sqlite_file
 from slopetui.sweeps.spec import parse_spec
@@ -94,7 +95,7 @@ def test_sweep_ids_from_slopetui_db(db, db_url, tmp_path):
 
 
 def test_sweep_ids_from_the_default_store(tmp_path):
-    from slopetui.store import open_store
+    from slopetui.store.open import open_store
 
     default = tmp_path / "home" / "data" / "slopetui" / "slopetui.db"
     default.parent.mkdir(parents=True)

@@ -35,8 +35,9 @@ import migrations
 import slopetui
 from slopetui.cli import main
 from slopetui.ops import local_server as ls
-from slopetui.store import Database, Run
+from slopetui.store.database import Database
 from slopetui.store.failures import StoreError
+from slopetui.store.models import Run
 from tests.support import slopetui_cli, submit_quick
 
 REPO = Path(slopetui.__file__).resolve().parents[1]

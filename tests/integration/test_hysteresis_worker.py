@@ -10,7 +10,7 @@ import numpy as np
 from core.params import Params
 from slopetui.queue import hysteresis_jobs
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
-from slopetui.store import hysteresis_rows
+from slopetui.store.jobs import hysteresis_sweeps
 from tests.integration.pool_support import interrupt_twice_then_finish
 
 #: 0.04-0.1 s a point at tau = 2 with t_settle = 3000; the two interruptions take about
@@ -21,7 +21,7 @@ TOTAL = 2 * SPEC.n_points
 
 
 def _row(db):
-    return hysteresis_rows.hysteresis_sweep(db, 1)
+    return hysteresis_sweeps.hysteresis_sweep(db, 1)
 
 
 def test_a_sweep_survives_kill_9_and_a_stop_and_finishes_once(tmp_path, db, db_url):
@@ -31,7 +31,7 @@ def test_a_sweep_survives_kill_9_and_a_stop_and_finishes_once(tmp_path, db, db_u
     done = _row(db)
     assert done.status == "done" and done.n_done == TOTAL
     assert done.attempts == 2  # the kill cost an attempt; the stop gave its attempt back
-    points = hysteresis_rows.points(db, sid)
+    points = hysteresis_sweeps.points(db, sid)
     assert [p.idx for p in points] == list(range(TOTAL))
     values = SPEC.values()
     assert [p.direction for p in points] == ["up"] * SPEC.n_points + ["down"] * SPEC.n_points

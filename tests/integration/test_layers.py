@@ -15,8 +15,8 @@ import pytest
 from sqlalchemy import select
 
 from slopetui.queue.worker_process import WorkerOptions
-from slopetui.store import open_store
 from slopetui.store.models import Sweep
+from slopetui.store.open import open_store
 from slopetui.sweeps.adaptive import advance_all
 from slopetui.sweeps.progress import PoolProgress
 from slopetui.sweeps.spec import parse_spec

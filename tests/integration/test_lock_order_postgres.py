@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import threading
 
-from core import run_point
+from core.point import run_point
 from slopetui.queue import jobs, registry
 from slopetui.store.open import open_store
-from slopetui.store.worker_rows import register_worker
+from slopetui.store.workers import register_worker
 from tests.support import submit_quick
 
 

@@ -24,7 +24,8 @@ from pathlib import Path
 from sqlalchemy import create_engine, func, select, text
 from sqlalchemy.engine import make_url
 
-from slopetui.store import Run, open_store
+from slopetui.store.models import Run
+from slopetui.store.open import open_store
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 from tests.integration.pool_support import DONE_LINE, gone, start_pool

@@ -14,7 +14,9 @@ import numpy as np
 import pytest
 from numba import njit
 
-from core import Params, SolverSettings, run_point
+from core.params import Params
+from core.point import run_point
+from core.solve import SolverSettings
 
 H = 0.005          # the reference's step
 T_END = 2e4

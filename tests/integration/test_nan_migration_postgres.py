@@ -8,9 +8,9 @@ import math
 
 from sqlalchemy import select, text
 
-from slopetui.store import Run
 from slopetui.store.database import Database
 from slopetui.store.migrate import downgrade, upgrade
+from slopetui.store.models import Run
 from slopetui.store.open import open_store
 from tests.support import finish_all, submit_quick
 

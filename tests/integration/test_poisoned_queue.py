@@ -18,7 +18,7 @@ from core.branch_start import BranchSpec
 from core.params import Params
 from slopetui.queue import branch_jobs, hysteresis_jobs
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
-from slopetui.store import branch_rows, hysteresis_rows
+from slopetui.store.jobs import continuations, hysteresis_sweeps
 from slopetui.store.models import Continuation, HysteresisSweep, Run
 from tests.integration.pool_support import pool_env
 from tests.support import slopetui_cli
@@ -54,11 +54,11 @@ def test_a_pool_fails_the_poisoned_rows_computes_the_rest_and_exits_0(store, sto
                         r"range: allowed dt > 0", runs[2].error), runs[2].error
     assert runs[2].attempts == 0
     assert text.count("run 2 failed at its claim: ") == 1
-    continuation = branch_rows.continuation(store, branch)
+    continuation = continuations.continuation(store, branch)
     assert continuation is not None and continuation.status == "failed"
     assert "k = -1.0 is out of range: allowed k >= 0" in continuation.error
     assert text.count(f"continuation {branch} failed at its claim: ") == 1
-    hysteresis = hysteresis_rows.hysteresis_sweep(store, sweep)
+    hysteresis = hysteresis_sweeps.hysteresis_sweep(store, sweep)
     assert hysteresis is not None and hysteresis.status == "failed"
     assert "allowed dt > 0" in hysteresis.error
     assert text.count(f"hysteresis sweep {sweep} failed at its claim: ") == 1

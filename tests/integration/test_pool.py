@@ -17,7 +17,8 @@ from collections import Counter
 
 from sqlalchemy import select
 
-from slopetui.store import Run, open_store
+from slopetui.store.models import Run
+from slopetui.store.open import open_store
 from slopetui.sweeps.progress import sweep_progress
 from tests.integration.pool_support import (
     MEDIUM,

@@ -10,7 +10,7 @@ import time
 
 from slopetui.queue.local_pool import store_key
 from slopetui.queue.open_apps import record_app
-from slopetui.store import open_store
+from slopetui.store.open import open_store
 from slopetui.sweeps import control
 from tests.integration.pool_support import by_status, start_pool, wait_until
 from tests.support import submit_quick

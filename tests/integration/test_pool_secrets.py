@@ -27,8 +27,8 @@ from sqlalchemy.engine import make_url
 
 from slopetui.cli import main
 from slopetui.queue.local_pool import start_detached_pool, store_key
-from slopetui.store import open_store
 from slopetui.store.location import DB_ENV
+from slopetui.store.open import open_store
 from tests.integration.pool_support import by_status, gone, wait_until
 from tests.support import submit_quick
 

@@ -20,8 +20,9 @@ from sqlalchemy import create_engine
 from sqlalchemy.engine import make_url
 
 from slopetui.ops.local_server import reader_grants
-from slopetui.store import Database, open_store
+from slopetui.store.database import Database
 from slopetui.store.location import READ_DB_ENV
+from slopetui.store.open import open_store
 from slopetui.store.read_query import QueryError, ReadQuery
 from tests.integration.test_db_serve import free_port, runner  # noqa: F401  (a fixture)
 from tests.support import pg_database, submit_quick

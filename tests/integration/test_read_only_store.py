@@ -22,7 +22,7 @@ from pathlib import Path
 import pytest
 
 import migrations
-from slopetui.store import open_store
+from slopetui.store.open import open_store
 from tests.support import submit_quick
 
 #: What makes root obey the files' modes: no capability to override them.

@@ -35,7 +35,9 @@ import pytest
 from sqlalchemy import select
 
 from slopetui.cli import main
-from slopetui.store import Database, Run, open_store
+from slopetui.store.database import Database
+from slopetui.store.models import Run
+from slopetui.store.open import open_store
 from tests.integration.pool_support import by_status, wait_until
 from tests.support import pg_database, submit_quick
 

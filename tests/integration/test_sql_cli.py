@@ -19,7 +19,7 @@ import pytest
 from slopetui import sql_results
 from slopetui.cli import main
 from slopetui.cli import sql as cli_sql
-from slopetui.store import open_store
+from slopetui.store.open import open_store
 from tests.support import ENDLESS, SLOW, new_sqlite_store, submit_quick
 
 ROOT = Path(__file__).resolve().parents[2]

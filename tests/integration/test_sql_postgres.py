@@ -16,7 +16,7 @@ from collections.abc import Iterator
 import pytest
 from sqlalchemy import Engine
 
-from slopetui.store import open_store
+from slopetui.store.open import open_store
 from slopetui.store.read_query import QueryCancelled, QueryError, QueryTimedOut, ReadQuery
 from tests.support import pg_database
 

@@ -61,10 +61,10 @@ def test_help_loads_no_heavy_module():
 def test_the_jobs_modules_and_the_method_names_load_no_numpy():
     """The queue's kinds of job (which `status` and `workers` reach through the registry's
     activity() counts) import numpy only in the functions that compute or decode, and
-    ``from core import METHODS`` (a form's choices) comes from core.methods."""
+    ``from core.methods import METHODS`` (a form's choices) loads none."""
     assert loaded_after("import slopetui.sweeps.branches, slopetui.sweeps.hysteresis_runs, "
                         "slopetui.queue.registry, slopetui.queue.worker_process; "
-                        "from core import METHODS") == THE_DRIVER
+                        "from core.methods import METHODS") == THE_DRIVER
 
 
 @pytest.fixture
@@ -86,7 +86,7 @@ def test_reading_commands_load_the_database_driver_only(busy_store, argv):
 
 #: What `slopetui show` may load of NEVER_FOR_HELP from a SQLite store at the current
 #: schema: numpy and plotext (the drawing, the Hopf curve), not SQLAlchemy
-#: (slopetui.store.sqlite_diagram_reads: 0.35-0.45 s less), nor numba.
+#: (slopetui.store.diagrams.sqlite_reads: 0.35-0.45 s less), nor numba.
 THE_DRAWING = {"numpy", "plotext"}
 
 

@@ -12,7 +12,8 @@ import pytest
 from sqlalchemy import select
 
 from slopetui.cli import main
-from slopetui.store import Run, open_store
+from slopetui.store.models import Run
+from slopetui.store.open import open_store
 
 
 @pytest.fixture

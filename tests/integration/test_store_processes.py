@@ -16,8 +16,9 @@ from pathlib import Path
 import pytest
 from sqlalchemy import inspect
 
-from slopetui.store import Database, open_store
+from slopetui.store.database import Database
 from slopetui.store.migrate import current_revision, head_revision
+from slopetui.store.open import open_store
 from tests.support import slopetui_cli
 
 ROOT = Path(__file__).resolve().parents[2]

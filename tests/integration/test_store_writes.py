@@ -12,7 +12,7 @@ from pathlib import Path
 
 from slopetui.queue.pool import Pool
 from slopetui.queue.worker_process import WorkerOptions, configure_logging, worker_main
-from slopetui.store import open_store
+from slopetui.store.open import open_store
 from tests.integration.pool_support import start_pool, wait_until
 from tests.integration.test_store_filesystems import tmpfs  # noqa: F401 (a fixture)
 from tests.support import submit_quick

@@ -10,7 +10,7 @@ import sqlite3
 import subprocess
 import sys
 
-from slopetui.store import open_store
+from slopetui.store.open import open_store
 from tests.support import submit_quick
 
 HOSTILE = "\x1b]0;owned\x07\x1b[2J\x9b1m\u202eabc"

@@ -21,8 +21,7 @@ import pytest
 from sqlalchemy import select
 
 from slopetui.cli import main
-from slopetui.store import Run
-from slopetui.store.models import Worker
+from slopetui.store.models import Run, Worker
 from tests.integration.pool_support import LONG, gone, live_worker_rows, started_run, wait_until
 from tests.support import submit_quick
 

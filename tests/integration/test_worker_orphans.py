@@ -15,7 +15,7 @@ from pathlib import Path
 
 from sqlalchemy import select
 
-from slopetui.store import Run
+from slopetui.store.models import Run
 from tests.integration.pool_support import (
     MEDIUM,
     by_status,

@@ -20,7 +20,9 @@ from pathlib import Path
 
 from sqlalchemy import select
 
-from slopetui.store import Database, Run, open_store
+from slopetui.store.database import Database
+from slopetui.store.models import Run
+from slopetui.store.open import open_store
 from tests.integration.pool_support import (
     LONG,
     MEDIUM,

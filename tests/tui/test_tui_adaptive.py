@@ -6,8 +6,8 @@ from __future__ import annotations
 
 from sqlalchemy import func, select
 
-from slopetui.store import open_store
 from slopetui.store.models import Run, Sweep
+from slopetui.store.open import open_store
 from slopetui.sweeps.diagram import load_diagram
 from slopetui.tui.app import SlopeApp
 from slopetui.tui.screens.sweeps import SweepsScreen

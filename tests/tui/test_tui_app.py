@@ -5,7 +5,8 @@ from __future__ import annotations
 
 from sqlalchemy import func, select
 
-from slopetui.store import Database, Run, Sweep, Worker
+from slopetui.store.database import Database
+from slopetui.store.models import Run, Sweep, Worker
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 from slopetui.tui.app import SlopeApp

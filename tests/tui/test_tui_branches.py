@@ -11,7 +11,8 @@ from textual.widgets import DataTable
 from core.branch_start import BranchSpec
 from core.params import Params
 from slopetui.queue.branch_jobs import fields_of
-from slopetui.store import Database, branch_rows
+from slopetui.store.database import Database
+from slopetui.store.jobs import continuations
 from slopetui.sweeps import fold_overlay
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
@@ -45,16 +46,16 @@ def point(idx: int, value: float, amplitude: float, stable: bool) -> dict:
 def continuation(db: Database, *, finish: bool = True) -> int:
     """A continuation in k from the Hopf point, with five points (two unstable, three
     stable) and, once finished, a fold of cycles."""
-    cid = branch_rows.submit(db, fields_of(BranchSpec(params=Params(), name="k", dt=0.01,
+    cid = continuations.submit(db, fields_of(BranchSpec(params=Params(), name="k", dt=0.01,
                                                       from_hopf=True)))
-    assert branch_rows.claim(db, "w1") is not None
+    assert continuations.claim(db, "w1") is not None
     shape = [(1.30, 0.2, False), (1.22, 0.6, False), (1.23, 1.0, True), (1.30, 1.4, True),
              (1.40, 1.8, True)]
     for i, (k, amplitude, stable) in enumerate(shape):
-        assert branch_rows.save_point(db, cid, "w1", point(i, k, amplitude, stable), 0.0,
+        assert continuations.save_point(db, cid, "w1", point(i, k, amplitude, stable), 0.0,
                                       hopf=(1.35, 24.0) if i == 0 else None)
     if finish:
-        assert branch_rows.finish(db, cid, "w1", "reached the requested end", "subcritical",
+        assert continuations.finish(db, cid, "w1", "reached the requested end", "subcritical",
                                   1.0, [{"type": "fold", "value": FOLD_K, "period": 30.0,
                                          "mu_re": 1.0, "mu_im": 0.0}])
     return cid
@@ -104,7 +105,7 @@ def test_a_running_continuation_grows_as_its_points_are_saved(db):
             detail = app.screen.query_one("#branch-detail")
             await wait_until(pilot, lambda: "5 points so far" in str(detail.render()))
             # a worker elsewhere saves the next point: the periodic refresh shows it
-            assert branch_rows.save_point(db, cid, "w1", point(5, 1.5, 2.2, True), 0.0)
+            assert continuations.save_point(db, cid, "w1", point(5, 1.5, 2.2, True), 0.0)
             await wait_until(pilot, lambda: cells(table, 0)[4] == "6"
                              and "6 points so far" in str(detail.render()))
             plot = app.screen.query_one(PlotView)

@@ -8,7 +8,7 @@ from pathlib import Path
 from textual.widgets import Static
 
 from slopetui.plots.compare_plots import render_compare_phase, render_compare_time
-from slopetui.store import Database
+from slopetui.store.database import Database
 from slopetui.tui.screens.compare import TAB_PHASE, TAB_TIME, CompareScreen
 from slopetui.tui.screens.run_detail import RunDetailScreen
 from slopetui.tui.widgets.phase_grid import PhaseGrid

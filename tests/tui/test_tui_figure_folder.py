@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from slopetui.store import Database
+from slopetui.store.database import Database
 from slopetui.tui.figure_writing import FIGURES_ENV
 from tests.support import finish_all, submit_quick
 from tests.tui.support import run, wait_until

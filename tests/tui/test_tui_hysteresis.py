@@ -10,7 +10,8 @@ import numpy as np
 
 from core.params import Params
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
-from slopetui.store import Database, hysteresis_rows
+from slopetui.store.database import Database
+from slopetui.store.jobs import hysteresis_sweeps
 from slopetui.sweeps.hysteresis_runs import submit
 from slopetui.tui.screens.branches import BranchesScreen
 from slopetui.tui.widgets.plot_view import PlotView
@@ -30,14 +31,14 @@ SHAPE = [("up", 0.5, "sliding", 1e-6, -0.01, False), ("up", 4.25, "sliding", 1e-
 def sweep(db: Database, n: int = len(SHAPE), *, finish: bool = True) -> int:
     """A hysteresis sweep with its first ``n`` points saved and, if asked, finished."""
     sid = submit(db, SPEC)
-    assert hysteresis_rows.claim(db, "w1") is not None
+    assert hysteresis_sweeps.claim(db, "w1") is not None
     for i, (direction, k, regime, amplitude, growth, jumped) in enumerate(SHAPE[:n]):
-        assert hysteresis_rows.save_point(db, sid, "w1", {
+        assert hysteresis_sweeps.save_point(db, sid, "w1", {
             "idx": i, "direction": direction, "value": k, "regime": regime, "detail": "",
             "amplitude": amplitude, "growth": growth, "jumped": jumped,
             "state": np.zeros(3).tobytes()}, 0.1)
     if finish:
-        assert hysteresis_rows.finish(db, sid, "w1", {
+        assert hysteresis_sweeps.finish(db, sid, "w1", {
             "onset_up": 6.1431, "onset_up_before": 4.25, "onset_up_after": 8.0,
             "offset_down": 1.2144, "offset_down_before": 4.25, "offset_down_after": 0.5}, 0.0)
     return sid
@@ -94,7 +95,7 @@ def test_tab_moves_between_continuations_and_sweeps_and_a_running_one_grows(db):
             await wait_until(pilot, lambda: f"hysteresis {sid}" in str(plot.render()))
             assert "up 2" in str(plot.render())
             # a worker elsewhere saves the next point: the periodic refresh shows it
-            assert hysteresis_rows.save_point(db, sid, "w1", {
+            assert hysteresis_sweeps.save_point(db, sid, "w1", {
                 "idx": 2, "direction": "up", "value": 8.0, "regime": "oscillatory",
                 "detail": "", "amplitude": 2.5, "growth": 0.002, "jumped": True,
                 "state": b""}, 0.1)

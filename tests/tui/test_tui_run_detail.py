@@ -26,8 +26,9 @@ from slopetui.plots.run_plots import (
     render_time_series,
 )
 from slopetui.queue import jobs
-from slopetui.store import Database, open_store
+from slopetui.store.database import Database
 from slopetui.store.models import Run
+from slopetui.store.open import open_store
 from slopetui.tui.app import SlopeApp
 from slopetui.tui.screens.run_detail import (
     MATCH_TEXT,

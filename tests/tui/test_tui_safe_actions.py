@@ -12,7 +12,8 @@ from __future__ import annotations
 from rich.text import Text
 from sqlalchemy import func, select, update
 
-from slopetui.store import Database, Run, Sweep
+from slopetui.store.database import Database
+from slopetui.store.models import Run, Sweep
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 from slopetui.tui.app import SlopeApp

@@ -18,7 +18,7 @@ from textual.screen import Screen
 from textual.widgets import DataTable, OptionList, Static, TextArea, Tree
 
 from slopetui.sql_history import read_history
-from slopetui.store import open_store
+from slopetui.store.open import open_store
 from slopetui.tui.app import SlopeApp
 from slopetui.tui.screens import sql as sql_screen
 from slopetui.tui.screens.sql import SqlScreen, format_cell

@@ -17,7 +17,8 @@ from textual.widgets import Input
 
 from slopetui.plots.bifurcation import CURSOR_MARKER, render_bifurcation
 from slopetui.plots.run_plots import render_time_series
-from slopetui.store import Database, open_store
+from slopetui.store.database import Database
+from slopetui.store.open import open_store
 from slopetui.tui.app import SlopeApp
 from slopetui.tui.screens.compare import CompareScreen
 from slopetui.tui.screens.new_sweep import SWEPT, NewSweepScreen

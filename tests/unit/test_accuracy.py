@@ -16,10 +16,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings
 from core.accuracy import TOLERANCE, finer, hermite, start_of
 from core.classify import classify
+from core.params import Params
 from core.point import PointResult, run_batch, run_point
+from core.solve import SolverSettings
 from slopetui.cli import main
 
 FAST = Params(tau=0.5, k=40.0)

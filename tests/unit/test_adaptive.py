@@ -17,8 +17,7 @@ from sqlalchemy import func, select, text
 
 from core.jit_cache import source_digest
 from slopetui.cli import main
-from slopetui.store import Database, open_store
-from slopetui.store.cached_results import finished_results
+from slopetui.store.database import Database
 from slopetui.store.migrate import (
     alembic_config,
     current_revision,
@@ -26,6 +25,8 @@ from slopetui.store.migrate import (
     upgrade,
 )
 from slopetui.store.models import Run, Sweep
+from slopetui.store.open import open_store
+from slopetui.store.runs.cached_results import finished_results
 from slopetui.sweeps import adaptive as adaptive_module
 from slopetui.sweeps import submit as submit_module
 from slopetui.sweeps.adaptive import advance, advance_all, ready_sweeps

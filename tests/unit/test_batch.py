@@ -7,8 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings, Trajectory, run_batch, run_point, simulate
 from core.batch import LANES, MIN_LANES, simulate_batch
+from core.params import Params
+from core.point import run_batch, run_point
+from core.solve import SolverSettings, Trajectory, simulate
 
 #: Lanes that differ in what matters to the batch: no delay, tau = dt and 2 dt (the
 #: shortest ring buffers, RK4's special case), a tau off the dt grid (dt' < dt, more steps),

@@ -9,17 +9,17 @@ import tracemalloc
 import numpy as np
 from sqlalchemy import func, select
 
-from core import Params, SolverSettings, run_batch, run_point
 from core.batch import MIN_LANES, VECTOR
 from core.closure import closure_flags, uphill_flags
-from core.point import SAMPLE_BLOCK, _negative_variance, _sample_flags
-from core.solve import _sample_times, make_grid, memory_of, moved_into, simulate, trajectory_of
+from core.params import Params
+from core.point import SAMPLE_BLOCK, _negative_variance, _sample_flags, run_batch, run_point
+from core.solve import SolverSettings, _sample_times, make_grid, memory_of, moved_into, simulate, trajectory_of
 from slopetui.queue.batch_memory import MIB, OVERHEAD, REDO, charge, fitting, fitting_sizes, run_bytes
 from slopetui.queue.jobs import Job, claim_batch
 from slopetui.queue.pool import Pool
 from slopetui.queue.run_batches import BATCHED_METHODS, _within_memory
 from slopetui.queue.worker_process import WorkerOptions
-from slopetui.store import Run
+from slopetui.store.models import Run
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 

@@ -1,4 +1,4 @@
-"""Continuations as jobs (slopetui.queue.branch_jobs, slopetui.store.branch_rows): the lease
+"""Continuations as jobs (slopetui.queue.branch_jobs, slopetui.store.jobs.continuations): the lease
 guards every write, a stopped branch resumes where it stopped and ends as an uninterrupted
 one would, and a branch with no orbit to start from fails at once with the reason."""
 
@@ -14,7 +14,7 @@ from core.branch_start import MIN_STEP, BranchSpec, past_end, resume, start
 from core.continuation import bifurcations, step
 from core.params import Params
 from slopetui.queue import branch_jobs, registry
-from slopetui.store import branch_rows
+from slopetui.store.jobs import continuations
 from slopetui.sweeps.branches import branch_of
 
 #: A short delay keeps the state small (N = 200) and a branch quick (~0.05 s a point).
@@ -39,7 +39,7 @@ class StopAfter:
         self.db, self.cid, self.n = db, cid, n
 
     def stopping(self) -> bool:
-        row = branch_rows.continuation(self.db, self.cid)
+        row = continuations.continuation(self.db, self.cid)
         return row is not None and row.n_points >= self.n
 
 
@@ -65,36 +65,36 @@ def _point(idx: int) -> dict[str, Any]:
 
 def test_points_are_saved_by_the_lease_holder_only_and_in_order(store):
     cid = branch_jobs.submit(store, SPEC)
-    assert branch_rows.claim(store, "w1").id == cid
-    assert branch_rows.claim(store, "w2") is None  # one holder
-    assert branch_rows.save_point(store, cid, "w1", _point(0), 0.1)
-    assert not branch_rows.save_point(store, cid, "w1", _point(0), 0.1)  # not the next one
-    assert not branch_rows.save_point(store, cid, "w1", _point(2), 0.1)  # a gap
-    assert not branch_rows.save_point(store, cid, "w2", _point(1), 0.1)  # not the holder
-    assert branch_rows.save_point(store, cid, "w1", _point(1), 0.2)
-    row = branch_rows.continuation(store, cid)
+    assert continuations.claim(store, "w1").id == cid
+    assert continuations.claim(store, "w2") is None  # one holder
+    assert continuations.save_point(store, cid, "w1", _point(0), 0.1)
+    assert not continuations.save_point(store, cid, "w1", _point(0), 0.1)  # not the next one
+    assert not continuations.save_point(store, cid, "w1", _point(2), 0.1)  # a gap
+    assert not continuations.save_point(store, cid, "w2", _point(1), 0.1)  # not the holder
+    assert continuations.save_point(store, cid, "w1", _point(1), 0.2)
+    row = continuations.continuation(store, cid)
     assert (row.n_points, row.attempts) == (2, 1)
     assert row.runtime_s == pytest.approx(0.3)
     # a shutdown gives it back with its attempt; the points stay
-    assert branch_rows.release(store, cid, "w1")
-    assert not branch_rows.finish(store, cid, "w1", "end", None, 0.0, [])  # no longer held
-    row = branch_rows.continuation(store, cid)
+    assert continuations.release(store, cid, "w1")
+    assert not continuations.finish(store, cid, "w1", "end", None, 0.0, [])  # no longer held
+    row = continuations.continuation(store, cid)
     assert (row.status, row.attempts, row.n_points) == ("queued", 0, 2)
-    assert [p.idx for p in branch_rows.points(store, cid)] == [0, 1]
+    assert [p.idx for p in continuations.points(store, cid)] == [0, 1]
 
 
 def test_expired_and_dead_workers_continuations_go_back_or_fail(store):
     first = branch_jobs.submit(store, SPEC)
     second = branch_jobs.submit(store, SPEC)
-    branch_rows.claim(store, "w1")
-    branch_rows.claim(store, "w2")
+    continuations.claim(store, "w1")
+    continuations.claim(store, "w2")
     assert registry.requeue_worker(store, "w1", "worker died", max_attempts=3) == (1, 0)
-    assert branch_rows.continuation(store, first).status == "queued"
+    assert continuations.continuation(store, first).status == "queued"
     # max_attempts 1: the second has used its one attempt
     assert registry.requeue_worker(store, "w2", "worker died", max_attempts=1) == (0, 1)
-    row = branch_rows.continuation(store, second)
+    row = continuations.continuation(store, second)
     assert row.status == "failed" and "gave up after 1 attempts" in row.error
-    branch_rows.claim(store, "w3")
+    continuations.claim(store, "w3")
     assert registry.requeue_expired(store, lease_s=3600.0, max_attempts=3) == (0, 0)  # still fresh
 
 
@@ -103,7 +103,7 @@ def test_a_stopped_continuation_resumes_and_ends_as_an_uninterrupted_one(store):
     cid = branch_jobs.submit(store, SPEC)
     job = branch_jobs.claim(store, "w1")
     branch_jobs.compute(store, "w1", job, inline, StopAfter(store, cid, 3), max_attempts=3)
-    row = branch_rows.continuation(store, cid)
+    row = continuations.continuation(store, cid)
     assert (row.status, row.n_points, row.attempts) == ("queued", 3, 0)
     assert row.hopf_value == pytest.approx(reference[0][0], abs=1e-3)
     job = branch_jobs.claim(store, "w2")  # another worker takes it over
@@ -122,12 +122,12 @@ def test_resume_rebuilds_the_branch_a_worker_left(store):
     for _ in range(4):
         step(branch, lambda q: False, 10, MIN_STEP)
     cid = branch_jobs.submit(store, SPEC)
-    branch_rows.claim(store, "w1")
+    continuations.claim(store, "w1")
     saved = []
     for i in range(len(branch.points)):
         part = _prefix(branch, i + 1)
-        assert branch_rows.save_point(store, cid, "w1", branch_jobs.point_fields(part), 0.0)
-    saved = [branch_jobs.saved_of(r) for r in branch_rows.saved_points(store, cid)]
+        assert continuations.save_point(store, cid, "w1", branch_jobs.point_fields(part), 0.0)
+    saved = [branch_jobs.saved_of(r) for r in continuations.saved_points(store, cid)]
     again = resume(SPEC, saved)
     assert again.g0 == branch.g0 and again.h == branch.h
     np.testing.assert_array_equal(again.y, branch.y)
@@ -154,7 +154,7 @@ def test_no_orbit_to_start_from_fails_at_once_with_the_reason(store):
     cid = branch_jobs.submit(store, spec)
     job = branch_jobs.claim(store, "w1")
     branch_jobs.compute(store, "w1", job, inline, Never(), max_attempts=3)
-    row = branch_rows.continuation(store, cid)
+    row = continuations.continuation(store, cid)
     assert row.status == "failed" and row.attempts == 1
     assert row.error.startswith("no branch: ")
-    assert branch_rows.points(store, cid) == []
+    assert continuations.points(store, cid) == []

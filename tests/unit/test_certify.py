@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from core import Params, SolverSettings, run_point
+from core.params import Params
+from core.point import run_point
+from core.solve import SolverSettings
 
 
 def test_a_vanishing_stiffness_leaves_linear_theory_undecided_not_a_traceback():

@@ -1,4 +1,4 @@
-"""A batch is claimed by tau (store.claims.claim_batch): the batched kernels' lanes share
+"""A batch is claimed by tau (store.runs.claims.claim_batch): the batched kernels' lanes share
 tau (one delay ring length, one step grid), so a claim takes the oldest queued runs that
 share the oldest queued run's solver settings and tau, and a plane whose tau varies
 fastest in id order still fills batches, one tau at a time."""
@@ -8,7 +8,8 @@ from __future__ import annotations
 from sqlalchemy import select
 
 from slopetui.queue import jobs
-from slopetui.store import Database, Run
+from slopetui.store.database import Database
+from slopetui.store.models import Run
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import Submitted, submit
 

@@ -7,14 +7,18 @@ import math
 import numpy as np
 import pytest
 
-from core import LyapunovEstimate, Params, SolverSettings, classify, run_point
 from core.classify import (
+    classify,
     dominant_frequency,
     fast_fft_length,
     find_peaks,
     zero_one_test,
 )
+from core.lyapunov import LyapunovEstimate
+from core.params import Params
+from core.point import run_point
 from core.returns import RETURN_NOISE, find_return
+from core.solve import SolverSettings
 from core.spectrum import Spectrum
 
 T = np.arange(0.0, 1000.0, 0.01)

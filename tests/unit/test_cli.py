@@ -3,6 +3,7 @@ tests/integration/test_cli_process.py)."""
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 
@@ -139,3 +140,25 @@ def test_export_json_of_an_empty_store_names_the_sweep(tmp_path, capsys):
     assert main(["export", "1", "--json", "--db", url]) == 2
     captured = capsys.readouterr()
     assert captured.out == "" and captured.err == "slopetui export: error: SWEEP: no sweep with id 1\n"
+
+
+def test_every_command_has_a_handler_imported_on_dispatch_only():
+    """The parser's commands and the handlers' table name the same commands; building the
+    parser (what --help and shell completion do) imports no handler's module, and each
+    handler is a function of the module the table names."""
+    import subprocess
+    import sys
+
+    from slopetui.cli import HANDLERS, build_parser, imported
+
+    parser = build_parser()
+    (sub,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    assert set(sub.choices) == set(HANDLERS)
+    handlers = {target.partition(":")[0] for target in HANDLERS.values()}
+    probe = ("import sys; from slopetui.cli import build_parser; build_parser(); "
+             f"print(sorted(m for m in {sorted(handlers)!r} if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    # completion: the parser's own id completers live there (a light module, stdlib only)
+    assert out == "['slopetui.cli.completion']"
+    assert all(callable(imported(target)) for target in HANDLERS.values())

@@ -9,7 +9,7 @@ import pytest
 
 from slopetui.cli import main
 from slopetui.queue import branch_jobs
-from slopetui.store import branch_rows
+from slopetui.store.jobs import continuations
 from tests.unit.test_branch_jobs import Never, inline
 
 SUBMIT = ["continue", "--param", "k", "--from-hopf", "--tau", "2", "--points", "6", "--submit"]
@@ -23,7 +23,7 @@ def _compute(db) -> None:
 def test_submit_queues_and_branch_shows_it_queued_then_done(db, db_url, capsys):
     assert main([*SUBMIT, "--db", db_url, "--json"]) == 0
     assert json.loads(capsys.readouterr().out) == {"id": 1, "status": "queued"}
-    assert branch_rows.continuation(db, 1).status == "queued"
+    assert continuations.continuation(db, 1).status == "queued"
     assert main(["branch", "--db", db_url]) == 0
     listed = capsys.readouterr().out.splitlines()
     assert listed[1].split()[:5] == ["1", "k", "hopf", "tau=2", "queued"]
@@ -64,4 +64,4 @@ def test_unknown_continuation_and_plot_without_id_are_usage_errors(db_url, capsy
 def test_bad_input_to_submit_writes_nothing(db, db_url, capsys):
     assert main(["continue", "--param", "k", "--to", "-3", "--submit", "--db", db_url]) == 2
     assert "k = " in capsys.readouterr().err
-    assert branch_rows.continuations(db) == []
+    assert continuations.continuations(db) == []

@@ -11,7 +11,7 @@ import pytest
 
 from slopetui.cli import main
 from slopetui.figures import DIAGRAM_SIZE, PNG_DPI
-from slopetui.store import Database
+from slopetui.store.database import Database
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
 from tests.support import QUICK_SOLVER, finish_all, submit_quick

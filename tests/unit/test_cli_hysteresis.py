@@ -9,7 +9,7 @@ import json
 import pytest
 
 from slopetui.cli import main
-from slopetui.store import hysteresis_rows
+from slopetui.store.jobs import hysteresis_sweeps
 from tests.unit.test_hysteresis_jobs import _compute
 
 SWEEP = ["hysteresis", "--param", "k", "--from", "8", "--to", "12", "--points", "4",
@@ -78,4 +78,4 @@ def test_missing_flags_and_unknown_sweeps_are_usage_errors(db, db_url, capsys):
     assert "not both" in capsys.readouterr().err
     assert main([*SWEEP[:-4], "--t-settle", "1", "--submit", "--db", db_url]) == 2
     assert "t-settle" in capsys.readouterr().err
-    assert hysteresis_rows.hysteresis_sweeps(db) == []
+    assert hysteresis_sweeps.hysteresis_sweeps(db) == []

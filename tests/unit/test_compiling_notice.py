@@ -45,9 +45,9 @@ def stop(*args, **kwargs):
                                                  "--to", "9"],
                                      ["continue", "--param", "k", "--from-hopf"]])
 def test_analyses_say_when_they_compile(command, monkeypatch, capsys):
-    monkeypatch.setattr("core.periodic_orbit.find_orbit", stop)
-    monkeypatch.setattr("core.hysteresis.hysteresis", stop)
-    monkeypatch.setattr("core.branch_start.start", stop)
+    monkeypatch.setattr("slopetui.cli.orbit.find_orbit", stop)
+    monkeypatch.setattr("slopetui.cli.hysteresis.hysteresis", stop)
+    monkeypatch.setattr("slopetui.cli.continuation.start", stop)
     for compiled, said in ((False, True), (True, False)):
         monkeypatch.setattr(warm_up, "kernels_compiled", lambda modules, c=compiled: c)
         with pytest.raises(Stop):

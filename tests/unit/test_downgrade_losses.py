@@ -9,7 +9,7 @@ import io
 import pytest
 
 from slopetui.cli import main
-from slopetui.store import Database
+from slopetui.store.database import Database
 from slopetui.store.downgrade_losses import DROPS
 from slopetui.store.migrate import current_revision, downgrade, head_revision, plan_downgrade, revisions
 from tests.unit.test_ids_kept import _rows, populate

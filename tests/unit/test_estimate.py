@@ -6,7 +6,7 @@ import pytest
 from sqlalchemy import func, select
 
 from slopetui.store.models import Run
-from slopetui.store.run_speeds import seconds_per_step
+from slopetui.store.runs.speeds import seconds_per_step
 from slopetui.sweeps.estimate import describe, measured_speeds, wall_seconds
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit

@@ -23,9 +23,9 @@ import pytest
 from matplotlib.figure import Figure
 from matplotlib.image import imread
 
-from core import PARAM_NAMES
 from core.classify import Summary, power_spectrum
 from core.lyapunov import LyapunovEstimate
+from core.params import PARAM_NAMES
 from core.result_fields import RESULT_FIELDS
 from slopetui.figures import (
     COMPARE_SIZE,

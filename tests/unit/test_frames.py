@@ -22,9 +22,9 @@ from sqlalchemy import select, update
 
 import slopetui
 from core.result_fields import RESULT_NAMES
+from slopetui.cli import export as export_cli
 from slopetui.cli import main
-from slopetui.cli import runs as runs_cli
-from slopetui.store import Database
+from slopetui.store.database import Database
 from slopetui.store.models import Run
 from slopetui.sweeps.control import UnknownSweep, cancel
 from slopetui.sweeps.export import COLUMNS
@@ -201,7 +201,7 @@ def test_a_failed_write_leaves_the_old_file_and_no_part(db, db_url, tmp_path, mo
         stream.write(b"PAR1 half a file")
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(runs_cli, "_parquet", disk_full)
+    monkeypatch.setattr(export_cli, "_parquet", disk_full)
     assert main(["export", str(sweep), "--parquet", "-o", str(out), "--db", db_url]) == 2
     assert "No space left on device" in capsys.readouterr().err
     assert out.read_bytes() == b"the previous export"

@@ -11,7 +11,7 @@ import sqlite3
 import pytest
 
 from slopetui.cli import main
-from slopetui.store import open_store
+from slopetui.store.open import open_store
 from tests.support import finish_all
 
 GOOD_TOML = """

@@ -7,11 +7,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings
 from core.batch import simulate_batch
 from core.history import CarriedState, half_steps
-from core.params import ParameterError
-from core.solve import simulate
+from core.params import ParameterError, Params
+from core.solve import SolverSettings, simulate
 from tests.radau_reference import radau
 
 

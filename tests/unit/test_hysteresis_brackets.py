@@ -20,7 +20,8 @@ from core.params import Params
 from core.stability import hopf_k
 from slopetui.cli import main
 from slopetui.queue import hysteresis_jobs
-from slopetui.store import Database, hysteresis_rows
+from slopetui.store.database import Database
+from slopetui.store.jobs import hysteresis_sweeps
 from slopetui.store.migrate import alembic_config, plan_downgrade, upgrade
 from slopetui.tui.screens.branches import change_text
 from tests.unit.test_hysteresis import FOLD_TAU10
@@ -104,7 +105,7 @@ def test_the_stored_sweep_keeps_the_brackets_and_its_tolerance(store):
         SPEC.params, SPEC.name, SPEC.start, SPEC.stop, SPEC.n_points, SPEC.dt, SPEC.t_settle,
         SPEC.window, 1e-2))
     _compute(store, "w1")
-    row = hysteresis_rows.hysteresis_sweep(store, sid)
+    row = hysteresis_sweeps.hysteresis_sweep(store, sid)
     assert row.status == "done" and row.tol == 1e-2
     before, after = row.onset_up_before, row.onset_up_after
     assert (before, after) == pytest.approx((8.0, 8.0 + 4.0 / 3.0))
@@ -145,7 +146,7 @@ def test_0011_keeps_the_sweeps_and_gives_them_no_bracket(new_store_url, backend)
             "runtime_s, attempts) VALUES ('k', 0.5, 8, 40, 0.035, 0.7, 6.8, 1e-4, 6, 1, 10, "
             "0.1, 0.01, 6000, 1000, 'x', 'done', 6.269, 1.077, 80, 1.0, 1)")
     upgrade(db)
-    row = hysteresis_rows.hysteresis_sweep(db, 1)
+    row = hysteresis_sweeps.hysteresis_sweep(db, 1)
     assert row is not None and (row.onset_up, row.offset_down, row.tol) == (6.269, 1.077, 1e-3)
     assert row.onset_up_before is None and row.offset_down_after is None
     with db.engine.begin() as conn:
@@ -171,5 +172,5 @@ def test_a_stored_tol_out_of_range_fails_the_sweep_at_its_claim(store, tol):
     with store.engine.begin() as conn:
         conn.exec_driver_sql(f"UPDATE hysteresis_sweeps SET tol = {tol}")
     assert hysteresis_jobs.claim(store, "w1") is None
-    row = hysteresis_rows.hysteresis_sweep(store, sid)
+    row = hysteresis_sweeps.hysteresis_sweep(store, sid)
     assert row is not None and row.status == "failed" and "tol = " in row.error

@@ -1,5 +1,5 @@
 """Hysteresis sweeps as jobs (slopetui.queue.hysteresis_jobs, slopetui.store
-.hysteresis_rows): the lease guards every write, a stopped sweep resumes where it stopped
+.jobs.hysteresis_sweeps): the lease guards every write, a stopped sweep resumes where it stopped
 and ends exactly as core.hysteresis.hysteresis run directly, and a run that leaves the
 finite range ends the sweep as it ends a branch there."""
 
@@ -18,7 +18,7 @@ from core.params import Params
 from slopetui.queue import hysteresis_jobs, registry
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
 from slopetui.queue.registry import backlog
-from slopetui.store import hysteresis_rows
+from slopetui.store.jobs import hysteresis_sweeps
 from slopetui.sweeps.hysteresis_runs import hysteresis_of
 from tests.unit.test_branch_jobs import Never, inline
 
@@ -34,7 +34,7 @@ class StopAfter:
         self.db, self.sid, self.n = db, sid, n
 
     def stopping(self) -> bool:
-        row = hysteresis_rows.hysteresis_sweep(self.db, self.sid)
+        row = hysteresis_sweeps.hysteresis_sweep(self.db, self.sid)
         return row is not None and row.n_done >= self.n
 
 
@@ -74,23 +74,23 @@ def _compute(db: Any, wid: str, control: Any = None, max_attempts: int = 3) -> N
 def test_points_are_saved_by_the_lease_holder_only_and_in_order(store):
     sid = hysteresis_jobs.submit(store, SPEC)
     assert not backlog(store).drained  # a queued sweep keeps --exit-when-idle workers
-    assert hysteresis_rows.claim(store, "w1").id == sid
-    assert hysteresis_rows.claim(store, "w2") is None  # one holder
-    assert hysteresis_rows.save_point(store, sid, "w1", _point(0), 0.1)
-    assert not hysteresis_rows.save_point(store, sid, "w1", _point(0), 0.1)  # not the next one
-    assert not hysteresis_rows.save_point(store, sid, "w1", _point(2), 0.1)  # a gap
-    assert not hysteresis_rows.save_point(store, sid, "w2", _point(1), 0.1)  # not the holder
-    assert hysteresis_rows.save_point(store, sid, "w1", _point(1), 0.2)
-    row = hysteresis_rows.hysteresis_sweep(store, sid)
+    assert hysteresis_sweeps.claim(store, "w1").id == sid
+    assert hysteresis_sweeps.claim(store, "w2") is None  # one holder
+    assert hysteresis_sweeps.save_point(store, sid, "w1", _point(0), 0.1)
+    assert not hysteresis_sweeps.save_point(store, sid, "w1", _point(0), 0.1)  # not the next one
+    assert not hysteresis_sweeps.save_point(store, sid, "w1", _point(2), 0.1)  # a gap
+    assert not hysteresis_sweeps.save_point(store, sid, "w2", _point(1), 0.1)  # not the holder
+    assert hysteresis_sweeps.save_point(store, sid, "w1", _point(1), 0.2)
+    row = hysteresis_sweeps.hysteresis_sweep(store, sid)
     assert (row.n_done, row.attempts) == (2, 1)
     assert row.runtime_s == pytest.approx(0.3)
     # a shutdown gives it back with its attempt; the points stay
-    assert hysteresis_rows.release(store, sid, "w1")
-    none = dict.fromkeys(hysteresis_rows.TRANSITION_COLUMNS)
-    assert not hysteresis_rows.finish(store, sid, "w1", none, 0.0)  # no longer held
-    row = hysteresis_rows.hysteresis_sweep(store, sid)
+    assert hysteresis_sweeps.release(store, sid, "w1")
+    none = dict.fromkeys(hysteresis_sweeps.TRANSITION_COLUMNS)
+    assert not hysteresis_sweeps.finish(store, sid, "w1", none, 0.0)  # no longer held
+    row = hysteresis_sweeps.hysteresis_sweep(store, sid)
     assert (row.status, row.attempts, row.n_done) == ("queued", 0, 2)
-    points = hysteresis_rows.points(store, sid)
+    points = hysteresis_sweeps.points(store, sid)
     assert [p.idx for p in points] == [0, 1] and not hasattr(points[0], "state")
     assert math.isnan(points[0].amplitude)  # NaN survives (SQLite: NULL read back as NaN)
 
@@ -98,15 +98,15 @@ def test_points_are_saved_by_the_lease_holder_only_and_in_order(store):
 def test_expired_and_dead_workers_sweeps_go_back_or_fail(store):
     first = hysteresis_jobs.submit(store, SPEC)
     second = hysteresis_jobs.submit(store, SPEC)
-    hysteresis_rows.claim(store, "w1")
-    hysteresis_rows.claim(store, "w2")
+    hysteresis_sweeps.claim(store, "w1")
+    hysteresis_sweeps.claim(store, "w2")
     registry.heartbeat(store, "w1")
     assert registry.requeue_worker(store, "w1", "worker died", max_attempts=3) == (1, 0)
-    assert hysteresis_rows.hysteresis_sweep(store, first).status == "queued"
+    assert hysteresis_sweeps.hysteresis_sweep(store, first).status == "queued"
     assert registry.requeue_worker(store, "w2", "worker died", max_attempts=1) == (0, 1)
-    row = hysteresis_rows.hysteresis_sweep(store, second)
+    row = hysteresis_sweeps.hysteresis_sweep(store, second)
     assert row.status == "failed" and "gave up after 1 attempts" in row.error
-    hysteresis_rows.claim(store, "w3")
+    hysteresis_sweeps.claim(store, "w3")
     assert registry.requeue_expired(store, lease_s=3600.0, max_attempts=3) == (0, 0)  # still fresh
     assert registry.requeue_expired(store, lease_s=-1.0, max_attempts=3) == (1, 0)  # expired
 
@@ -120,7 +120,7 @@ def test_a_stopped_sweep_resumes_and_ends_as_an_uninterrupted_one(store, stops):
     sid = hysteresis_jobs.submit(store, SPEC)
     for i, n in enumerate(stops):
         _compute(store, f"w{i}", StopAfter(store, sid, n))
-        row = hysteresis_rows.hysteresis_sweep(store, sid)
+        row = hysteresis_sweeps.hysteresis_sweep(store, sid)
         assert (row.status, row.n_done, row.attempts) == ("queued", n, 0)
     _compute(store, "last")  # another worker takes it over
     stored = hysteresis_of(store, sid)
@@ -162,7 +162,7 @@ def test_a_run_leaving_the_finite_range_ends_the_sweep_as_it_ends_a_branch(store
     assert reference.onset is not None and (reference.onset.before, reference.onset.after) == \
         (stored.row.onset_up_before, stored.row.onset_up_after) == (8.0, 10.0)
     assert stored.row.onset_up == reference.onset_up and 8.0 < reference.onset.value < 10.0
-    assert hysteresis_rows.saved_points(store, sid)[-1].state is None  # nothing handed over
+    assert hysteresis_sweeps.saved_points(store, sid)[-1].state is None  # nothing handed over
 
 
 def test_a_sweep_killed_after_its_last_point_is_only_finished(store, monkeypatch):
@@ -172,17 +172,17 @@ def test_a_sweep_killed_after_its_last_point_is_only_finished(store, monkeypatch
     monkeypatch.setattr(core.hysteresis, "point", fake_point)
     spec = HysteresisSpec(Params(tau=2.0), "k", 8.0, 12.0, 3, 0.01, 300.0, 100.0)
     sid = hysteresis_jobs.submit(store, spec)
-    hysteresis_rows.claim(store, "w1")
+    hysteresis_sweeps.claim(store, "w1")
     fields = [hysteresis_jobs.point_fields(0, "up", WarmPoint(8.0, "sliding", "", 0.0, -1.0),
                                            np.zeros((5, 201))),
               hysteresis_jobs.point_fields(1, "up", WarmPoint(10.0, "unstable", "gone",
                                                               math.nan, math.nan), None)]
     for f in fields:
-        assert hysteresis_rows.save_point(store, sid, "w1", f, 0.0)
+        assert hysteresis_sweeps.save_point(store, sid, "w1", f, 0.0)
     registry.requeue_worker(store, "w1", "worker died", max_attempts=3)
     monkeypatch.setattr(core.hysteresis, "point", None)  # computing anything would raise
     _compute(store, "w2")
-    row = hysteresis_rows.hysteresis_sweep(store, sid)
+    row = hysteresis_sweeps.hysteresis_sweep(store, sid)
     assert (row.status, row.n_done) == ("done", 2)
     assert (row.onset_up_before, row.onset_up_after) == (8.0, 10.0)
     assert 8.0 < row.onset_up < 10.0
@@ -194,13 +194,13 @@ def test_errors_are_retried_and_tau_fails_at_once(store, monkeypatch):
     monkeypatch.setattr(core.hysteresis, "point", broken)
     sid = hysteresis_jobs.submit(store, SPEC)
     _compute(store, "w1", max_attempts=2)
-    row = hysteresis_rows.hysteresis_sweep(store, sid)
+    row = hysteresis_sweeps.hysteresis_sweep(store, sid)
     assert row.status == "queued" and "RuntimeError: a bug" in row.error
     _compute(store, "w2", max_attempts=2)
-    assert hysteresis_rows.hysteresis_sweep(store, sid).status == "failed"
+    assert hysteresis_sweeps.hysteresis_sweep(store, sid).status == "failed"
     tau = hysteresis_jobs.submit(store, HysteresisSpec(Params(), "tau", 1.0, 2.0, 3, 0.01,
                                                     300.0, 100.0))
     _compute(store, "w3")
-    row = hysteresis_rows.hysteresis_sweep(store, tau)
+    row = hysteresis_sweeps.hysteresis_sweep(store, tau)
     assert row.status == "failed" and row.attempts == 1
     assert row.error.startswith("no sweep: ") and "tau" in row.error

@@ -1,7 +1,7 @@
 """When a worker leaves on its own (slopetui.queue.idle_exit): --exit-when-idle waits out a
 paused sweep for the grace period, the application's pool leaves once its owner has quit
 and the store has been idle; the store's backlog behind those decisions
-(slopetui.store.queue_backlog), on SQLite and PostgreSQL (``store``)."""
+(slopetui.store.jobs.backlog), on SQLite and PostgreSQL (``store``)."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ from slopetui.queue.idle_exit import IdleExit, Owner
 from slopetui.queue.local_pool import start_ticks
 from slopetui.queue.open_apps import open_apps, record_app
 from slopetui.queue.registry import backlog
-from slopetui.store.queue_backlog import Backlog
+from slopetui.store.jobs.backlog import Backlog
 from slopetui.sweeps import control
 from tests.support import claim_one, submit_quick
 from tests.unit.test_hysteresis_jobs import SPEC

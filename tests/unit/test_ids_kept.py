@@ -13,8 +13,9 @@ from alembic import command
 from sqlalchemy import inspect, text
 
 from slopetui.queue import branch_jobs, hysteresis_jobs
-from slopetui.store import Database, branch_rows
+from slopetui.store.database import Database
 from slopetui.store.integrity import integrity_problems
+from slopetui.store.jobs import continuations
 from slopetui.store.migrate import alembic_config, current_revision, downgrade, upgrade
 from slopetui.store.models import Base
 from slopetui.sweeps import control
@@ -68,9 +69,9 @@ def populate(db: Database) -> dict[str, int]:
     finish_all(db)
     queued = submit_quick(db, 4)
     cid = branch_jobs.submit(db, BRANCH)
-    branch_rows.claim(db, "w1")
+    continuations.claim(db, "w1")
     for idx in range(2):
-        assert branch_rows.save_point(db, cid, "w1", branch_point(idx), 0.1)
+        assert continuations.save_point(db, cid, "w1", branch_point(idx), 0.1)
     sid = _running_hysteresis_sweep(db)
     return {"done": done.sweep_id, "queued": queued.sweep_id, "continuation": cid,
             "hysteresis": sid}

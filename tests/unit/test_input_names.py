@@ -10,7 +10,7 @@ import pytest
 
 from slopetui.cli import main
 from slopetui.display_text import terminal_safe, terminal_safe_lines, unsafe_characters
-from slopetui.store import Run
+from slopetui.store.models import Run
 
 #: The evil_sweep fixture's name (tests.support.EVIL) as the terminal shows it.
 SHOWN = "\\x1b[2J\\x1b[31mevil\\u202eabc"

@@ -1,5 +1,5 @@
 """The kinds of job (slopetui.queue.registry) and the one lease they are all held under
-(slopetui.store.leases): a worker claims them in the registry's order, one heartbeat and
+(slopetui.store.jobs.leases): a worker claims them in the registry's order, one heartbeat and
 one requeue serve every kind, and the store reads every job row into a frozen dataclass
 of its own, never a SQLAlchemy row."""
 
@@ -17,10 +17,11 @@ from slopetui.queue import registry
 from slopetui.queue.branch_jobs import submit as submit_branch
 from slopetui.queue.hysteresis_jobs import submit as submit_sweep
 from slopetui.queue.kinds import Computing
-from slopetui.store import branch_rows, claims, hysteresis_rows
-from slopetui.store.leases import Lease
+from slopetui.store.jobs import continuations, hysteresis_sweeps
+from slopetui.store.jobs.leases import Lease
 from slopetui.store.models import Continuation, HysteresisSweep, Run, Worker
-from slopetui.store.worker_rows import register_worker
+from slopetui.store.runs import claims
+from slopetui.store.workers import register_worker
 from tests.support import submit_quick
 from tests.unit.test_branch_jobs import SPEC as BRANCH
 from tests.unit.test_branch_jobs import _point as branch_point
@@ -59,12 +60,12 @@ def test_a_worker_claims_a_continuation_then_a_sweep_then_runs(store):
 
 
 def test_one_lease_serves_every_kind(store):
-    assert [kind.lease for kind in registry.KINDS] == [branch_rows.lease,
-                                                      hysteresis_rows.lease, claims.lease]
+    assert [kind.lease for kind in registry.KINDS] == [continuations.lease,
+                                                      hysteresis_sweeps.lease, claims.lease]
     assert all(type(kind.lease) is Lease for kind in registry.KINDS)
     cid, sid = _one_of_each(store)
     register_worker(store, "w", "h", 1)
-    assert branch_rows.claim(store, "w") and hysteresis_rows.claim(store, "w")
+    assert continuations.claim(store, "w") and hysteresis_sweeps.claim(store, "w")
     assert len(claims.claim_batch(store, "w", 4, None)) == 1  # held, not started
 
     def age() -> None:
@@ -77,10 +78,10 @@ def test_one_lease_serves_every_kind(store):
     assert registry.requeue_expired(store, lease_s=60.0, max_attempts=3) == (0, 0)
     age()
     assert registry.requeue_expired(store, lease_s=60.0, max_attempts=3) == (3, 0)
-    assert branch_rows.continuation(store, cid).status == "queued"
-    assert hysteresis_rows.hysteresis_sweep(store, sid).status == "queued"
+    assert continuations.continuation(store, cid).status == "queued"
+    assert hysteresis_sweeps.hysteresis_sweep(store, sid).status == "queued"
 
-    assert branch_rows.claim(store, "w") and hysteresis_rows.claim(store, "w")
+    assert continuations.claim(store, "w") and hysteresis_sweeps.claim(store, "w")
     assert claims.claim_batch(store, "w", 4, None)
     assert registry.requeue_worker(store, "w", "worker died", max_attempts=3) == (3, 0)
     with store.sessions() as s:
@@ -98,26 +99,26 @@ def test_the_store_reads_jobs_into_frozen_dataclasses_of_its_own(store):
     cid, sid = _one_of_each(store)
     for row in claims.claim_batch(store, "w", 4, None):
         _frozen_of_the_store(row)
-    branch_rows.claim(store, "w")
-    assert branch_rows.save_point(store, cid, "w", branch_point(0), 0.1)
-    assert branch_rows.finish(store, cid, "w", "end", None, 0.0, [
+    continuations.claim(store, "w")
+    assert continuations.save_point(store, cid, "w", branch_point(0), 0.1)
+    assert continuations.finish(store, cid, "w", "end", None, 0.0, [
         {"type": "fold", "value": 1.0, "period": 2.0, "mu_re": 1.0, "mu_im": 0.0}])
-    hysteresis_rows.claim(store, "w")
-    assert hysteresis_rows.save_point(store, sid, "w", sweep_point(0), 0.1)
-    for row in (branch_rows.continuation(store, cid), *branch_rows.continuations(store),
-                hysteresis_rows.hysteresis_sweep(store, sid),
-                *hysteresis_rows.hysteresis_sweeps(store)):
+    hysteresis_sweeps.claim(store, "w")
+    assert hysteresis_sweeps.save_point(store, sid, "w", sweep_point(0), 0.1)
+    for row in (continuations.continuation(store, cid), *continuations.continuations(store),
+                hysteresis_sweeps.hysteresis_sweep(store, sid),
+                *hysteresis_sweeps.hysteresis_sweeps(store)):
         _frozen_of_the_store(row)
-    for point in (*branch_rows.points(store, cid), *branch_rows.saved_points(store, cid),
-                  *branch_rows.bifurcations(store, cid), *hysteresis_rows.points(store, sid),
-                  *hysteresis_rows.saved_points(store, sid)):
+    for point in (*continuations.points(store, cid), *continuations.saved_points(store, cid),
+                  *continuations.bifurcations(store, cid), *hysteresis_sweeps.points(store, sid),
+                  *hysteresis_sweeps.saved_points(store, sid)):
         assert dataclasses.is_dataclass(point) and not isinstance(point, RowMapping)
         with pytest.raises(dataclasses.FrozenInstanceError):
             point.idx = 0  # type: ignore[misc]
-    row = branch_rows.continuation(store, cid)
+    row = continuations.continuation(store, cid)
     assert (row.status, row.n_points, row.param, row.k) == ("done", 1, "k", Params(tau=2.0).k)
-    assert branch_rows.bifurcations(store, cid)[0].type == "fold"
-    assert hysteresis_rows.saved_points(store, sid)[0].state == sweep_point(0)["state"]
+    assert continuations.bifurcations(store, cid)[0].type == "fold"
+    assert hysteresis_sweeps.saved_points(store, sid)[0].state == sweep_point(0)["state"]
 
 
 def test_status_and_workers_print_every_kind_of_the_registry(db, db_url, capsys):
@@ -129,8 +130,8 @@ def test_status_and_workers_print_every_kind_of_the_registry(db, db_url, capsys)
     submit_branch(db, BRANCH)
     for wid in ("h:1", "h:2", "h:3"):
         register_worker(db, wid, "h", int(wid[-1]))
-    branch_rows.claim(db, "h:1")
-    hysteresis_rows.claim(db, "h:2")
+    continuations.claim(db, "h:1")
+    hysteresis_sweeps.claim(db, "h:2")
     assert main(["status", "--json", "--db", db_url]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["continuations"] == {"queued": 1, "running": 1}

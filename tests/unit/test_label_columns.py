@@ -7,12 +7,12 @@ from __future__ import annotations
 
 from sqlalchemy import text
 
-from core import run_point
+from core.point import run_point
 from core.regimes import REGIMES
 from core.result_fields import ATTRACTORS, FLAGS
 from slopetui.queue import jobs
-from slopetui.store import Run
 from slopetui.store.migrate import current_revision, downgrade, upgrade
+from slopetui.store.models import Run
 from tests.support import claim_one, submit_quick
 
 REASON = ("at rest; not departed from the unstable rest state (root +1.76e-07/t): headed for "

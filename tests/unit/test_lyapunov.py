@@ -5,8 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings, run_point, simulate
 from core.lyapunov import estimate, format_with_error, running
+from core.params import Params
+from core.point import run_point
+from core.solve import SolverSettings, simulate
 from core.stability import leading_exponent, leading_root
 
 

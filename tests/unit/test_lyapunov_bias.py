@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import math
 
-from core import Params, SolverSettings, run_point
 from core.lyapunov_bias import bias_note, continuous_exponent, relative_bias
+from core.params import Params
+from core.point import run_point
+from core.solve import SolverSettings
 from core.stability import leading_exponent
 
 

@@ -49,7 +49,8 @@ def test_a_real_alternation_of_the_spacing_is_still_seen():
 def test_a_plateau_s_round_off_ripple_is_not_a_row_of_maxima():
     # the stick phase of a square wave (k = 7, tau = 60): m_y flat at -0.59 to round-off,
     # its local maxima 2e-16 A apart; one slip a period
-    from core import Params, classify
+    from core.classify import classify
+    from core.params import Params
 
     t = np.arange(0.0, 1000.0, 0.01)
     slip = np.sin(2 * np.pi * t / 60.6)

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core import Params
 from core.nblock import compare_with_mean_field, simulate_ensemble
+from core.params import Params
 from slopetui.cli import main
 
 

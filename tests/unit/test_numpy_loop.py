@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings
-from core.solve import simulate
+from core.params import Params
+from core.solve import SolverSettings, simulate
 
 # benchmarks/ is a folder of scripts, not a package: import the loop by path
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))

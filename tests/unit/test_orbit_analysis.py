@@ -83,7 +83,7 @@ def test_the_fold_curve_is_drawn_inside_the_plane_only(db):
 @pytest.mark.slow  # two continuations to their folds: 5-12 s, out of the fast loop
 def test_the_fold_curve_says_each_tau_as_it_goes():
     """The report's analysis takes minutes; each fold is said when found."""
-    from core import Params
+    from core.params import Params
     from slopetui.reproduce.orbit_analysis import folds_over_tau
     said: list[str] = []
     folds = folds_over_tau(Params(delta=0.1), [10.0, 5.0], said.append)
@@ -117,7 +117,7 @@ def test_next_to_the_hopf_point_delta_01_lands_on_the_cycle():
     k = 6.05 < k_H(10) = 6.1462 (the fixed point is linearly stable), yet delta = 0.1 of
     eq. 19 ends on the cycle, while delta = 1e-6 decays to rest (RK4, dt 0.01; the growth
     away from rest is slow: at t = 4000 the run still spirals out, at 2e4 it is there)."""
-    from core import Params
+    from core.params import Params
     from core.point import run_point
     from core.solve import SolverSettings
     from core.stability import leading_exponent

@@ -9,13 +9,13 @@ import math
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings
 from core.continuation import Branch, bifurcations, criticality, walk
 from core.hopf_start import hopf_point
 from core.orbit import Grid, OrbitError, PeriodMap
 from core.orbit_seed import simulate_from
+from core.params import Params
 from core.periodic_orbit import find_orbit
-from core.solve import simulate
+from core.solve import SolverSettings, simulate
 from core.stability import hopf_k
 
 

@@ -8,8 +8,9 @@ from __future__ import annotations
 
 import pytest
 
-from core import Params, SolverSettings, run_point
-from core.params import sliding_branches
+from core.params import Params, sliding_branches
+from core.point import run_point
+from core.solve import SolverSettings
 
 #: ~7 s in all: out of the fast loop (`pytest -m "not slow"`), in the full suite.
 pytestmark = pytest.mark.slow

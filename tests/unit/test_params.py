@@ -6,14 +6,14 @@ import math
 
 import pytest
 
-from core import ParameterError, Params, SolverSettings, friction_warnings
-from core.params import fixed_points, friction, friction_extrema
+from core.params import ParameterError, Params, fixed_points, friction, friction_extrema, friction_warnings
 from core.solve import (
     MAX_RUN_BYTES,
     MAX_STEPS,
     RING_BYTES,
     SAMPLE_BYTES,
     LimitError,
+    SolverSettings,
     make_grid,
     memory_of,
     validate_run,
@@ -125,8 +125,9 @@ def test_fixed_points_eq_14_to_17():
 def test_runs_that_leave_the_fixed_point_rest_on_the_steady_sliding_branch():
     """High b opens a second steady state (core.params.sliding_branches); a run from near
     the fixed point settles on its larger root, as the (b, tau) presets showed."""
-    from core import SolverSettings, run_point
     from core.params import sliding_branches
+    from core.point import run_point
+    from core.solve import SolverSettings
 
     assert sliding_branches(Params()) == ()  # none at the defaults of eq. 8
     p = Params(b=20.2895, k=12.0, tau=1.14737, delta=1e-6)

@@ -8,7 +8,7 @@ import numpy as np
 import plotext as plt
 import pytest
 
-from core import Params
+from core.params import Params
 from core.regimes import DEPENDS, REGIMES
 from core.stability import hopf_curve_friction, hopf_k
 from slopetui.plots import (

@@ -19,7 +19,7 @@ from core.branch_start import BranchSpec
 from core.params import Params
 from slopetui.queue import branch_jobs, hysteresis_jobs, jobs
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
-from slopetui.store import branch_rows, hysteresis_rows
+from slopetui.store.jobs import continuations, hysteresis_sweeps
 from slopetui.store.models import Run
 from tests.support import claim_one, submit_quick
 
@@ -158,13 +158,14 @@ def test_a_refused_run_that_the_worker_no_longer_holds_is_left_to_its_holder(sto
     [job] = jobs.claim_batch(store, "w", 1)
     with store.transaction() as s:  # taken over meanwhile
         s.execute(update(Run).where(Run.id == job.run_id).values(worker_id="other"))
-    from slopetui.store import claims
+    from slopetui.store.runs import claims
     assert claims.refuse(store, "w", {job.run_id: "not computed"}) == 0
     assert run_row(store, job.run_id).status == "running"
 
 
 def test_a_state_history_is_read_and_checked_at_the_claim(store):
-    from core import SolverSettings, run_point
+    from core.point import run_point
+    from core.solve import SolverSettings
     from slopetui.sweeps.spec import parse_spec
     from slopetui.sweeps.submit import submit
     from tests.support import QUICK_SOLVER, finish_all
@@ -200,7 +201,7 @@ def test_a_poisoned_continuation_fails_at_its_claim_and_the_next_is_claimed(
     with caplog.at_level(logging.INFO, logger="slopetui"):
         job = branch_jobs.claim(store, "w")
     assert job is not None and job.id == good
-    row = branch_rows.continuation(store, bad)
+    row = continuations.continuation(store, bad)
     assert row is not None and row.status == "failed"
     assert row.error.startswith("not computed: invalid input in the store: ")
     assert re.search(says, row.error), row.error
@@ -227,7 +228,7 @@ def test_a_poisoned_hysteresis_sweep_fails_at_its_claim_and_the_next_is_claimed(
     with caplog.at_level(logging.INFO, logger="slopetui"):
         job = hysteresis_jobs.claim(store, "w")
     assert job is not None and job.id == good
-    row = hysteresis_rows.hysteresis_sweep(store, bad)
+    row = hysteresis_sweeps.hysteresis_sweep(store, bad)
     assert row is not None and row.status == "failed"
     assert row.error.startswith("not computed: invalid input in the store: ")
     assert re.search(says, row.error), row.error
@@ -242,14 +243,14 @@ def test_a_continuation_whose_saved_point_cannot_be_read_back_fails_with_the_rea
     from tests.unit.test_branch_jobs import SPEC, Never, inline
     from tests.unit.test_branch_jobs import _point as branch_point
     cid = branch_jobs.submit(store, SPEC)
-    branch_rows.claim(store, "w1")
-    assert branch_rows.save_point(store, cid, "w1", {**branch_point(0), "state": b"abc"}, 0.1)
-    assert branch_rows.release(store, cid, "w1")  # then resumed by another worker
+    continuations.claim(store, "w1")
+    assert continuations.save_point(store, cid, "w1", {**branch_point(0), "state": b"abc"}, 0.1)
+    assert continuations.release(store, cid, "w1")  # then resumed by another worker
     job = branch_jobs.claim(store, "w2")
     assert job is not None
     with caplog.at_level(logging.INFO, logger="slopetui"):
         branch_jobs.compute(store, "w2", job, inline, Never(), max_attempts=3)
-    row = branch_rows.continuation(store, cid)
+    row = continuations.continuation(store, cid)
     assert row is not None and row.status == "failed"
     assert row.error.startswith("not computed: invalid input in the store: a saved point "
                                    "(branch_points) cannot be read back: ")
@@ -263,14 +264,14 @@ def test_a_hysteresis_sweep_whose_saved_state_cannot_be_read_back_fails_with_the
     from tests.unit.test_hysteresis_jobs import SPEC
     from tests.unit.test_hysteresis_jobs import _point as warm_point
     sid = hysteresis_jobs.submit(store, SPEC)
-    hysteresis_rows.claim(store, "w1")
-    assert hysteresis_rows.save_point(store, sid, "w1", warm_point(0), 0.1)  # 4 numbers
-    assert hysteresis_rows.release(store, sid, "w1")
+    hysteresis_sweeps.claim(store, "w1")
+    assert hysteresis_sweeps.save_point(store, sid, "w1", warm_point(0), 0.1)  # 4 numbers
+    assert hysteresis_sweeps.release(store, sid, "w1")
     job = hysteresis_jobs.claim(store, "w2")
     assert job is not None
     with caplog.at_level(logging.INFO, logger="slopetui"):
         hysteresis_jobs.compute(store, "w2", job, inline, Never(), max_attempts=3)
-    row = hysteresis_rows.hysteresis_sweep(store, sid)
+    row = hysteresis_sweeps.hysteresis_sweep(store, sid)
     assert row is not None and row.status == "failed"
     assert row.error.startswith("not computed: invalid input in the store: the state of a "
                                    "saved point (hysteresis_points) cannot be read back: ")

@@ -13,7 +13,7 @@ from slopetui.cli import main
 from slopetui.queue import jobs
 from slopetui.store.models import Run
 from slopetui.store.queries import database_now
-from slopetui.store.sweep_reads import running_runs
+from slopetui.store.sweeps.progress import running_runs
 from slopetui.sweeps import control
 from slopetui.sweeps.progress import RATE_WINDOW_MIN, claimed_line, claimed_text, sweep_progress
 from tests.support import finish_all, submit_quick
@@ -65,7 +65,7 @@ def test_an_active_sweep_shows_its_recent_rate_and_a_cancelled_idle_one_its_fina
 
 
 def _record(job):
-    from core import run_point
+    from core.point import run_point
 
     return run_point(job.params, job.settings, job.carried).as_record()
 

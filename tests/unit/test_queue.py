@@ -8,10 +8,10 @@ from datetime import timedelta
 
 from sqlalchemy import func, select, update
 
-from core import run_point
+from core.point import run_point
 from slopetui.queue import jobs, registry
-from slopetui.store import claims
 from slopetui.store.models import Run
+from slopetui.store.runs import claims
 from slopetui.sweeps import control
 from tests.support import claim_one, finish_all, submit_quick
 

@@ -15,11 +15,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings, simulate
 from core.batch import simulate_batch
 from core.closure import REALISABLE_TOL
+from core.params import Params
 from core.point import run_point
-from core.solve import make_grid
+from core.solve import SolverSettings, make_grid, simulate
 from slopetui.cli.run import render_text
 from tests.radau_reference import radau
 

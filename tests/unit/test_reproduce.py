@@ -52,7 +52,7 @@ def test_bad_reproduce_input(tmp_path, capsys, args, message):
     {"c": 8.0, "k": 12.0, "tau": 1.0}, {"k": 0.0},
 ])
 def test_the_fast_stability_test_matches_the_roots(changes):
-    from core import Params
+    from core.params import Params
     from core.stability import leading_exponent
     from slopetui.reproduce.measures import linearly_stable
 
@@ -65,7 +65,8 @@ def test_an_interrupted_report_draws_no_verdict_from_missing_runs(tmp_path, caps
     """Ctrl-C after a few hundred runs once wrote "5381 runs" and DISAGREE verdicts for
     figures that had no runs at all ("nan% of 0 runs agree")."""
     from slopetui.reproduce import report
-    from slopetui.store import Run, Sweep, open_store
+    from slopetui.store.models import Run, Sweep
+    from slopetui.store.open import open_store
     from tests.support import finish_all
 
     url = f"sqlite:///{tmp_path / 's.db'}"

@@ -10,8 +10,10 @@ from dataclasses import fields
 from sqlalchemy import JSON, Boolean, Double, Integer, String
 from sqlalchemy import inspect as sa_inspect
 
-from core import Params, SolverSettings, run_point
+from core.params import Params
+from core.point import run_point
 from core.result_fields import RECORD_KEYS, RESULT_FIELDS, RESULT_NAMES
+from core.solve import SolverSettings
 from slopetui.cli import main
 from slopetui.queue import cache
 from slopetui.store.column_types import Measure

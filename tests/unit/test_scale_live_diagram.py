@@ -9,10 +9,10 @@ from datetime import datetime
 import pytest
 from sqlalchemy import update
 
-from core import run_point
+from core.point import run_point
 from slopetui.queue import jobs
 from slopetui.store.models import Run
-from slopetui.store.sweep_rows import cancel_sweep, delete_sweep, resume_sweep
+from slopetui.store.sweeps.writes import cancel_sweep, delete_sweep, resume_sweep
 from slopetui.sweeps import live_diagram
 from slopetui.sweeps.adaptive import advance
 from slopetui.sweeps.control import UnknownSweep

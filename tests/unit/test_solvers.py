@@ -9,8 +9,10 @@ import numba
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings, jit_cache, simulate
+from core import jit_cache
+from core.params import Params
 from core.recording import BLOWUP_BOUND
+from core.solve import SolverSettings, simulate
 
 
 def reference_euler(p: Params, dt: float, n_steps: int) -> np.ndarray:

@@ -8,9 +8,10 @@ from collections.abc import Iterator
 import numpy as np
 import pytest
 
-from core import Params, SolverSettings
 from core import spare_buffers as spare
 from core.batch import simulate_batch
+from core.params import Params
+from core.solve import SolverSettings
 
 
 @pytest.fixture(autouse=True)

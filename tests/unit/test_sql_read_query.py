@@ -12,8 +12,8 @@ from collections.abc import Iterator
 import pytest
 from sqlalchemy import Engine
 
-from slopetui.store import Database
 from slopetui.store import read_query as rq
+from slopetui.store.database import Database
 from slopetui.store.read_query import (
     QueryCancelled,
     QueryError,

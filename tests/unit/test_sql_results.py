@@ -9,7 +9,7 @@ import pytest
 from sqlalchemy import Engine
 
 from slopetui.sql_results import QueryDone, QueryFailed, QueryHalted, run_query
-from slopetui.store import Database
+from slopetui.store.database import Database
 from slopetui.store.read_query import ReadQuery
 from tests.support import SLOW
 

@@ -1,4 +1,4 @@
-"""The diagram read of a SQLite file through sqlite3 (slopetui.store.sqlite_diagram_reads,
+"""The diagram read of a SQLite file through sqlite3 (slopetui.store.diagrams.sqlite_reads,
 what `slopetui show` draws from) gives what the read through SQLAlchemy gives, value for
 value and type for type, and leaves every store it should not read to ``open_store``."""
 
@@ -14,9 +14,9 @@ import pytest
 import migrations
 from slopetui.queue import jobs
 from slopetui.store.database import Database
-from slopetui.store.diagram_reads import read_diagram
+from slopetui.store.diagrams.reads import read_diagram
+from slopetui.store.diagrams.sqlite_reads import NeedsDatabase, read_sqlite_diagram
 from slopetui.store.open import open_store
-from slopetui.store.sqlite_diagram_reads import NeedsDatabase, read_sqlite_diagram
 from slopetui.sweeps.control import UnknownSweep, apply
 from slopetui.sweeps.diagram import load_diagram, load_drawing, read_spec
 from slopetui.sweeps.spec import parse_spec

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from core import Params
+from core.params import Params
 from core.stability import (
     characteristic,
     hopf_curve_friction,

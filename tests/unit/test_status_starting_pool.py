@@ -15,7 +15,7 @@ import pytest
 
 from slopetui.cli import main
 from slopetui.queue.local_pool import write_pool_file
-from slopetui.store import Database
+from slopetui.store.database import Database
 
 
 @pytest.fixture

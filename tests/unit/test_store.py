@@ -15,8 +15,8 @@ from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
 from sqlalchemy import inspect, select, text, update
 
-from slopetui.store import Base, Run
 from slopetui.store.migrate import current_revision, head_revision
+from slopetui.store.models import Base, Run
 from tests.support import submit_quick
 
 

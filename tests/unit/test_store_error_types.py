@@ -11,7 +11,7 @@ from sqlalchemy import text
 from sqlalchemy.exc import SQLAlchemyError
 
 import slopetui.cli
-from slopetui.store import Database
+from slopetui.store.database import Database
 from slopetui.store.failures import DatabaseFailure, StoreError
 
 

@@ -7,7 +7,7 @@ from datetime import UTC, datetime, timedelta
 
 import pytest
 
-from slopetui.store import Database
+from slopetui.store.database import Database
 from slopetui.store.queries import (
     database_now,
     newest_sweep_id,

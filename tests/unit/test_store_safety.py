@@ -12,7 +12,7 @@ import pytest
 from sqlalchemy import text
 
 from slopetui.cli import main
-from slopetui.store import Database, Run, open_store
+from slopetui.store.database import Database
 from slopetui.store.failures import StoreError
 from slopetui.store.integrity import integrity_problems
 from slopetui.store.migrate import (
@@ -22,6 +22,8 @@ from slopetui.store.migrate import (
     revisions,
     upgrade,
 )
+from slopetui.store.models import Run
+from slopetui.store.open import open_store
 from tests.support import finish_all, submit_quick
 
 

@@ -16,8 +16,8 @@ from sqlalchemy import update
 from slopetui.cli import main
 from slopetui.display_text import terminal_safe
 from slopetui.sql_results import QueryDone, run_query
-from slopetui.store import Database, Run
-from slopetui.store.models import Continuation, HysteresisSweep, Sweep, Worker
+from slopetui.store.database import Database
+from slopetui.store.models import Continuation, HysteresisSweep, Run, Sweep, Worker
 from slopetui.sweeps.recompute import StoredRun
 from slopetui.tui.screens.run_detail import summary_text
 from slopetui.tui.screens.sql import format_cell

@@ -10,10 +10,13 @@ import numpy as np
 import pytest
 from scipy.optimize import fsolve
 
-from core import Params, SolverSettings, classify, run_point
+from core.classify import classify
 from core.heading import heading
 from core.hopf_start import hopf_point, jacobians, steady_state
+from core.params import Params
+from core.point import run_point
 from core.rest_stability import NEUTRAL_TOL, rest_exponent
+from core.solve import SolverSettings
 from core.stability import hopf_k, leading_root
 
 T = np.arange(0.0, 1000.0, 0.01)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections import Counter
 
-import core
+import core.point
 from core.batch import MIN_LANES
 from core.solve import make_grid
 from slopetui.queue import warm_up
@@ -18,8 +18,8 @@ def test_the_warm_up_reaches_the_batched_kernel_of_each_explicit_method(monkeypa
     batched kernel, which every worker then compiled at once at its first real batch
     (~12 s of CPU each)."""
     batches, points = [], []
-    monkeypatch.setattr(core, "run_batch", lambda ps, s: batches.append((list(ps), s)))
-    monkeypatch.setattr(core, "run_point", lambda p, s: points.append((p, s)))
+    monkeypatch.setattr(core.point, "run_batch", lambda ps, s: batches.append((list(ps), s)))
+    monkeypatch.setattr(core.point, "run_point", lambda p, s: points.append((p, s)))
     warm_up.warm_up()
     widest = {}
     for ps, s in batches:

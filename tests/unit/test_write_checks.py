@@ -17,7 +17,9 @@ from sqlalchemy.exc import OperationalError
 
 from slopetui.queue import pool as pool_module
 from slopetui.queue.worker_process import WorkerOptions
-from slopetui.store import Database, open_store, write_checks
+from slopetui.store import write_checks
+from slopetui.store.database import Database
+from slopetui.store.open import open_store
 from slopetui.store.write_checks import refuses_writes, write_refusal
 
 

@@ -39,8 +39,9 @@ from textual.widgets import (
     Static,
 )
 
-from core import METHODS, PARAM_NAMES, Params, friction_warnings
 from core.history import HISTORIES
+from core.methods import METHODS
+from core.params import PARAM_NAMES, Params, friction_warnings
 from slopetui.queue.local_pool import default_jobs
 from slopetui.sweeps.estimate import describe, measured_speeds
 from slopetui.sweeps.presets import BY_KEY, PRESETS

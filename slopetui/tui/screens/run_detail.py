@@ -49,9 +49,10 @@ from textual.message import Message
 from textual.widgets import Header, Static, TabbedContent, TabPane
 from textual.worker import get_current_worker
 
-from core import ParameterError, Params, SolverSettings
 from core.jit_cache import source_digest
+from core.params import ParameterError, Params
 from core.result_fields import DETAIL_FIELDS, ResultField
+from core.solve import SolverSettings
 from slopetui.display_text import terminal_safe_lines
 from slopetui.plots.run_plots import (
     TIME_PERIODS,

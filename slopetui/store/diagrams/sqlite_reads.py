@@ -17,8 +17,8 @@ named with its cause. So does any error of sqlite3 on the way (a damaged page, a
 held longer than ``TIMEOUT_S``): the same read through ``Database`` then meets it again
 and reports it as every command does.
 
-The statements are ``diagram_reads.read_diagram``'s whole read in plain SQL (without
-finished_at, which only a live copy needs), in one snapshot (a deferred BEGIN before the
+The statements are ``reads.read_diagram``'s own (``statements``: its whole read,
+without finished_at, which only a live copy needs), in one snapshot (a deferred BEGIN before the
 first statement, as ``Database.sessions``; in WAL mode it reads beside the workers'
 writes). Values come back as the models' column types give them: Boolean as bool, JSON
 parsed, a Measure's NULL as NaN (``DECODE``); tests/unit/test_sqlite_diagram_reads.py
@@ -39,8 +39,8 @@ from urllib.parse import quote
 
 import migrations
 from core.mounts import network_filesystem
-from core.params import PARAM_NAMES
-from slopetui.store.diagram_rows import DiagramRead, S, run_columns
+from slopetui.store.diagrams import statements
+from slopetui.store.diagrams.result import DiagramRead, S, run_columns
 from slopetui.store.id_lists import sqlite_file
 from slopetui.store.location import default_url
 
@@ -76,7 +76,7 @@ def read_sqlite_diagram(url: str | None, sweep_id: int | None,
     """The sweep ``sweep_id`` (None: the newest) of the SQLite store at ``url`` (default:
     ``$SLOPETUI_DB``, else the default file) and all its runs, in one snapshot; None if
     there is no such sweep (or no sweep at all). ``read_spec`` and ``drawn_only`` as for
-    ``diagram_reads.read_diagram``. Raises NeedsDatabase (module docstring)."""
+    ``reads.read_diagram``. Raises NeedsDatabase (module docstring)."""
     path = _plain_file(url or default_url())
     try:
         conn = sqlite3.connect(f"file:{quote(str(path))}?mode=ro", uri=True,
@@ -109,27 +109,20 @@ def _read(conn: sqlite3.Connection, sweep_id: int | None,
           read_spec: Callable[[dict[str, Any]], tuple[S, str, str | None]],
           drawn_only: bool) -> DiagramRead[S] | None:
     if sweep_id is None:
-        sweep_id = conn.execute("SELECT max(id) FROM sweeps").fetchone()[0]
+        sweep_id = conn.execute(statements.NEWEST_SWEEP).fetchone()[0]
         if sweep_id is None:
             return None
+    params = {"sweep_id": sweep_id}
     (now,) = conn.execute(NOW_SQL).fetchone()
-    sweep = conn.execute("SELECT id, name, spec FROM sweeps WHERE id = ?",
-                         (sweep_id,)).fetchone()
+    sweep = conn.execute(statements.SWEEP, params).fetchone()
     if sweep is None:
         return None
     spec, x_param, y_param = read_spec(json.loads(sweep[2]))
-    for param in (x_param, y_param or "iy"):  # named into the SQL text: a column for sure
-        if param not in (*PARAM_NAMES, "iy"):
-            raise ValueError(f"{param!r} is not a parameter of a run")
     columns = ("x", "y", *run_columns(y_param, drawn_only))
-    cursor = conn.execute(f"SELECT {x_param} AS x, {y_param or 'iy'} AS y, "
-                          f"{', '.join(columns[2:])} FROM runs WHERE sweep_id = ? "
-                          "ORDER BY ic, iy, ix", (sweep_id,))
+    cursor = conn.execute(statements.runs_sql(x_param, y_param, columns[2:]), params)
     rows = _decoded(columns, cursor.fetchall())
-    statuses = dict(conn.execute("SELECT status, count(*) FROM runs WHERE sweep_id = ? "
-                                 "GROUP BY status", (sweep_id,)).fetchall())
-    max_id = conn.execute("SELECT max(id) FROM runs WHERE sweep_id = ?",
-                          (sweep_id,)).fetchone()[0] or 0
+    statuses = dict(conn.execute(statements.STATUSES, params).fetchall())
+    max_id = conn.execute(statements.MAX_RUN_ID, params).fetchone()[0] or 0
     return DiagramRead(sweep[0], sweep[1], spec, datetime.fromisoformat(now), columns, rows,
                        statuses, max_id)
 

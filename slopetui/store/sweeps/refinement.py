@@ -18,7 +18,7 @@ from sqlalchemy.orm import Session
 
 from slopetui.store.database import Database
 from slopetui.store.models import Run, Sweep
-from slopetui.store.sweep_rows import RunRow, insert_runs
+from slopetui.store.sweeps.writes import RunRow, insert_runs
 
 #: A level is complete when none of its runs is in one of these.
 UNFINISHED = ("queued", "running")
@@ -83,7 +83,7 @@ class LockedSweep:
         return [(ix, iy, status, regime) for ix, iy, status, regime in rows]
 
     def insert_runs(self, rows: list[RunRow]) -> int:
-        """Insert new runs, the cache answering those it can (``sweep_rows.insert_runs``,
+        """Insert new runs, the cache answering those it can (``writes.insert_runs``,
         which completes the rows in place); returns how many took a cached result."""
         return insert_runs(self._s, self.id, rows)
 

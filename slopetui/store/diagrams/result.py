@@ -1,8 +1,8 @@
 """What a read of a sweep's diagram returns, and which run columns it reads.
 
-Shared by the two reads of a diagram: through SQLAlchemy (``diagram_reads``: every
+Shared by the two reads of a diagram: through SQLAlchemy (``reads``: every
 database, the application's live diagram) and through the standard library's sqlite3
-(``sqlite_diagram_reads``: ``slopetui show`` on a SQLite file). No SQLAlchemy here, so
+(``sqlite_reads``: ``slopetui show`` on a SQLite file). No SQLAlchemy here, so
 that the latter loads none.
 """
 
@@ -37,8 +37,8 @@ class DiagramRead(Generic[S]):
     """A sweep and the runs a read found, as of ``now`` (database time).
 
     columns  : the names of the rows' values: "x", "y", then ``run_columns`` (and
-               ``diagram_reads``' "finished_at", last)
-    rows     : the runs (all, or those changed: ``diagram_reads``), in grid order
+               ``reads``' "finished_at", last)
+    rows     : the runs (all, or those changed: ``reads``), in grid order
                (ic, iy, ix), each a sequence of values in ``columns`` order
     statuses : the sweep's runs per status (every run, not only ``rows``)
     max_id   : the sweep's highest run id, 0 if it has none

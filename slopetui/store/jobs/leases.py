@@ -1,6 +1,6 @@
 """The lease every job of the queue is held under, one implementation for every job table
-(runs: slopetui.store.claims; continuations and hysteresis sweeps:
-slopetui.store.point_jobs): the holder's guard, fail, release, heartbeat and requeue.
+(runs: slopetui.store.runs.claims; continuations and hysteresis sweeps:
+slopetui.store.jobs.point_jobs): the holder's guard, fail, release, heartbeat and requeue.
 
 A worker holds a job while its heartbeat (database time) is younger than the lease
 length; ``requeue_expired`` hands the jobs of silent workers to others, and fails a job
@@ -9,7 +9,7 @@ worker_id = me`` (``Lease.holding``), so a worker that lost its lease cannot wri
 second result for a job that another worker has taken over.
 
 A job held but never started (``status = 'running' AND started_at IS NULL``: a run of a
-batch claimed and not yet begun, slopetui.store.claims) goes back to the queue as it came,
+batch claimed and not yet begun, slopetui.store.runs.claims) goes back to the queue as it came,
 with no attempt charged and no error; a point-by-point job is started at its claim, so
 none of its rows is ever in that state.
 

@@ -1,6 +1,6 @@
 """The workers table: a worker process registers on start, unregisters on exit, and the
 live ones are read back (the pool, ``status``, ``workers`` and the application list them,
-see ``slopetui.queue.workers_table``). Heartbeats are ``slopetui.store.claims``'s: they
+see ``slopetui.queue.workers_table``). Heartbeats are ``slopetui.store.runs.claims``'s: they
 extend the worker's leases too.
 """
 

@@ -3,7 +3,7 @@ policy): submit, claim, save a point, finish, fail, release, heartbeat, requeue;
 faces' reads of continuations, their points and their bifurcations. Each function is one
 transaction.
 
-The lease and its statements are every point-by-point job's (slopetui.store.point_jobs):
+The lease and its statements are every point-by-point job's (slopetui.store.jobs.point_jobs):
 a continuation's points are counted in ``n_points``, and a point is saved only as the
 next one. What is a continuation's own: the Hopf point recorded with the first point, and
 the bifurcations written with its finish.
@@ -18,8 +18,8 @@ from typing import Any
 from sqlalchemy import delete, insert, select
 
 from slopetui.store.database import Database
+from slopetui.store.jobs.point_jobs import LeasedRow, PointJobs, columns, record_of
 from slopetui.store.models import Bifurcation, BranchPoint, Continuation
-from slopetui.store.point_jobs import LeasedRow, PointJobs, columns, record_of
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,9 +92,9 @@ class BifurcationRow:
 _JOBS = PointJobs(Continuation, BranchPoint, parent="continuation_id", counter="n_points",
                   row=ContinuationRow, point_row=BranchPointRow, saved_row=SavedBranchPoint)
 
-#: The continuations' lease (slopetui.store.leases): heartbeat and requeue.
+#: The continuations' lease (slopetui.store.jobs.leases): heartbeat and requeue.
 lease = _JOBS.lease
-# The statements every point-by-point job shares (slopetui.store.point_jobs), by the names
+# The statements every point-by-point job shares (slopetui.store.jobs.point_jobs), by the names
 # the queue and the faces call: a continuation's id is the job id.
 submit = _JOBS.submit
 claim = _JOBS.claim

@@ -1,7 +1,7 @@
 """The read behind a sweep's diagram: the whole sweep, or only what changed since an
 earlier read (``slopetui.sweeps.live_diagram`` keeps a diagram up to date with the
 latter, ``slopetui.sweeps.diagram`` reads whole ones). What it returns, and which columns,
-is ``diagram_rows``'s, shared with ``sqlite_diagram_reads``, the same whole read of a
+is ``result``'s, shared with ``sqlite_reads``, the same whole read of a
 SQLite file without SQLAlchemy (``slopetui show``).
 
 *What changed* is found by two keys. New runs: an id above the highest one read before (a
@@ -23,27 +23,38 @@ takes one per statement, so the session asks for REPEATABLE READ there.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from datetime import datetime
 from typing import Any
 
-from sqlalchemy import func, select
-from sqlalchemy.sql.elements import ColumnElement
+from sqlalchemy import BindParameter, Table, TextualSelect, bindparam, column, text
 
 from slopetui.store.database import Database
-from slopetui.store.diagram_rows import DiagramRead, S, run_columns
+from slopetui.store.diagrams import statements
+from slopetui.store.diagrams.result import DiagramRead, S, run_columns
 from slopetui.store.models import Run, Sweep
 
+#: The tables read, with the column types that decode their values.
+runs_table: Table = Run.__table__  # type: ignore[assignment]
+sweeps: Table = Sweep.__table__  # type: ignore[assignment]
 
-def diagram_columns(x_param: str, y_param: str | None,
-                    drawn_only: bool = False) -> list[ColumnElement[Any]]:
-    """The run columns of a diagram of the plane (x_param, y_param), named as
-    ``diagram_rows.run_columns`` says (x and y first), and last finished_at: with the
-    status, what tells a copy (``sweeps.live_diagram``) that a run it holds changed."""
-    return [getattr(Run, x_param).label("x"),
-            (getattr(Run, y_param) if y_param else Run.iy).label("y"),
-            *(getattr(Run, name) for name in run_columns(y_param, drawn_only)),
-            Run.finished_at]
+
+def diagram_columns(x_param: str, y_param: str | None, drawn_only: bool = False) -> list[str]:
+    """The run columns of a diagram of the plane (x_param, y_param), as
+    ``result.run_columns`` names them (x and y excluded), and last finished_at:
+    with the status, what tells a copy (``sweeps.live_diagram``) that a run it holds
+    changed."""
+    return [*run_columns(y_param, drawn_only), "finished_at"]
+
+
+def typed(sql: str, table: Table, names: Sequence[tuple[str, str]],
+          *binds: BindParameter[Any]) -> TextualSelect:
+    """``sql`` whose result columns (each a name, and the column of ``table`` whose type
+    decodes it) come back as the models give them, as a select of the models' columns
+    does: Boolean as bool, JSON parsed, a Measure's NULL as NaN. ``binds``: parameters
+    given a type (a datetime, as the column stores it)."""
+    return text(sql).bindparams(*binds).columns(
+        *(column(name, table.c[source].type) for name, source in names))
 
 
 def read_diagram(db: Database, sweep_id: int,
@@ -54,25 +65,28 @@ def read_diagram(db: Database, sweep_id: int,
     at or after ``finished_since`` (the defaults: every run); None if there is no such
     sweep. ``read_spec`` turns the stored spec into the caller's spec and the names of its
     x and y parameters (y None for a 1-D sweep): the columns read depend on them, and on
-    ``drawn_only`` (``diagram_rows.run_columns``)."""
+    ``drawn_only`` (``result.run_columns``). The statements are ``statements``'s."""
+    params: dict[str, Any] = {"sweep_id": sweep_id}
     with db.sessions() as s:
         if not db.is_sqlite:  # one snapshot for every statement (module docstring)
             s.connection(execution_options={"isolation_level": "REPEATABLE READ"})
         now = db.now(s)
-        sweep = s.get(Sweep, sweep_id)
+        conn = s.connection()
+        sweep = conn.execute(typed(statements.SWEEP, sweeps,
+                                   [(n, n) for n in ("id", "name", "spec")]), params).first()
         if sweep is None:
             return None
         spec, x_param, y_param = read_spec(sweep.spec)
-        changed = Run.id > after_id
-        if finished_since is not None:
-            changed = changed | (Run.finished_at >= finished_since)
-        result = s.connection().execute(
-            select(*diagram_columns(x_param, y_param, drawn_only))
-            .where(Run.sweep_id == sweep_id, changed)
-            .order_by(Run.ic, Run.iy, Run.ix))
+        names = diagram_columns(x_param, y_param, drawn_only)
+        since = () if finished_since is None else (
+            bindparam("finished_since", type_=runs_table.c.finished_at.type),)
+        runs = typed(statements.runs_sql(x_param, y_param, names, after_id=True,
+                                          finished_since=finished_since is not None),
+                     runs_table, [("x", x_param), ("y", y_param or "iy"),
+                                  *((n, n) for n in names)], *since)
+        given = {} if finished_since is None else {"finished_since": finished_since}
+        result = conn.execute(runs, {**params, "after_id": after_id, **given})
         columns, rows = tuple(result.keys()), result.all()
-        statuses = {status: n for status, n in s.execute(
-            select(Run.status, func.count()).where(Run.sweep_id == sweep_id)
-            .group_by(Run.status))}
-        max_id = s.scalar(select(func.max(Run.id)).where(Run.sweep_id == sweep_id)) or 0
+        statuses = {status: n for status, n in conn.execute(text(statements.STATUSES), params)}
+        max_id = conn.execute(text(statements.MAX_RUN_ID), params).scalar() or 0
     return DiagramRead(sweep.id, sweep.name, spec, now, columns, rows, statuses, max_id)

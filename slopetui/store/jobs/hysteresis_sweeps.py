@@ -2,8 +2,8 @@
 holds the policy): submit, claim, save a point, finish, fail, release, heartbeat, requeue;
 and the faces' reads of the sweeps and their points. Each function is one transaction.
 
-The lease and its statements are every point-by-point job's (slopetui.store.point_jobs),
-as for continuations (branch_rows): a sweep's points are counted in ``n_done``, and a
+The lease and its statements are every point-by-point job's (slopetui.store.jobs.point_jobs),
+as for continuations (``continuations``): a sweep's points are counted in ``n_done``, and a
 point is saved only as the next one. What is a sweep's own: its finish, with where each
 branch changes regime.
 """
@@ -14,8 +14,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from slopetui.store.database import Database
+from slopetui.store.jobs.point_jobs import LeasedRow, PointJobs
 from slopetui.store.models import HysteresisPoint, HysteresisSweep
-from slopetui.store.point_jobs import LeasedRow, PointJobs
 
 
 @dataclass(frozen=True, slots=True)
@@ -77,9 +77,9 @@ _JOBS = PointJobs(HysteresisSweep, HysteresisPoint, parent="sweep_id", counter="
                   row=HysteresisRow, point_row=HysteresisPointRow,
                   saved_row=SavedHysteresisPoint)
 
-#: The hysteresis sweeps' lease (slopetui.store.leases): heartbeat and requeue.
+#: The hysteresis sweeps' lease (slopetui.store.jobs.leases): heartbeat and requeue.
 lease = _JOBS.lease
-# The statements every point-by-point job shares (slopetui.store.point_jobs), by the names
+# The statements every point-by-point job shares (slopetui.store.jobs.point_jobs), by the names
 # the queue and the faces call: a sweep's id is the job id.
 submit = _JOBS.submit
 claim = _JOBS.claim

@@ -1,13 +1,13 @@
 """The statements of a claimed run's life: claim (a batch), begin, complete, refuse, and
 the runs' lease (``lease``: fail, release, heartbeat, requeue, shared with every job kind,
-slopetui.store.leases). ``slopetui.queue.jobs`` holds the policy (what a job is, when a
+slopetui.store.jobs.leases). ``slopetui.queue.jobs`` holds the policy (what a job is, when a
 run has used up its attempts) and calls these; each one here is one transaction.
 
 Inside SQLite's BEGIN IMMEDIATE, or with ``FOR UPDATE SKIP LOCKED`` on PostgreSQL, two
 workers can never claim the same run. Every write of a result is guarded by the lease
 (``status = 'running' AND worker_id = me``), so a worker that lost its lease cannot write
 a second result for a run that another worker has taken over; the worker's row is
-written after the runs' (the lock order, slopetui.store.leases).
+written after the runs' (the lock order, slopetui.store.jobs.leases).
 
 A batch (``claim_batch``) is the oldest queued run of an active sweep that no other worker
 is claiming, and the queued runs that share its solver settings, history and tau, oldest
@@ -33,9 +33,9 @@ from sqlalchemy import bindparam, func, select, update
 from core.result_fields import RESULT_NAMES
 from slopetui.store.database import Database
 from slopetui.store.db_time import db_now
-from slopetui.store.leases import Lease
+from slopetui.store.jobs.leases import Lease
+from slopetui.store.jobs.point_jobs import columns, record_of
 from slopetui.store.models import Run, Sweep, Worker
-from slopetui.store.point_jobs import columns, record_of
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,7 +1,7 @@
 """The statements every job computed point by point under a lease shares (continuations:
-slopetui.store.branch_rows, hysteresis sweeps: slopetui.store.hysteresis_rows): submit,
+slopetui.store.jobs.continuations, hysteresis sweeps: slopetui.store.jobs.hysteresis_sweeps): submit,
 claim, save the next point, mark done, and the reads the faces make of any such table;
-its lease (fail, release, heartbeat, requeue) is every job's (slopetui.store.leases).
+its lease (fail, release, heartbeat, requeue) is every job's (slopetui.store.jobs.leases).
 ``PointJobs`` builds them once for one job model (a ``LeasedJob``), its points' model, the
 column counting the saved points, and the frozen dataclasses its rows are read into (a
 job's row, a point as the faces read it, a point with what a resumption needs: their
@@ -26,7 +26,7 @@ from sqlalchemy.orm import Session
 
 from slopetui.store.database import Database, rows_changed
 from slopetui.store.db_time import db_now
-from slopetui.store.leases import Lease
+from slopetui.store.jobs.leases import Lease
 from slopetui.store.models import Base, LeasedJob
 
 #: A job's row, a point as the faces read it, a saved point with its resume state.
@@ -85,7 +85,7 @@ class PointJobs(Generic[JobT, PointT, SavedT]):
         self._point_idx = point.__table__.c.idx
         self._count = job.__table__.c[counter]
         self._row_columns = columns(job, row)
-        # Prebuilt once, as the runs' claim (slopetui.store.claims): the workers' hot path.
+        # Prebuilt once, as the runs' claim (slopetui.store.runs.claims): the workers' hot path.
         oldest_queued = (select(job.id).where(job.status == "queued")
                          .order_by(job.id).limit(1)
                          .with_for_update(skip_locked=True)  # PostgreSQL; SQLite ignores it

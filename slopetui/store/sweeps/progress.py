@@ -1,6 +1,6 @@
 """The reads behind the progress of sweeps, each in one session (one snapshot of the
 store). ``slopetui.sweeps.progress`` turns them into what the faces show; a sweep's
-diagram is read by ``diagram_reads``.
+diagram is read by ``slopetui.store.diagrams``.
 """
 
 from __future__ import annotations

@@ -28,9 +28,9 @@ from typing import Any
 from sqlalchemy import delete, insert, select, update
 from sqlalchemy.orm import Session
 
-from slopetui.store.cached_results import finished_results, result_of
 from slopetui.store.database import Database, rows_changed
 from slopetui.store.models import Continuation, InitialState, Run, Sweep, Worker
+from slopetui.store.runs.cached_results import finished_results, result_of
 
 #: A run's columns by name, as ``insert(Run)`` takes them.
 RunRow = dict[str, object]

@@ -1,0 +1,47 @@
+"""The arguments of ``slopetui continue``."""
+
+from __future__ import annotations
+
+import argparse
+
+from core.params import PARAM_NAMES
+from slopetui.cli.arguments.orbit import add_point_options
+
+#: Parameters a branch can follow: every parameter of the model but delta, which only
+#: places the seed (eq. 19), not the orbit.
+CONTINUABLE = tuple(n for n in PARAM_NAMES if n != "delta")
+
+#: The largest --max-step: a step along the branch in (parameter, period) space; a larger
+#: one is no request a continuation can honour (its steps adapt far below it).
+MAX_STEP = 1e3
+
+
+def declare(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("continue", help="continue periodic orbits in one parameter: folds, "
+                                        "period doublings, tori",
+                       description="Pseudo-arclength continuation of a family of periodic "
+                                   "orbits, from the Hopf point (--from-hopf), from a stored "
+                                   "run's parameters (--from-run ID) or from the orbit a "
+                                   "simulation at the given point settles on (default).")
+    add_point_options(p)
+    p.add_argument("--param", required=True, choices=CONTINUABLE,
+                   help="the parameter to continue in")
+    start = p.add_mutually_exclusive_group()
+    start.add_argument("--from-hopf", action="store_true",
+                       help="start at the Hopf point of the steady state in --param")
+    start.add_argument("--from-run", dest="from_run", metavar="ID",
+                       help="start from the orbit at a stored run's parameters")
+    p.add_argument("--to", metavar="VALUE",
+                   help="stop once the parameter passes VALUE (default: the Hopf point or "
+                        "--points)")
+    p.add_argument("--points", default="300", metavar="N",
+                   help="at most N points (default 300, from 2 to 5000)")
+    p.add_argument("--max-step", dest="max_step", default="0.5", metavar="X",
+                   help=f"largest step along the branch (default 0.5, at most {MAX_STEP:g})")
+    p.add_argument("--submit", action="store_true",
+                   help="queue the continuation for the workers (`slopetui worker`, the "
+                        "application's pool) instead of computing it here; it is stored point "
+                        "by point, resumes where it stopped, and `slopetui branch ID` shows it")
+    p.add_argument("--db", metavar="URL",
+                   help="the store of --from-run and --submit (default as for run)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
