@@ -20,6 +20,7 @@ from slopetui.cli.options import float_arg, int_arg, open_db, say_queued
 from slopetui.cli.orbit import check_seed_steps, point_of
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
+from slopetui.queue.warm_up import say_if_compiling
 from slopetui.store.queries import run_by_id
 from slopetui.sweeps.branch_records import bifurcation_record, point_record
 from slopetui.sweeps.branches import submit
@@ -114,6 +115,7 @@ def handle(args: argparse.Namespace) -> int:
     spec = BranchSpec(params, args.param, dt, args.from_hopf, end, args.points, args.max_step)
     if args.submit:
         return _submit(args, spec)
+    say_if_compiling("continue")
     t0 = time.process_time()
     try:
         branch, hopf = start(spec)

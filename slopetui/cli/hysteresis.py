@@ -22,6 +22,7 @@ from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
 from slopetui.plots.hysteresis_plot import render_hysteresis
 from slopetui.queue.hysteresis_jobs import TOL_MAX, transition_fields
+from slopetui.queue.warm_up import say_if_compiling
 from slopetui.sweeps.hysteresis_runs import HysteresisSpec, hysteresis_of, submit
 
 if TYPE_CHECKING:
@@ -186,6 +187,7 @@ def handle(args: argparse.Namespace) -> int:
         return 2
     if args.submit:
         return _submit(args, params, dt, start, stop, t_settle, window, tol)
+    say_if_compiling("hysteresis")
     t0 = time.process_time()
 
     def say(direction: str, pt: WarmPoint) -> None:
