@@ -83,7 +83,7 @@ KINDS: dict[str, Kind] = {
     "id": "int", "sweep_id": "int", "ix": "int", "iy": "int", "ic": "int",
     **{name: "float" for name in PARAM_NAMES},
     "history": "text", "method": "text", "dt": "float", "t_end": "float", "window": "float",
-    "lyap": "bool", "status": "text",
+    "lyap": "bool", "stop": "text", "status": "text",
     **{name: _RESULT_KINDS[BY_NAME[name].kind] for name in RESULT_NAMES},
     "attempts": "int", "worker_id": "text", "cached_from": "int?", "started_at": "time",
     "finished_at": "time", "error": "text", "inferred": "bool", "level": "int?",

@@ -204,7 +204,7 @@ def summary_text(run: StoredRun, width: int = SUMMARY_WIDTH) -> str:
     params = (f"a {run.a:g}  b {run.b:g}  c {run.c:g}  d {run.d:g}  k {run.k:g}  "
               f"v {run.v:g}  τ {run.tau:g}  δ {run.delta:g}")
     solver = (f"{run.method} · dt {run.dt:g} · t_end {run.t_end:g} · window {run.window:g} · "
-              f"engine {run.engine}")
+              f"stop {run.stop} · engine {run.engine}")
     if run.inferred:
         what = (f"inferred {run.regime}" if run.done else "inferred failed")
         return terminal_safe_lines("\n".join([
