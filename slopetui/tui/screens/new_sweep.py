@@ -4,9 +4,11 @@ The form is a view of a spec mapping (``slopetui.sweeps.spec``): every change re
 it, so the form and ``slopetui submit`` accept and refuse exactly the same sweeps.
 "adaptive levels" (beside the name, so the form still fits 80x24) makes a phase
 diagram adaptive (``[adaptive] levels``); empty means every point is computed.
-"stop" (beside the history) is each run's stop rule, ``[solver] stop``: a new sweep's
-default is "certified" (slopetui.sweeps.spec.NEW_SWEEP_STOP; its tooltip says why), a
-preset sets the paper's "t_end"; the estimate says what it assumes of where runs stop.
+"stop" (beside the name too) is each run's stop rule, ``[solver] stop``: a new sweep's
+default is "certified" (slopetui.sweeps.spec.NEW_SWEEP_STOP), and a note under the
+estimate says so and why (below the fold at 80x24, where the estimate and an error keep
+the last visible lines); a preset sets the paper's "t_end"; the estimate says what it
+assumes of where runs stop.
 
 The field that has the keys is lit, and so is its row; the footer says that tab moves
 on (a field takes the digits and q, which elsewhere switch screens and quit).
@@ -65,12 +67,10 @@ SPACING_CHOICES = [("linear", "linear"), ("log", "log")]
 NO_AXIS = "none"
 #: What a swept parameter's fixed input shows instead of its value.
 SWEPT = "swept"
-#: The stop field's tooltip: the default and why.
-STOP_TOOLTIP = ("When each run stops. certified (the default for a new sweep): as soon as its "
-                "attractor is certified from its own state (a fixed point by its root and "
-                "decay, an orbit by its multipliers), else at t_end; far fewer steps where "
-                "runs settle early. t_end: the paper's protocol, every run to t_end (the "
-                "presets keep it)")
+#: The note on the stop rule: the default and why.
+STOP_NOTE = ("ⓘ stop: certified (the default) ends a run as soon as its attractor is "
+             "certified, else at t_end: far fewer steps where runs settle early. t_end is the "
+             "paper's protocol, every run to t_end (the presets keep it).")
 
 
 class OnOffCheckbox(Checkbox):
@@ -132,6 +132,7 @@ class NewSweepScreen(SlopeScreen[int | None]):
     NewSweepScreen #axis-heading { height: 1; }
     NewSweepScreen #axis-heading Label { color: $text-muted; text-style: italic; }
     NewSweepScreen #axis-heading .heading-num { width: 10; }
+    NewSweepScreen #stop-note { color: $text-muted; }
     """
 
     BINDINGS = [
@@ -185,6 +186,10 @@ class NewSweepScreen(SlopeScreen[int | None]):
                                     compact=True, id="preset"), classes="form-row")
             yield Horizontal(Label("name:", classes="row-label"),
                              Input(placeholder="(from the axes)", compact=True, id="name"),
+                             Label("stop", classes="param-label"),
+                             Select([(rule, rule) for rule in STOPS], value=NEW_SWEEP_STOP,
+                                    allow_blank=False, compact=True, id="solver-stop",
+                                    classes="spacing"),
                              Label("adaptive levels", classes="param-label"),
                              Input(placeholder="off", compact=True, id="adaptive-levels",
                                    classes="num"),
@@ -209,10 +214,6 @@ class NewSweepScreen(SlopeScreen[int | None]):
                 Label("start:", classes="row-label"),
                 Select([(h, h) for h in HISTORIES], value="constant", allow_blank=False,
                        compact=True, id="solver-history", classes="spacing"),
-                Label("stop", classes="param-label"),
-                Select([(rule, rule) for rule in STOPS], value=NEW_SWEEP_STOP,
-                       allow_blank=False, compact=True, id="solver-stop", classes="spacing",
-                       tooltip=STOP_TOOLTIP),
                 Label("δ list", classes="param-label"),
                 # short enough for the ~50 columns the field has at 80 (the rest: tooltip)
                 Input(placeholder="e.g. 1e-6, 0.1: a map of where they differ",
@@ -224,6 +225,7 @@ class NewSweepScreen(SlopeScreen[int | None]):
             yield Static("", id="estimate")
             yield Static("", id="form-error")
             yield Static("", id="form-warnings")
+            yield Static(STOP_NOTE, id="stop-note")
             with Horizontal(id="form-buttons"):
                 yield Button("Submit (ctrl+s)", variant="primary", id="submit")
                 yield Button("Cancel (esc)", id="cancel")
