@@ -257,3 +257,13 @@ def test_the_estimate_takes_the_stores_stopping_times_and_speed_per_step(db):
     assert "(measured speed;" in line
     # a sweep to t_end charges every step
     assert "every run to t_end" in describe(spec_with("t_end"), 1, speeds, stops)
+
+
+def test_the_runs_table_shows_stop_and_t_stop(db, db_url, capsys):
+    submit(db, spec_with("certified"))
+    finish_all(db)
+    assert main(["runs", "--limit", "0", "--db", db_url]) == 0
+    header, *lines = capsys.readouterr().out.splitlines()
+    assert header.split()[-2:] == ["stop", "t_stop"]
+    assert len(lines) == 3 and all(line.split()[-2] == "certified" for line in lines)
+    assert all(0 < float(line.split()[-1]) <= 200.01 for line in lines)
