@@ -40,7 +40,8 @@ def parse_inputs(args: argparse.Namespace) -> tuple[Params, SolverSettings]:
     name, _ = parse_history(getattr(args, "history", "constant"))
     settings = SolverSettings(method=args.method, dt=args.dt, t_end=args.t_end,
                               window=args.window, lyap=args.lyap,
-                              history="constant" if name == "run" else name)
+                              history="constant" if name == "run" else name,
+                              stop=getattr(args, "stop", "t_end"))
     validate_run(params, settings)  # the pair: dt against tau, the engine's limits, the window
     return params, settings
 

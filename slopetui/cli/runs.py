@@ -53,7 +53,8 @@ def handle_runs(args: argparse.Namespace) -> int:
         print("no runs match")
         return 0
     print(f"{'id':>6} {'sweep':>5} {'status':9} {'regime':12} {'k':>7} {'tau':>7} {'a':>6} "
-          f"{'b':>6} {'c':>6} {'delta':>7} {'lambda_max':>10} {'amplitude':>9} {'period':>8}")
+          f"{'b':>6} {'c':>6} {'delta':>7} {'lambda_max':>10} {'amplitude':>9} {'period':>8} "
+          f"{'stop':9} {'t_stop':>8}")
     for r in runs:
         done = r.status == "done" and not r.inferred  # an inferred run has no measurements
         status = "inferred" if r.inferred else terminal_safe(r.status)  # stored text
@@ -61,7 +62,8 @@ def handle_runs(args: argparse.Namespace) -> int:
         print(f"{r.id:>6} {r.sweep_id:>5} {status:9} {regime:12} {r.k:>7.4g} "
               f"{r.tau:>7.4g} {r.a:>6.4g} {r.b:>6.4g} {r.c:>6.4g} {r.delta:>7.2g} "
               f"{_num(r.lambda_max if done else None, '.3g'):>10} "
-              f"{_num(r.amplitude if done else None):>9} {_num(r.period if done else None):>8}")
+              f"{_num(r.amplitude if done else None):>9} {_num(r.period if done else None):>8} "
+              f"{terminal_safe(r.stop):9} {_num(r.t_stop if done else None, '.4g'):>8}")
     return 0
 
 

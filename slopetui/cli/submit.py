@@ -11,7 +11,7 @@ from core.params import PARAM_NAMES
 from slopetui.cli.options import open_db
 from slopetui.json_text import json_text
 from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
-from slopetui.sweeps.spec import SpecError, parse_axis_flag, parse_spec, read_spec
+from slopetui.sweeps.spec import SpecError, parse_axis_flag, parse_spec, read_spec, with_stop
 from slopetui.sweeps.submit import submit
 
 
@@ -39,7 +39,8 @@ def _condition(i: int, text: str) -> dict[str, Any]:
 
 
 def spec_data(args: argparse.Namespace) -> dict[str, Any]:
-    """The spec as a mapping: the file's tables, then the flags on top."""
+    """The spec as a mapping: the file's tables, then the flags on top; the stop rule is
+    --stop, else the file's, else a new sweep's default (spec.with_stop)."""
     data = read_spec(args.spec) if args.spec else {}
     if args.x:
         data["x"] = parse_axis_flag("--x", args.x)
@@ -58,7 +59,7 @@ def spec_data(args: argparse.Namespace) -> dict[str, Any]:
         data["initial"] = [_condition(i, text) for i, text in enumerate(args.initial)]
     if "x" not in data:
         raise SpecError("x", "missing: give a SPEC.toml file or --x PARAM=START:STOP:NUM")
-    return data
+    return with_stop(data, args.stop)
 
 
 def handle(args: argparse.Namespace) -> int:

@@ -59,7 +59,7 @@ class Job:
 
 
 #: The claimed columns a run's inputs are built from (NULL in none of them).
-_INPUTS = (*PARAM_NAMES, "method", "dt", "t_end", "window", "lyap", "history")
+_INPUTS = (*PARAM_NAMES, "method", "dt", "t_end", "window", "lyap", "history", "stop")
 
 
 def _job(m: ClaimedRow, started: bool, states: Mapping[str, bytes]) -> Job:
@@ -75,7 +75,7 @@ def _job(m: ClaimedRow, started: bool, states: Mapping[str, bytes]) -> Job:
     if not isinstance(m.lyap, bool):
         raise ParameterError("lyap", m.lyap, "true or false")
     settings = SolverSettings(method=m.method, dt=m.dt, t_end=m.t_end, window=m.window,
-                              lyap=m.lyap, history=m.history)
+                              lyap=m.lyap, history=m.history, stop=m.stop)
     grid = make_grid(params, settings)  # dt <= tau, the steps' and the memory's limits
     carried = None
     if settings.history.startswith(STATE_PREFIX):

@@ -90,6 +90,7 @@ class StoredRun:
     inferred: bool
     level: int | None
     history: str
+    stop: str
     ic: int
     #: The final state the history names (slopetui.store.runs.initial_states), if it names one.
     carried: bytes | None
@@ -108,10 +109,12 @@ class StoredRun:
 
     def inputs(self) -> tuple[Params, SolverSettings]:
         """The run's parameters and solver settings, lambda_max always on (its running
-        estimate is one of the plots). Raises ParameterError for invalid inputs."""
+        estimate is one of the plots), the stop rule the run's (a certified run's window
+        ends where it stopped). Raises ParameterError for invalid inputs."""
         params = Params(**{n: getattr(self, n) for n in PARAM_NAMES})
         settings = SolverSettings(method=self.method, dt=self.dt, t_end=self.t_end,
-                                  window=self.window, lyap=True, history=self.history)
+                                  window=self.window, lyap=True, history=self.history,
+                                  stop=self.stop)
         return params, settings
 
     def carried_state(self) -> CarriedState | None:

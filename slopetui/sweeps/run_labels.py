@@ -4,8 +4,8 @@ B``): each run by its id, the inputs that tell it apart from the others, and its
 Only what differs is named: two runs of a (k, tau) sweep read "run 12: k 10, τ 2
 (oscillatory)" and "run 13: k 12, τ 2 (complex)" would repeat τ, so they read "run 12:
 k 10 (oscillatory)". Inputs are the model parameters (core.PARAM_NAMES), then the solver
-and the history before t = 0, so that two runs at one point that differ only in dt or
-history still say how.
+and the history before t = 0 and the stop rule, so that two runs at one point that differ
+only in dt, history or stop rule still say how.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ if TYPE_CHECKING:
     from slopetui.sweeps.recompute import StoredRun
 
 #: The inputs compared, in the order they are named.
-INPUTS: tuple[str, ...] = (*PARAM_NAMES, "method", "dt", "t_end", "window", "history")
+INPUTS: tuple[str, ...] = (*PARAM_NAMES, "method", "dt", "t_end", "window", "history", "stop")
 #: How the inputs are written (the paper's letters for tau and delta); the one mapping,
 #: which the terminal plots' axes and the figures' labels use too.
 SHOWN_AS: Mapping[str, str] = MappingProxyType({"tau": "τ", "delta": "δ"})

@@ -25,7 +25,8 @@ def run_rows(spec: SweepSpec, engine: str,
         for ix, iy, p in lattice:
             row: Row = {n: getattr(p, n) for n in PARAM_NAMES}
             row.update(ix=ix, iy=iy, method=s.method, dt=s.dt, t_end=s.t_end, window=s.window,
-                       lyap=s.lyap, engine=engine, delta=delta, history=history, ic=ic)
+                       lyap=s.lyap, stop=s.stop, engine=engine, delta=delta, history=history,
+                       ic=ic)
             row["cache_key"] = cache_key(row)
             rows.append(row)
     return rows

@@ -21,6 +21,7 @@ The TOML form (``slopetui submit spec.toml``)::
     window = 1000            # default min(1000, t_end / 2); stored explicitly
     lyap = true
     history = "constant"     # m_x before t = 0: constant (eq. 19) or consistent
+    stop = "certified"       # or "t_end": when a run stops (below)
     [adaptive]               # optional, 2-D only: refine the phase diagram adaptively
     levels = 3               # coarse spacing 2**levels lattice steps (1..8)
     [[initial]]              # optional, repeated: compute every point from each of these
@@ -33,6 +34,14 @@ The TOML form (``slopetui submit spec.toml``)::
 With two or more ``[[initial]]`` conditions, each lattice point is computed once per
 condition (run column ``ic``), and the diagram shows per cell the common regime or
 "depends" (slopetui.sweeps.initial_dependence): the paper's A/B comparison in one map.
+
+``stop`` is when each run stops (core.solve.STOPS): "t_end" integrates to t_end whatever
+the run has become (the paper's protocol), "certified" stops it as soon as its attractor
+is certified from its own state (a fixed point by its root and decay, an orbit by its
+multipliers), else at t_end too. A spec that does not say reads as "t_end": the stored
+specs of sweeps before the rule existed ran to t_end, and so do the paper's presets.
+New sweeps from ``slopetui submit`` and the application's form default to "certified"
+(NEW_SWEEP_STOP: they fill it in before parsing); ``with_stop`` does that.
 
 With ``[adaptive]`` the lattice of x.num x y.num points is the *final* resolution:
 only a coarse lattice is computed first, then only where regimes change (see
@@ -60,7 +69,7 @@ import numpy as np
 
 from core.history import check_history
 from core.params import PARAM_NAMES, ParameterError, Params
-from core.solve import DEFAULT_DT, LimitError, SolverSettings, validate_run
+from core.solve import DEFAULT_DT, STOPS, LimitError, SolverSettings, validate_run
 from slopetui import examples
 from slopetui.display_text import unsafe_characters
 from slopetui.sweeps.carried import parse_history
@@ -73,11 +82,15 @@ MAX_NAME = 200
 
 TOP_KEYS = {"name", "x", "y", "fixed", "solver", "adaptive", "initial"}
 AXIS_KEYS = {"param", "start", "stop", "num", "spacing"}
-SOLVER_KEYS = {"method", "dt", "t_end", "window", "lyap", "history"}
+SOLVER_KEYS = {"method", "dt", "t_end", "window", "lyap", "history", "stop"}
 INITIAL_KEYS = {"delta", "history"}
 #: Initial conditions of one sweep at most (each one multiplies its runs).
 MAX_INITIAL = 16
 ADAPTIVE_KEYS = {"levels"}
+#: The stop rule of a new sweep whose spec does not name one (``submit``, the form): a
+#: run stops where its attractor is certified, at t_end at the latest. Not the parser's
+#: default, which stays the paper's protocol for stored specs and presets (module doc).
+NEW_SWEEP_STOP = "certified"
 #: Allowed refinement levels: 2**8 = 256 lattice steps between coarse points is already
 #: coarser than any useful first look (a 2-D sweep of MAX_RUNS points is 1000 x 1000).
 ADAPTIVE_LEVELS = (1, 8)
@@ -303,6 +316,11 @@ def _parse_solver(data: object) -> SolverSettings:
         kw["lyap"] = data["lyap"]
     if "history" in data:
         kw["history"] = data["history"]
+    if "stop" in data:
+        if data["stop"] not in STOPS:  # before SolverSettings, whose message has no quotes
+            raise SpecError("solver.stop", f"expected one of {', '.join(map(repr, STOPS))}, "
+                                           f"got {_short(data['stop'])}")
+        kw["stop"] = data["stop"]
     try:
         settings = SolverSettings(**kw)
     except ParameterError as exc:
@@ -310,6 +328,20 @@ def _parse_solver(data: object) -> SolverSettings:
     if settings.dt is None:  # resolve now: the stored spec and the cache key need it
         settings = SolverSettings(**{**kw, "dt": DEFAULT_DT[settings.method]})
     return settings
+
+
+def with_stop(data: Mapping[str, Any], stop: str | None = None) -> dict[str, Any]:
+    """The spec's tables with the stop rule of a new sweep filled in: ``stop`` if given,
+    else the spec's own ``[solver] stop``, else NEW_SWEEP_STOP. A ``solver`` that is not
+    a table is left as it is, for parse_spec to name."""
+    out = dict(data)
+    solver = out.get("solver", {})
+    if isinstance(solver, Mapping):
+        if stop is not None:
+            out["solver"] = {**solver, "stop": stop}
+        elif "stop" not in solver:
+            out["solver"] = {**solver, "stop": NEW_SWEEP_STOP}
+    return out
 
 
 def _parse_initial(data: object, axes: list[Axis], adaptive: bool

@@ -20,7 +20,7 @@ def spec_of(n: int):
 
 def test_without_runs_the_reference_speed_stands_in(db):
     assert measured_speeds(db) == {}
-    assert "(reference speed)" in describe(spec_of(8), 2, measured_speeds(db))
+    assert "(reference speed;" in describe(spec_of(8), 2, measured_speeds(db))
 
 
 @pytest.mark.wall_clock  # two sweeps' run times compared: both at full priority
@@ -39,11 +39,11 @@ def test_the_estimate_foretells_what_the_next_runs_take(db):
     submit(db, first)
     finish_all(db)
     speeds = measured_speeds(db)
-    assert set(speeds) == {("rk4", True)}
+    assert set(speeds) == {("rk4", True, "t_end")}
     second = parse_spec({"x": {"param": "k", "start": 13, "stop": 20, "num": 8},
                          "fixed": {"tau": 2.0}, "solver": solver})
     estimate = wall_seconds(second, 1, speeds)
-    assert "(measured speed)" in describe(second, 1, speeds)
+    assert "(measured speed;" in describe(second, 1, speeds)
     sweep = submit(db, second).sweep_id
     finish_all(db)
     with db.sessions() as s:

@@ -122,7 +122,7 @@ def stored_run(run_id: int, **changes: Any) -> StoredRun:
     values.update(id=run_id, sweep_id=1, status="done", a=3.2, b=7.2, c=4.8, d=1e-4, k=12.0, v=0.1,
                   tau=2.0, delta=0.1, method="rk4", dt=0.01, t_end=200.0, window=100.0, lyap=True,
                   engine="test", worker_id=None, attempts=1, error=None, cached_from=None,
-                  inferred=False, level=None, history="constant", ic=0, carried=None,
+                  inferred=False, level=None, history="constant", stop="t_end", ic=0, carried=None,
                   regime="oscillatory", lambda_max=0.001, lambda_err=0.0005)
     values.update(changes)
     assert set(values) == {f.name for f in fields(StoredRun)}

@@ -72,7 +72,9 @@ def test_run_json_of_a_continuum_holds_a_numpy_bool(capsys):
 def test_a_run_has_the_same_json_values_from_run_and_from_export(db, db_url, capsys):
     """Before: export --json wrote "nan" where run --json wrote null (a sliding run's
     period, lambda_max without Lyapunov exponents)."""
-    solver = ["--method", "rk4", "--dt", "0.01", "--t-end", "200", "--window", "100", "--no-lyap"]
+    # one stop rule for both (run's default is t_end, submit's certified)
+    solver = ["--method", "rk4", "--dt", "0.01", "--t-end", "200", "--window", "100", "--no-lyap",
+              "--stop", "t_end"]
     assert main(["run", "--k", "4", "--tau", "2", *solver, "--json"]) == 0
     alone = strict(capsys.readouterr().out)
     assert alone["regime"] == "sliding" and alone["period"] is None

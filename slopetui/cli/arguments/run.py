@@ -58,6 +58,11 @@ def declare(sub: argparse._SubParsersAction) -> None:
                         "reads), consistent (m_x = delta (1 + t): no kink at t = 0), or run:ID "
                         "(the final state of a stored run with the same tau and step, "
                         "recomputed)")
+    p.add_argument("--stop", default="t_end", metavar="RULE",
+                   help="when the run stops: t_end (default: the paper's protocol, the whole "
+                        "run to t_end) or certified (as soon as its attractor is certified "
+                        "from its own state: a fixed point by its root and decay, an orbit by "
+                        "its multipliers; else at t_end too)")
     p.add_argument("--db", metavar="URL", help="the store of --history run:ID (default as "
                                                "for submit)")
     p.add_argument("--json", action="store_true", help="print one JSON object")

@@ -39,6 +39,12 @@ def declare(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--history", metavar="H",
                    help="m_x before t = 0 for every run: constant (default, eq. 19) or "
                         "consistent (delta (1 + t), no kink at t = 0)")
+    p.add_argument("--stop", metavar="RULE",
+                   help="when each run stops: certified (default for a spec that does not "
+                        "say: as soon as its attractor is certified from its own state, a "
+                        "fixed point by its root and decay, an orbit by its multipliers, else "
+                        "at t_end; far cheaper where runs settle early) or t_end (the paper's "
+                        "protocol, which the shipped examples and presets keep)")
     p.add_argument("--initial", action="append", metavar="COND",
                    help="compute every point from this initial condition too (repeat it): "
                         "delta=X and/or history=H (constant, consistent, run:ID: a stored "

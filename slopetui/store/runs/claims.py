@@ -10,9 +10,10 @@ a second result for a run that another worker has taken over; the worker's row i
 written after the runs' (the lock order, slopetui.store.jobs.leases).
 
 A batch (``claim_batch``) is the oldest queued run of an active sweep that no other worker
-is claiming, and the queued runs that share its solver settings, history and tau, oldest
-first: the batched kernels' lanes share tau (one delay ring length, one step grid,
-core.batch), and a plane of n x m points still fills batches, with n runs per tau. Its
+is claiming, and the queued runs that share its solver settings (the stop rule among
+them: a batch's lanes stop by one rule), history and tau, oldest first: the batched
+kernels' lanes share tau (one delay ring length, one step grid, core.batch), and a plane
+of n x m points still fills batches, with n runs per tau. Its
 runs are selected and locked first, in a CTE (``FOR UPDATE SKIP LOCKED`` on PostgreSQL),
 and the ``UPDATE`` takes what it picked, in the same transaction.
 
@@ -63,6 +64,7 @@ class ClaimedRow:
     window: float
     lyap: bool
     history: str
+    stop: str
 
 
 _CLAIM_COLUMNS = tuple(columns(Run, ClaimedRow))
@@ -90,7 +92,8 @@ _WORKER_DONE = (update(Worker).where(Worker.id == bindparam("wid"))
 # locked as it is read (PostgreSQL; SQLite's BEGIN IMMEDIATE serialises claims): a worker
 # claiming at the same time reads the next one instead of settings whose runs it would
 # then find all taken, and come back with nothing while runs of other tau wait.
-_BATCH_KEY = (Run.method, Run.dt, Run.t_end, Run.window, Run.lyap, Run.history, Run.tau)
+_BATCH_KEY = (Run.method, Run.dt, Run.t_end, Run.window, Run.lyap, Run.history, Run.stop,
+              Run.tau)
 _OLDEST_SETTINGS = (select(*_BATCH_KEY, Run.id)
                     .join(Sweep, Sweep.id == Run.sweep_id)
                     .where(Run.status == "queued", Sweep.status == "active")

@@ -1,17 +1,19 @@
 """What the workers' kernels cost on this store: seconds per integration step, measured
-from the runs they computed.
+from the runs they computed, per stop rule; and when this store's certified runs stopped.
 
 A computed run stores ``runtime_s``: its integration time (a batched run: its share of
-the batch's wall time, in proportion to its steps; core.batch) plus its classification.
-Divided by its steps (t_end / dt), that is the cost a new run of the same method will
-have on these workers, batched or not, on this machine: what an estimate should use.
+the batch's wall time, in proportion to its steps; core.batch) plus its classification
+(and, stopping where certified, its certification's attempts). Divided by the steps it
+took (t_stop / dt: t_end / dt for a run to t_end), that is the cost a new run of the same
+method and stop rule will have on these workers, batched or not, on this machine: what
+an estimate should use.
 """
 
 from __future__ import annotations
 
 import statistics
 
-from sqlalchemy import select
+from sqlalchemy import func, select
 
 from slopetui.store.database import Database
 from slopetui.store.models import Run
@@ -20,19 +22,45 @@ from slopetui.store.models import Run
 #: run (a loaded machine, a first compile) does not move the median, few enough that the
 #: speed follows a change of machine or engine.
 RECENT_RUNS = 200
+#: The newest certified runs whose stopping times an estimate is taken from: more than a
+#: speed needs, since where runs stop varies across a plane far more than a kernel's
+#: speed (the stable part of a (k, tau) plane stops near t = 1e3, its orbits later or
+#: never); a 20 x 20 plane's worth and more.
+RECENT_STOPS = 1000
+
+#: A run's steps to where it stopped (t_stop), else its t_end: a run whose t_stop is
+#: unknown (none of these: migration 0013 left NULL only where the run diverged) ran on.
+_STOPPED_AT = func.coalesce(Run.t_stop, Run.t_end)
 
 
-def seconds_per_step(db: Database, method: str, lyap: bool) -> float | None:
+def _computed() -> tuple:
+    """Runs a worker computed and finished here: not copied from the cache, not inferred,
+    not blown up (their steps are not t_stop / dt), with a runtime."""
+    return (Run.status == "done", Run.cached_from.is_(None), Run.inferred.is_(False),
+            Run.t_blowup.is_(None), Run.runtime_s > 0)
+
+
+def seconds_per_step(db: Database, method: str, lyap: bool, stop: str = "t_end") -> float | None:
     """The median seconds per step of the newest computed runs of ``method`` (with or
-    without lambda_max); None if none was computed on this store yet. Runs copied from the
-    cache, inferred runs and runs that blew up (their steps are not t_end / dt) do not
-    count."""
-    query = (select(Run.runtime_s, Run.t_end, Run.dt)
-             .where(Run.status == "done", Run.method == method, Run.lyap.is_(lyap),
-                    Run.cached_from.is_(None), Run.inferred.is_(False),
-                    Run.t_blowup.is_(None), Run.runtime_s > 0)
+    without lambda_max) under the stop rule ``stop``; None if none was computed on this
+    store yet. A step is one to t_stop: a run that stopped where it was certified is
+    charged for the steps it took, not for t_end's."""
+    query = (select(Run.runtime_s, _STOPPED_AT, Run.dt)
+             .where(Run.method == method, Run.lyap.is_(lyap), Run.stop == stop, *_computed())
              .order_by(Run.id.desc()).limit(RECENT_RUNS))
     with db.sessions() as s:
-        costs = [runtime / (t_end / dt) for runtime, t_end, dt in s.execute(query)
-                 if runtime is not None]  # the query keeps runtime_s > 0 only
+        costs = [runtime / (stopped / dt) for runtime, stopped, dt in s.execute(query)
+                 if runtime is not None and stopped > 0]  # runtime_s > 0 in the query
     return statistics.median(costs) if costs else None
+
+
+def certified_stops(db: Database) -> list[tuple[float, float, float]]:
+    """(t_stop, t_end, dt) of the newest computed runs under the stop rule "certified", of
+    any method: where a run stops depends on its attractor, not on the scheme. A run
+    that stopped before its t_end was certified there; one with t_stop = t_end was not."""
+    query = (select(Run.t_stop, Run.t_end, Run.dt)
+             .where(Run.stop == "certified", Run.t_stop.is_not(None), *_computed())
+             .order_by(Run.id.desc()).limit(RECENT_STOPS))
+    with db.sessions() as s:
+        return [(t_stop, t_end, dt) for t_stop, t_end, dt in s.execute(query)
+                if t_stop is not None]  # the query keeps t_stop IS NOT NULL only

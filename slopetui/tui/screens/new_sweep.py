@@ -4,6 +4,11 @@ The form is a view of a spec mapping (``slopetui.sweeps.spec``): every change re
 it, so the form and ``slopetui submit`` accept and refuse exactly the same sweeps.
 "adaptive levels" (beside the name, so the form still fits 80x24) makes a phase
 diagram adaptive (``[adaptive] levels``); empty means every point is computed.
+"stop" (beside the name too) is each run's stop rule, ``[solver] stop``: a new sweep's
+default is "certified" (slopetui.sweeps.spec.NEW_SWEEP_STOP), and a note under the
+estimate says so and why (below the fold at 80x24, where the estimate and an error keep
+the last visible lines); a preset sets the paper's "t_end"; the estimate says what it
+assumes of where runs stop.
 
 The field that has the keys is lit, and so is its row; the footer says that tab moves
 on (a field takes the digits and q, which elsewhere switch screens and quit).
@@ -42,12 +47,13 @@ from textual.widgets import (
 from core.history import HISTORIES
 from core.methods import METHODS
 from core.params import PARAM_NAMES, Params, friction_warnings
+from core.solve import STOPS
 from slopetui.queue.local_pool import default_jobs
-from slopetui.sweeps.estimate import describe, measured_speeds
+from slopetui.sweeps.estimate import Speeds, Stops, describe, measured_speeds, measured_stops
 from slopetui.sweeps.presets import BY_KEY, PRESETS
 from slopetui.sweeps.progress import live_workers
 from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
-from slopetui.sweeps.spec import SpecError, SweepSpec, parse_spec
+from slopetui.sweeps.spec import NEW_SWEEP_STOP, SpecError, SweepSpec, parse_spec
 from slopetui.sweeps.submit import submit
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.widgets.steady_footer import SteadyFooter
@@ -61,6 +67,10 @@ SPACING_CHOICES = [("linear", "linear"), ("log", "log")]
 NO_AXIS = "none"
 #: What a swept parameter's fixed input shows instead of its value.
 SWEPT = "swept"
+#: The note on the stop rule: the default and why.
+STOP_NOTE = ("ⓘ stop: certified (the default) ends a run as soon as its attractor is "
+             "certified, else at t_end: far fewer steps where runs settle early. t_end is the "
+             "paper's protocol, every run to t_end (the presets keep it).")
 
 
 class OnOffCheckbox(Checkbox):
@@ -122,6 +132,7 @@ class NewSweepScreen(SlopeScreen[int | None]):
     NewSweepScreen #axis-heading { height: 1; }
     NewSweepScreen #axis-heading Label { color: $text-muted; text-style: italic; }
     NewSweepScreen #axis-heading .heading-num { width: 10; }
+    NewSweepScreen #stop-note { color: $text-muted; }
     """
 
     BINDINGS = [
@@ -135,11 +146,12 @@ class NewSweepScreen(SlopeScreen[int | None]):
 
     @dataclass
     class WorkersCounted(Message):
-        """The live workers (or the pool's default) and the measured speeds, for the
-        estimate."""
+        """The live workers (or the pool's default), the measured speeds and where the
+        store's certified runs stopped, for the estimate."""
 
         n: int
-        speeds: dict[tuple[str, bool], float]
+        speeds: Speeds
+        stops: Stops
 
     @dataclass
     class Submitted(Message):
@@ -157,7 +169,9 @@ class NewSweepScreen(SlopeScreen[int | None]):
         self.n_workers = 2
         #: Seconds per step measured on this store (sweeps.estimate.measured_speeds);
         #: empty until read, and for a method no run was computed with yet.
-        self.speeds: dict[tuple[str, bool], float] = {}
+        self.speeds: Speeds = {}
+        #: Where this store's certified runs stopped (sweeps.estimate.measured_stops).
+        self.stops: Stops = ()
         #: The fixed values of the swept parameters, shown again when no longer swept.
         self.unswept: dict[str, str] = {}
         #: Every field's value as the form opened (on_mount): what quitting would lose is
@@ -172,6 +186,10 @@ class NewSweepScreen(SlopeScreen[int | None]):
                                     compact=True, id="preset"), classes="form-row")
             yield Horizontal(Label("name:", classes="row-label"),
                              Input(placeholder="(from the axes)", compact=True, id="name"),
+                             Label("stop", classes="param-label"),
+                             Select([(rule, rule) for rule in STOPS], value=NEW_SWEEP_STOP,
+                                    allow_blank=False, compact=True, id="solver-stop",
+                                    classes="spacing"),
                              Label("adaptive levels", classes="param-label"),
                              Input(placeholder="off", compact=True, id="adaptive-levels",
                                    classes="num"),
@@ -207,6 +225,7 @@ class NewSweepScreen(SlopeScreen[int | None]):
             yield Static("", id="estimate")
             yield Static("", id="form-error")
             yield Static("", id="form-warnings")
+            yield Static(STOP_NOTE, id="stop-note")
             with Horizontal(id="form-buttons"):
                 yield Button("Submit (ctrl+s)", variant="primary", id="submit")
                 yield Button("Cancel (esc)", id="cancel")
@@ -247,13 +266,14 @@ class NewSweepScreen(SlopeScreen[int | None]):
         try:
             n = len(live_workers(db)) or default_jobs()
             speeds = measured_speeds(db)
+            stops = measured_stops(db)
         except Exception:  # only the estimate depends on them
             return
-        self.post_message(self.WorkersCounted(n, speeds))
+        self.post_message(self.WorkersCounted(n, speeds, stops))
 
     @on(WorkersCounted)
     def _workers_counted(self, message: WorkersCounted) -> None:
-        self.n_workers, self.speeds = message.n, message.speeds
+        self.n_workers, self.speeds, self.stops = message.n, message.speeds, message.stops
         self.validate_form()
 
     # --- the form as a spec mapping ----------------------------------------------------
@@ -283,6 +303,7 @@ class NewSweepScreen(SlopeScreen[int | None]):
                           "window": self._text("solver-window"),
                           "lyap": self.query_one("#solver-lyap", Checkbox).value}
         data["solver"]["history"] = self._choice("solver-history")
+        data["solver"]["stop"] = self._choice("solver-stop")
         if self._text("adaptive-levels").strip():
             data["adaptive"] = {"levels": self._text("adaptive-levels").strip()}
         deltas = [d.strip() for d in self._text("initial-deltas").split(",") if d.strip()]
@@ -307,7 +328,8 @@ class NewSweepScreen(SlopeScreen[int | None]):
             return None
         self.spec = spec
         error.update("")
-        self.query_one("#estimate", Static).update("≈ " + describe(spec, self.n_workers, self.speeds))
+        self.query_one("#estimate", Static).update("≈ " + describe(spec, self.n_workers, self.speeds,
+                                                                     self.stops))
         warnings = friction_warnings(spec.base)
         self.query_one("#form-warnings", Static).update(
             "\n".join(f"⚠ {w}" for w in warnings))
@@ -380,6 +402,8 @@ class NewSweepScreen(SlopeScreen[int | None]):
             if key in solver:
                 self.query_one(f"#solver-{key}", Input).value = f"{solver[key]:g}"
         self.query_one("#solver-lyap", Checkbox).value = solver.get("lyap", True)
+        # a preset without a stop rule is the paper's protocol (spec's module docstring)
+        self.query_one("#solver-stop", Select).value = solver.get("stop", "t_end")
         self.query_one("#preset-note", Static).update(f"ⓘ {preset.note}")
 
     # --- submit ---------------------------------------------------------------------------

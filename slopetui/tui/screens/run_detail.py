@@ -203,8 +203,11 @@ def summary_text(run: StoredRun, width: int = SUMMARY_WIDTH) -> str:
            f"worker {run.worker_id or '–'} · runtime {_num(run.runtime_s, '.2g')} s{cached}")
     params = (f"a {run.a:g}  b {run.b:g}  c {run.c:g}  d {run.d:g}  k {run.k:g}  "
               f"v {run.v:g}  τ {run.tau:g}  δ {run.delta:g}")
-    solver = (f"{run.method} · dt {run.dt:g} · t_end {run.t_end:g} · window {run.window:g} · "
-              f"engine {run.engine}")
+    # the stop rule with the end time it bounds ("stop at t_end 1e+05", "stop certified or
+    # t_end 1e+05"): the line stays short enough for 80 columns under the paper's protocol
+    until = "at" if run.stop == "t_end" else f"{run.stop} or"
+    solver = "\n".join(packed([run.method, f"dt {run.dt:g}", f"stop {until} t_end {run.t_end:g}",
+                               f"window {run.window:g}", f"engine {run.engine}"], width))
     if run.inferred:
         what = (f"inferred {run.regime}" if run.done else "inferred failed")
         return terminal_safe_lines("\n".join([
