@@ -73,6 +73,10 @@ class PointResult:
     certificate: Certificate = NOT_ATTEMPTED
     #: The scheme's error at its step (core.accuracy); None: not estimated.
     accuracy: DtError | None = None
+    #: Where lambda_max comes from when not from the run's tangent (a run stopped at its
+    #: certificate: core.certified_stop.certified_lambda's words, also in the
+    #: certificate's text); empty: the run's own map, whose bias core.lyapunov_bias states.
+    lambda_note: str = ""
 
     def as_record(self) -> dict[str, object]:
         """The flat record the CLI prints with --json and the store keeps: the result
@@ -198,16 +202,18 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False,
     summary = replace(summary, flags=flags)
     # the labels then follow a certified orbit (core.certify)
     cert = certify(tr, summary) if certificate is None else certificate
-    from_certificate = certified_lambda(tr.params, cert) if certificate is not None else None
+    from_certificate = (certified_lambda(tr.params, cert)
+                        if certificate is not None and s.lyap else None)
+    lambda_note = ""
     if from_certificate is not None:  # a run stopped at its certificate: its lambda_max
-        lyap = from_certificate[0]
-        cert = replace(cert, text=f"{cert.text}; {from_certificate[1]}")
+        lyap, lambda_note = from_certificate
+        cert = replace(cert, text=f"{cert.text}; {lambda_note}")
     summary = relabel(summary, cert, tr.params)
     if cert.scheme_off and "dt-sensitive" not in summary.flags:
         summary = replace(summary, flags=(*summary.flags, "dt-sensitive"))
     return PointResult(tr.params, s, summary, lyap, t_blowup,
                        integration_s + time.perf_counter() - t0, tr, spectrum=spectrum,
-                       certificate=cert, accuracy=accuracy)
+                       certificate=cert, accuracy=accuracy, lambda_note=lambda_note)
 
 
 def _negative_variance(tr: Trajectory) -> bool:

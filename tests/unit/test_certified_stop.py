@@ -112,3 +112,16 @@ def test_a_blow_up_stops_the_chunks_where_the_t_end_run_stops():
     long, short = _pair(p)
     assert long["t_blowup"] is not None and short["t_blowup"] == long["t_blowup"]
     assert short["regime"] == long["regime"] and short["attractor"] == long["attractor"]
+
+
+def test_the_result_says_where_a_stopped_runs_lambda_max_comes_from():
+    """The certificate's lambda_max is the continuous model's, not the run's Euler map's:
+    the result says so (lambda_note), where the t_end run's leaves it to the bias note.
+    Without lambda_max (lyap off) the stop still works, and none is given, as at t_end."""
+    p = Params(k=4.0, tau=10.0)
+    stopped = run_point(p, SolverSettings(t_end=T_END, stop="certified"))
+    assert stopped.lambda_note.startswith("lambda_max -0.00394") and "leading root" in stopped.lambda_note
+    assert run_point(p, SolverSettings(t_end=2000.0)).lambda_note == ""
+    bare = run_point(p, SolverSettings(t_end=T_END, stop="certified", lyap=False)).as_record()
+    assert bare["t_stop"] == 1250.0 and bare["certified"] is True
+    assert math.isnan(float(bare["lambda_max"]))  # type: ignore[arg-type]  # not asked for
