@@ -12,7 +12,9 @@ round, in CPU time (process_time) in one process, so that a shared machine slows
 Printed per point: the median CPU time under each rule, their ratio, where the certified run
 stopped, its chunks and certificate tries and their CPU time (classifying and certifying the
 windows of the chunks before the stop), and whether both rules agree on regime and attractor.
-Then the share of runs certified and the total time under each rule.
+Then the share of runs certified and the total time under each rule. ``--plane N``: also
+an N x N lattice over the same plane (both rules, interleaved), the share of its runs
+stopped early, the runs whose regime or attractor differ, and the CPU time of each rule.
 """
 
 from __future__ import annotations
@@ -20,6 +22,8 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+
+import numpy as np
 
 from core.certified_stop import simulate_to_certificate
 from core.params import Params
@@ -38,6 +42,7 @@ def main() -> None:
     ap.add_argument("--t-end", type=float, default=1e5)
     ap.add_argument("--rounds", type=int, default=2)
     ap.add_argument("--markdown", help="also write the table here")
+    ap.add_argument("--plane", type=int, default=0, help="also an N x N lattice of the plane")
     args = ap.parse_args()
     rules = {rule: SolverSettings(t_end=args.t_end, stop=rule) for rule in ("t_end", "certified")}
     run_point(Params(k=10, tau=10), SolverSettings(t_end=2000, stop="certified"))  # warm: imports
@@ -81,6 +86,9 @@ def main() -> None:
                f"(t_end) against {total['certified']:.2f} s (certified), "
                f"{total['certified'] / total['t_end']:.1%}")
     print(summary)
+    if args.plane:
+        summary += "\n\n" + plane(args.plane, rules)
+        print(summary.rsplit("\n\n", 1)[1])
     if args.markdown:
         with open(args.markdown, "w") as f:
             f.write(f"`python benchmarks/bench_certified_stop.py --t-end {args.t_end:g} "
@@ -89,6 +97,30 @@ def main() -> None:
                     "try s | same label | certified run |\n"
                     "|---|---|---|---|---|---|---|---|---|---|---|\n" + "\n".join(rows)
                     + f"\n\n{summary}\n")
+
+
+def plane(n: int, rules: dict[str, SolverSettings]) -> str:
+    """An n x n lattice over k 0.5-25, tau 0.5-20 under both rules: what the text says."""
+    total = {rule: 0.0 for rule in rules}
+    early = 0
+    differ = []
+    for i, k in enumerate(np.linspace(0.5, 25.0, n)):
+        for j, tau in enumerate(np.linspace(0.5, 20.0, n)):
+            rec = {}
+            for rule in (list(rules) if (i + j) % 2 == 0 else list(reversed(rules))):
+                t0 = time.process_time()
+                rec[rule] = run_point(Params(k=float(k), tau=float(tau)), rules[rule]).as_record()
+                total[rule] += time.process_time() - t0
+            long, short = rec["t_end"], rec["certified"]
+            early += float(short["t_stop"]) < float(short["t_end"])  # type: ignore[arg-type]
+            if (long["regime"], long["attractor"]) != (short["regime"], short["attractor"]):
+                differ.append(f"k {k:.4g} tau {tau:.4g}: {long['regime']}/{long['attractor']} "
+                              f"against {short['regime']}/{short['attractor']}")
+    return (f"{n} x {n} lattice, k 0.5-25, tau 0.5-20: stopped early {early} of {n * n} "
+            f"({early / (n * n):.0%}); regime and attractor differ in {len(differ)}"
+            + "".join(f"\n- {d}" for d in differ)
+            + f"\nCPU: {total['t_end']:.1f} s (t_end) against {total['certified']:.1f} s "
+              f"(certified), {total['certified'] / total['t_end']:.1%}")
 
 
 if __name__ == "__main__":
