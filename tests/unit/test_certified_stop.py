@@ -88,15 +88,16 @@ def test_a_stable_cycle_stops_early_on_its_orbit_with_lambda_max_0_and_the_next_
     assert f"log|mu_2|/T = {nxt:+.6g}/t" in str(short["certificate"])
 
 
-def test_a_run_that_cannot_be_certified_is_the_t_end_run_bit_for_bit():
+@pytest.mark.parametrize("method", ["euler", "rk4"])
+def test_a_run_that_cannot_be_certified_is_the_t_end_run_bit_for_bit(method):
     """k = 20, tau = 10: a long transient toward a two-slip state, which Newton does not
     reach within its budget: the certified run goes on to t_end, and its windows, trace,
-    logs and final state are those of the paper's run, so its record is too (but the
-    runtime and the stop rule)."""
+    logs and final state are those of the paper's run (each kernel's), so its record is
+    too (but the runtime and the stop rule)."""
     p = Params(k=20.0, tau=10.0)
-    s = SolverSettings(t_end=T_END, stop="certified")
+    s = SolverSettings(method=method, t_end=T_END, stop="certified")
     stopped = simulate_to_certificate(p, s)
-    plain = simulate(p, SolverSettings(t_end=T_END))
+    plain = simulate(p, SolverSettings(method=method, t_end=T_END))
     tr = stopped.trajectory
     assert stopped.certificate is None and stopped.chunks == len(chunk_ends(p, s, plain.grid))
     for a, b in ((tr.window, plain.window), (tr.mid, plain.mid), (tr.trace, plain.trace),
@@ -104,7 +105,7 @@ def test_a_run_that_cannot_be_certified_is_the_t_end_run_bit_for_bit():
                  (tr.mid_t, plain.mid_t), (tr.final.m_x, plain.final.m_x),  # type: ignore[union-attr]
                  (tr.final.now, plain.final.now)):  # type: ignore[union-attr]
         assert np.array_equal(a, b)
-    long, short = _pair(p)
+    long, short = _pair(p, method=method)
     assert short["t_stop"] == long["t_stop"] == T_END and short["certified"] is False
     for key in long:
         if key not in ("runtime_s", "stop"):
