@@ -220,8 +220,8 @@ def certified_lambda(p: Params, cert: Certificate) -> tuple[LyapunovEstimate, st
     differs from them by its O(dt) bias (core.lyapunov_bias). None: nothing certified."""
     if not cert.certified:
         return None
-    if math.isfinite(cert.root):
-        return (LyapunovEstimate(cert.root, 0.0, 0.0, 0),
+    if math.isfinite(cert.root):  # a float, as the estimates from the logs are
+        return (LyapunovEstimate(float(cert.root), 0.0, 0.0, 0),
                 f"lambda_max {cert.root:+.6g}/t: the leading root (linear theory, the "
                 "continuous model's; the run's map differs by its O(dt) bias)")
     if math.isfinite(cert.period) and cert.multipliers:

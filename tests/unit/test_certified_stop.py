@@ -66,6 +66,7 @@ def test_a_stable_fixed_point_stops_early_with_the_leading_root_as_lambda_max():
     assert short["certified"] is True and short["stop"] == "certified" and long["stop"] == "t_end"
     root = leading_exponent(p)
     assert short["lambda_max"] == pytest.approx(root, rel=1e-6)
+    assert type(short["lambda_max"]) is float  # not numpy's: the JSON encoders' input
     assert abs(float(long["lambda_max"]) - root) <= max(3 * float(long["lambda_err"]), 0.02 * abs(root))
     assert "the leading root" in str(short["certificate"])
 
