@@ -112,6 +112,9 @@ class Certificate:
     slips: int = 0
     maxima: tuple[float, ...] = ()
     multipliers: tuple[complex, ...] = ()
+    #: A certified fixed point's leading root (1/time; NaN otherwise): its lambda_max in
+    #: the continuous model (core.certified_stop.certified_lambda).
+    root: float = math.nan
     #: The run's own scheme at its dt is measurably off the model here (a window that
     #: grows where theory decays, or an orbit other than the model's): core.point then
     #: flags the run dt-sensitive, whatever the shadow estimate said.
@@ -170,7 +173,7 @@ def _fixed_point(tr: Trajectory, s: Summary) -> Certificate:
     level = max(1.0, abs(float(np.mean(y))))
     if float(np.ptp(y)) <= ROUND_OFF * level:
         return Certificate(True, f"fixed point: leading root {root:+.3e}/t < 0, window at "
-                                 f"round-off (m_y peak-to-peak {float(np.ptp(y)):.1e})")
+                                 f"round-off (m_y peak-to-peak {float(np.ptp(y)):.1e})", root=root)
     rate = _decay_rate(tr.window_t, y, level)
     if not math.isfinite(rate):
         return Certificate(False, f"leading root {root:+.3e}/t < 0, but the window's decay "
@@ -181,7 +184,7 @@ def _fixed_point(tr: Trajectory, s: Summary) -> Certificate:
                                   "where the model does", scheme_off=True)
     if abs(rate - root) <= max(DECAY_RATE_REL * abs(root), DECAY_RATE_ABS):
         return Certificate(True, f"fixed point: leading root {root:+.3e}/t < 0, window decays "
-                                 f"at {rate:+.3e}/t")
+                                 f"at {rate:+.3e}/t", root=root)
     return Certificate(False, f"the window decays at {rate:+.3e}/t, linear theory says "
                               f"{root:+.3e}/t: not yet the linear decay to the fixed point")
 

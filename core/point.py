@@ -36,6 +36,7 @@ import numpy as np
 
 from core.accuracy import DtError, dt_error
 from core.batch import simulate_batch
+from core.certified_stop import certified_lambda, simulate_to_certificate
 from core.certify import NOT_ATTEMPTED, Certificate, certify, relabel
 from core.classify import Summary, classify
 from core.closure import CLOSURE_TOL, closure_flags, uphill_flags
@@ -72,6 +73,10 @@ class PointResult:
     certificate: Certificate = NOT_ATTEMPTED
     #: The scheme's error at its step (core.accuracy); None: not estimated.
     accuracy: DtError | None = None
+    #: Where lambda_max comes from when not from the run's tangent (a run stopped at its
+    #: certificate: core.certified_stop.certified_lambda's words, also in the
+    #: certificate's text); empty: the run's own map, whose bias core.lyapunov_bias states.
+    lambda_note: str = ""
 
     def as_record(self) -> dict[str, object]:
         """The flat record the CLI prints with --json and the store keeps: the result
@@ -116,14 +121,21 @@ def run_point(p: Params, s: SolverSettings | None = None,
     """Run one point with settings s (defaults: Euler, dt 1e-3, t_end 1e5, window 1000),
     from the history s.history (``carried``: the state it names, when it names one);
     ``spectrum`` > 0: also its top ``spectrum`` Lyapunov exponents (core.spectrum, a
-    second pass of the same scheme), which the classifier takes as its evidence."""
+    second pass of the same scheme), which the classifier takes as its evidence.
+    s.stop = "certified": the run stops where its attractor is certified, and its
+    lambda_max is then the certificate's (core.certified_stop)."""
     s = s or SolverSettings()
     if spectrum:
         check_spectrum(p, s, spectrum)  # before the run: a refusal costs nothing
     t0 = time.perf_counter()
-    tr = simulate(p, s, carried)
+    found = None
+    if s.stop == "certified":
+        stopped = simulate_to_certificate(p, s, carried)
+        tr, found = stopped.trajectory, stopped.certificate
+    else:
+        tr = simulate(p, s, carried)
     exponents = top_exponents(p, s, spectrum, carried) if spectrum else None
-    return analyse(tr, time.perf_counter() - t0, spectrum=exponents)
+    return analyse(tr, time.perf_counter() - t0, spectrum=exponents, certificate=found)
 
 
 def run_batch(points: Sequence[Params], s: SolverSettings | None = None) -> list[PointResult]:
@@ -144,7 +156,8 @@ def run_batch(points: Sequence[Params], s: SolverSettings | None = None) -> list
 
 
 def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False,
-            spectrum: Spectrum | None = None) -> PointResult:
+            spectrum: Spectrum | None = None,
+            certificate: Certificate | None = None) -> PointResult:
     """lambda_max and the regime of an integrated trajectory (re-integrated with the
     stiff-safe scheme where an explicit one failed: see the module docstring).
 
@@ -154,7 +167,10 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False,
     (at window 1e5, 8 lanes took 1.30 times what they lay out, 32 lanes 1.60: more lanes,
     more re-integrated). Only for a caller that holds tr nowhere else: tr's samples then
     show the re-integration's. spectrum: the run's top exponents (core.spectrum), dropped
-    with a note when the run is re-integrated (they belong to the explicit scheme)."""
+    with a note when the run is re-integrated (they belong to the explicit scheme).
+    certificate: the one that stopped tr early (core.certified_stop), found on this same
+    window: kept rather than tried again, and lambda_max is then its value (dropped with
+    the rest if tr is re-integrated)."""
     flags: tuple[str, ...] = ()
     dropped = ""
     t_blowup = tr.t_blowup  # the explicit scheme's, kept beside the flag
@@ -168,6 +184,7 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False,
         if spectrum is not None:
             dropped = "; spectrum dropped: it is the failed explicit scheme's"
         spectrum = None
+        certificate = None
     t0 = time.perf_counter()
     s = tr.settings
     lyap = estimate(tr.lyap_logs, tr.grid.renorm_interval) if s.lyap and not tr.blew_up else None
@@ -183,13 +200,20 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False,
     if accuracy.sensitive:
         flags += ("dt-sensitive",)
     summary = replace(summary, flags=flags)
-    cert = certify(tr, summary)  # the labels then follow a certified orbit (core.certify)
+    # the labels then follow a certified orbit (core.certify)
+    cert = certify(tr, summary) if certificate is None else certificate
+    from_certificate = (certified_lambda(tr.params, cert)
+                        if certificate is not None and s.lyap else None)
+    lambda_note = ""
+    if from_certificate is not None:  # a run stopped at its certificate: its lambda_max
+        lyap, lambda_note = from_certificate
+        cert = replace(cert, text=f"{cert.text}; {lambda_note}")
     summary = relabel(summary, cert, tr.params)
     if cert.scheme_off and "dt-sensitive" not in summary.flags:
         summary = replace(summary, flags=(*summary.flags, "dt-sensitive"))
     return PointResult(tr.params, s, summary, lyap, t_blowup,
                        integration_s + time.perf_counter() - t0, tr, spectrum=spectrum,
-                       certificate=cert, accuracy=accuracy)
+                       certificate=cert, accuracy=accuracy, lambda_note=lambda_note)
 
 
 def _negative_variance(tr: Trajectory) -> bool:

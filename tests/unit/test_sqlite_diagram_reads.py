@@ -41,7 +41,7 @@ def record(i: int) -> dict[str, Any]:
             "settled": bool(i % 2), "flags": "stiff-fallback,uphill" if i == 1 else "",
             "peaks": None if sliding else [1.5, 2.25 + i], "frequency": math.nan,
             "drift": math.nan if i == 2 else 0.125, "zero_one_k": math.nan,
-            "t_blowup": None, "runtime_s": 0.5, "certified": False,
+            "t_blowup": None, "runtime_s": 0.5, "t_stop": 200.0, "certified": False,
             "certificate": "not attempted", "multipliers": [], "slips": 0,
             "dt_error": math.nan, "spectrum": [], "spectrum_err": [], "t_stop": 100.0}
 
