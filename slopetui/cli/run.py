@@ -6,7 +6,7 @@ import argparse
 import math
 import sys
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from core import jit_cache
 from core.classify import maxima_words
@@ -81,7 +81,7 @@ def render_text(r: PointResult) -> str:
         f"point      a={p.a:g} b={p.b:g} c={p.c:g} d={p.d:g} k={p.k:g} v={p.v:g} "
         f"tau={p.tau:g} delta={p.delta:g}",
         f"solver     {r.settings.method}, dt={rec['dt']:g}, t_end={rec['t_end']:g}, "
-        f"window={r.settings.window:g}",
+        f"window={r.settings.window:g}, stop {stop_text(r.settings.stop, rec)}",
         f"regime     {s.regime} ({s.detail})",
         f"lambda_max {lam}",
         f"amplitude  {s.amplitude:.6g}  (peak-to-peak of m_y)",
@@ -109,8 +109,22 @@ def render_text(r: PointResult) -> str:
     return "\n".join(lines)
 
 
+def stop_text(stop: str, rec: dict[str, Any]) -> str:
+    """The stop rule and where the run stopped: "t_end", "certified (stopped at t =
+    1562.5)", or why a certified run did not stop early."""
+    if stop != "certified":
+        return stop
+    if rec["t_blowup"] is not None:
+        return "certified (the run blew up first)"
+    if math.isclose(rec["t_stop"], rec["t_end"], rel_tol=1e-9):
+        return "certified (not certified before t_end: ran to it)"
+    return f"certified (stopped at t = {rec['t_stop']:g})"
+
+
 def lambda_text(r: PointResult) -> str:
     """lambda_max in the paper's notation, or why there is none or no error bar."""
+    if r.lambda_note:  # the certificate's value, not the run's map (core.certified_stop)
+        return f"{r.lyap.format() if r.lyap else 'none'}  ({r.lambda_note})"
     if r.lyap is None:
         return "not computed" if not r.settings.lyap else "none (the run blew up)"
     if not math.isfinite(r.lyap.value):

@@ -152,3 +152,19 @@ def test_a_fixed_point_stops_only_once_the_window_ends_near_linear():
     stopped = simulate_to_certificate(p, s)
     assert stopped.trajectory.t_done == 3125.0 and stopped.tries == 2
     assert stopped.certificate is not None and stopped.certificate.certified
+
+
+def test_run_says_where_a_certified_run_stopped_and_whence_its_lambda_max(capsys):
+    """`run --stop certified` names the stop and its time on the solver line, and a
+    lambda_max taken from the certificate says so instead of calling it the run's map."""
+    from slopetui.cli import main
+
+    assert main(["run", "--k", "4", "--tau", "10", "--stop", "certified", "--t-end", "1e4"]) == 0
+    out = capsys.readouterr().out
+    solver = next(line for line in out.splitlines() if line.startswith("solver"))
+    t_stop = float(solver.split("stopped at t = ")[1].rstrip(")"))
+    assert t_stop < T_END
+    lam = next(line for line in out.splitlines() if line.startswith("lambda_max"))
+    assert "the leading root" in lam and "euler map at dt" not in lam
+    assert float(lam.split()[1]) == pytest.approx(leading_exponent(Params(k=4.0, tau=10.0)),
+                                                  rel=1e-3)
