@@ -190,12 +190,19 @@ def time_plot(screen: RunDetailScreen) -> str:
 
 
 def tick_span(text: str) -> float:
-    """The range of the x ticks: the numbers on the line under the plot's bottom frame."""
+    """The range of the x axis: the frame's bottom line holds a tick mark (┬) under each
+    number of the line below it, at round values inside the range (slopetui.plots.ticks);
+    the values against the marks' columns give the scale, which the plot's width (the
+    columns between └ and ┘, the first at the range's start, the last at its end) turns
+    into the range."""
     lines = text.split("\n")
-    ticks = lines[next(i for i, line in enumerate(lines) if "└" in line) + 1]
-    values = [float(v) for v in NUMBER.findall(ticks)]
-    assert len(values) >= 2, ticks
-    return values[-1] - values[0]
+    at = next(i for i, line in enumerate(lines) if "└" in line)
+    frame, labels = lines[at], lines[at + 1]
+    marks = [col for col, ch in enumerate(frame) if ch == "┬"]
+    values = [float(v) for v in NUMBER.findall(labels)]
+    assert len(values) >= 2 and len(values) == len(marks), (frame, labels)
+    per_column = (values[-1] - values[0]) / (marks[-1] - marks[0])
+    return per_column * (frame.index("┘") - frame.index("└") - 2)
 
 
 def test_the_time_series_shows_the_last_periods_and_zooms_out(db_url, long_window_store):
@@ -239,8 +246,9 @@ def test_the_time_series_renderer_cuts_the_window_at_n_periods():
                                   height=16, color=False)
         assert len(text.split("\n")) == 16
         spans[periods] = tick_span(text)
-    assert spans[10] == pytest.approx(25, abs=1) and spans[50] == pytest.approx(125, abs=2)
-    assert spans[None] == pytest.approx(400, abs=2)
+    # a tick mark sits on the column nearest its value: a column of the 73 is 1.4 %
+    assert spans[10] == pytest.approx(25, rel=0.03) and spans[50] == pytest.approx(125, rel=0.03)
+    assert spans[None] == pytest.approx(400, rel=0.03)
     # no frequency: nothing to count periods in, the whole window
     assert "t (the whole window)" in render_time_series(t, m_x, m_y, periods=10, width=80,
                                                          height=16, color=False)
