@@ -205,9 +205,14 @@ def summary_text(run: StoredRun, width: int = SUMMARY_WIDTH) -> str:
               f"v {run.v:g}  τ {run.tau:g}  δ {run.delta:g}")
     # the stop rule with the end time it bounds ("stop at t_end 1e+05", "stop certified or
     # t_end 1e+05"): the line stays short enough for 80 columns under the paper's protocol
+    # and, for a done certified run, where it stopped (in the same item, not a result
+    # line: the 80 x 24 screen keeps lambda_max's note)
     until = "at" if run.stop == "t_end" else f"{run.stop} or"
-    solver = "\n".join(packed([run.method, f"dt {run.dt:g}", f"stop {until} t_end {run.t_end:g}",
-                               f"window {run.window:g}", f"engine {run.engine}"], width))
+    stop = f"stop {until} t_end {run.t_end:g}"
+    if run.stop != "t_end" and run.done and run.t_stop is not None:
+        stop = f"stop {run.stop}: t_stop {run.t_stop:g} of t_end {run.t_end:g}"
+    solver = "\n".join(packed([run.method, f"dt {run.dt:g}", stop, f"window {run.window:g}",
+                               f"engine {run.engine}"], width))
     if run.inferred:
         what = (f"inferred {run.regime}" if run.done else "inferred failed")
         return terminal_safe_lines("\n".join([
