@@ -955,6 +955,7 @@ class _Lanes:
         self.starts: list[tuple[int, int]] = []  # (point, the batch's step it started at)
         self.stopped: dict[int, Trajectory] = {}  # point -> its run, stopped by ``finished``
         self.t_first: dict[int, float | None] = {}
+        self.times: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
     @property
     def at(self) -> np.ndarray:
@@ -1044,28 +1045,42 @@ class _Lanes:
         counts[cs.NEXT_R] = (counts[cs.I_R] + 1) * g.renorm_steps
         counts[cs.FIRST] = -1 if real.t_first is None else g.step_at(real.t_first)
         counts[cs.BLOWN] = -1
-        single, e_single = np.zeros((rows, slots)), np.zeros((rows, slots))
-        if slots:
-            # the single kernel's slot q holds the step q modulo its slots, as the batch's
-            # slot (OFF + q) modulo the same number: its ring is the lane's, turned
-            take = (np.arange(slots) + int(li[j, OFF])) % slots
-            for r in range(rows):
-                single[r] = ring[(rows * take + r) * self.width + j]
-                if s.lyap:
-                    e_single[r] = e_ring[(rows * take + r) * self.width + j]
-            if self.rk4:
-                if li[j, PATCH] == 2:  # step 0's slot (0 here) patched for this step: its own values
-                    single[1, 0] = st[SV_Y * LANES + j]
-                    e_single[1, 0] = st[SV_EY * LANES + j] if s.lyap else 1.0
-                if not s.lyap:  # the single kernel writes its start tangent (0, 1) regardless
-                    e_single[1] = 1.0
-                unwritten = np.arange(slots) >= k  # steps before 0: nothing written there yet
-                single[:, unwritten] = 0.0
-                e_single[:, unwritten] = 0.0
+        single, e_single = self._ring(ring, j, rows, slots), np.zeros((rows, slots))
+        if s.lyap:
+            e_single = self._ring(e_ring, j, rows, slots)
+        if self.rk4 and slots:
+            if li[j, PATCH] == 2:  # step 0's slot (0 here) patched for this step: its own values
+                single[1, 0] = st[SV_Y * LANES + j]
+                e_single[1, 0] = st[SV_EY * LANES + j] if s.lyap else 1.0
+            if not s.lyap:  # the single kernel writes its start tangent (0, 1) regardless
+                e_single[1] = 1.0
+            if k < slots:  # steps before 0: nothing written there yet
+                single[:, k:] = 0.0
+                e_single[:, k:] = 0.0
         chunk = ChunkState(s.method, g.dt, g.n_delay, now, counts, single, e_single)
-        tr = trajectory_of(self.points[i], s, g, k, self.win[i].T, self.trace[i].T,
-                           self.logs[i, :self.n_logs], 0.0, real, blew_up=False)
-        return replace(tr, chunk=chunk)
+        # trajectory_of's arrays, with the samples the lane's samplers have taken, and the
+        # grid's sample times made once (trajectory_of makes them per call: 1.6 MB at the
+        # paper's window, per lane and chunk)
+        if self.times is None:
+            whole = trajectory_of(self.points[i], s, g, g.n_steps, self.win[i].T,
+                                  self.trace[i].T, self.logs[i, :self.n_logs], 0.0)
+            self.times = (whole.mid_t, whole.window_t, whole.trace_t)
+        mid_t, window_t, trace_t = self.times
+        win, trace = self.win[i].T, self.trace[i].T
+        n_w, n_t = int(li[j, W_I]), int(li[j, T_I])
+        n_m = min(n_w, g.n_mid)
+        return Trajectory(self.points[i], s, g, k, window_t[:n_w - n_m], win[:, n_m:n_w],
+                          trace_t[:n_t], trace[:, :n_t], self.logs[i, :k // g.renorm_steps if s.lyap else 0],
+                          0.0, mid_t[:n_m], win[:, :n_m],
+                          buffers=(win, trace, self.logs[i, :self.n_logs]), realisability=real,
+                          chunk=chunk)
+
+    def _ring(self, ring: np.ndarray, j: int, rows: int, slots: int) -> np.ndarray:
+        """Lane j's ring (rows, slots) as the single kernel lays it out: its slot q holds
+        the step q modulo slots, which is the batch's slot (OFF + q) modulo the same
+        number: the lane's column, turned."""
+        column = ring.reshape(-1, self.width)[:rows * slots, j].reshape(slots, rows).T
+        return np.roll(column, -int(self.state[3][j, OFF]) % slots if slots else 0, axis=1)
 
     def _runs(self, runtime: float) -> list[Trajectory]:
         """Every point's run, its runtime_s the batch's in proportion to its steps."""
