@@ -34,6 +34,17 @@ The layout is what lets LLVM vectorise the lane loop with plain vector loads and
 the samplers' and the batch's counters), which batch_steps reads and leaves at the step it
 stops at, so that a batch continues in chunks as the single kernels do (core.methods).
 
+**Lanes that stop early** (simulate_batch's ``finished``, _Lanes). After every chunk of
+CHUNK_T time units a predicate sees each lane's trajectory so far and may retire it; a lane
+that stops, reaches its t_end or blows up leaves its column (remove_lane), which takes the
+batch's next waiting point at the next chunk end (fill_lane), or is padding up to a whole
+vector (pad_lanes) when none waits. Lanes then run at different model times: each has its
+own step 0 (li: OFF) and samplers, counted in its own steps; its start is a renormalisation
+step of the batch, so that the tangent's renormalisations stay events of the whole batch;
+the tangent's norm sums the ring in the slots' age order; RK4's history read of a late
+start goes through its ring (fill_lane). Each run is then, bit for bit, its run in a batch
+without stops, up to where it stopped (tests/unit/test_batch_refill.py).
+
 **Events** (a tangent renormalisation, the end) are handled between chunks of steps: the
 steps up to the next event of the group run as one tight loop (at most MAX_CHUNK steps),
 then the event is handled for every lane. Samples are taken inside the chunk, at the step
@@ -210,7 +221,8 @@ def rk4_steps(m, n, n_a, n_w, width, st, ring, e_ring, pos, size, n_delay, dt, l
     stages read steps n - N and n - N + 1 (slots old and nxt), or, while t_n + dt - tau <=
     0, the history slot ``size`` twice (batch: (delta, 0), the tangent's (0, 0)), from which
     hermite_mid gives delta (0) exactly: the choice is a row, made once a step, not a select
-    of every delayed value (core.rk4 does not interpolate across t = 0 either, where the
+    of every delayed value; a lane started after step 0 reads its own ring, filled with the
+    same values (fill_lane) (core.rk4 does not interpolate across t = 0 either, where the
     history's slope 0 meets m_y(0) = delta). A lane out of bounds is marked by m_y = NaN,
     tested on the state the step starts from, as euler_steps does. These two replaced the
     selects and a row of first bad steps: 3.97 against 4.33 ns per point-step on the step
