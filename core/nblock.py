@@ -52,7 +52,8 @@ def ensemble_moments(x, y, out, i):
 @njit(**JIT)
 def nblock_euler_maruyama(coef, dt, n_delay, n_steps, stride, x, y, seed, out):
     """Advance the blocks (x, y in place) n_steps; sample the moments every stride steps
-    into out (5, n_samples). Returns the steps done (fewer if a block blew up)."""
+    into out (5, n_samples). Returns n_steps, or minus the steps done if a block blew up
+    (the step that blew up counted: at the last step too)."""
     a, q, f1, k, d = coef[0], coef[1], coef[2], coef[3], coef[4]
     np.random.seed(seed)
     n = x.size
@@ -77,7 +78,7 @@ def nblock_euler_maruyama(coef, dt, n_delay, n_steps, stride, x, y, seed, out):
             x[i] += dt * yi
             y[i] = yi + dt * (friction + coupling) + noise * np.random.standard_normal()
             if not abs(y[i]) < BLOWUP_BOUND:
-                return step + 1
+                return -(step + 1)  # negative: blew up, even at the last step
         if n_delay > 0:
             pos += 1
             if pos == n_delay:
@@ -121,9 +122,10 @@ def simulate_ensemble(p: Params, n_blocks: int, t_end: float, dt: float = 1e-3,
     y = x.copy()
     done = nblock_euler_maruyama(coefficients(p), dt, n_delay, n_steps, stride, x, y,
                                  int(rng.integers(2**31 - 1)), out)
-    n_samples = done // stride + 1 if done == n_steps else done // stride
+    blown, done = done < 0, abs(done)
+    n_samples = done // stride if blown else done // stride + 1
     t = np.arange(out.shape[1]) * stride * dt
-    t_blowup = None if done == n_steps else done * dt
+    t_blowup = done * dt if blown else None
     return Ensemble(p, n_blocks, seed, t[:n_samples], out[:, :n_samples], t_blowup)
 
 

@@ -75,8 +75,8 @@ class PointResult:
 
     def as_record(self) -> dict[str, object]:
         """The flat record the CLI prints with --json and the store keeps: the result
-        fields of core.result_fields (their one definition), then the solver's dt and
-        t_end, in RECORD_KEYS order. A field listed there must be computed here."""
+        fields of core.result_fields (their one definition), then the solver's dt, t_end
+        and stop rule, in RECORD_KEYS order. A field listed there must be computed here."""
         s = self.summary
         values = {
             "regime": s.regime,
@@ -96,6 +96,7 @@ class PointResult:
             "zero_one_k": s.zero_one_k,
             "t_blowup": self.t_blowup,
             "runtime_s": self.runtime_s,
+            "t_stop": self.trajectory.t_done,
             "certified": self.certificate.certified,
             "certificate": self.certificate.text,
             "multipliers": self.certificate.pairs,
@@ -105,6 +106,7 @@ class PointResult:
             "spectrum_err": list(self.spectrum.errors) if self.spectrum else [],
             "dt": self.trajectory.grid.dt,
             "t_end": self.trajectory.grid.t_end,
+            "stop": self.settings.stop,
         }
         return {name: values[name] for name in RECORD_KEYS}
 

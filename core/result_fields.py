@@ -104,6 +104,9 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
                 contract=True, detail=True),
     ResultField("runtime_s", "optional", "s", "wall time of the run (integration and "
                 "analysis)", contract=True),
+    ResultField("t_stop", "measure", "time", "when the run stopped: its t_end, earlier where "
+                "its attractor was certified (stop = certified) or where it blew up",
+                contract=True, detail=True),
     ResultField("certified", "flag", "", "the attractor was certified from the run's own "
                 "final state (a fixed point by linear theory and the measured decay, an orbit "
                 "by Newton-Krylov shooting): the label is a claim about the model, not the "
@@ -127,8 +130,9 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
 #: The names of the result fields, in order: the result columns of ``runs``.
 RESULT_NAMES: tuple[str, ...] = tuple(f.name for f in RESULT_FIELDS)
 #: Keys of ``as_record`` after the result: the solver settings the run resolved (its
-#: time step and end time), which the store keeps among the run's inputs.
-SOLVER_KEYS: tuple[str, ...] = ("dt", "t_end")
+#: time step and end time) and the stop rule it ran under (core.solve.STOPS), which the
+#: store keeps among the run's inputs.
+SOLVER_KEYS: tuple[str, ...] = ("dt", "t_end", "stop")
 #: The keys of ``PointResult.as_record``, in order.
 RECORD_KEYS: tuple[str, ...] = (*RESULT_NAMES, *SOLVER_KEYS)
 #: The keys of ``slopetui run --json``, in order: the documented contract first (regime,

@@ -37,6 +37,11 @@ from core.params import ParameterError, Params, check_positive
 
 Method = Literal["euler", "rk4", "stiff"]
 
+#: When a run stops: "t_end", at its end time whatever it has become (the paper's
+#: protocol); "certified", at the end of the first chunk after which its attractor is
+#: certified from its own state (core.certified_stop), else at t_end as well.
+STOPS: tuple[str, ...] = ("t_end", "certified")
+
 #: Default step per method (core.methods.METHOD_TABLE). Euler: the paper's dt = 1e-3.
 #: RK4: 1e-2, which costs about as much per time unit as Euler at 1e-3 and is ~1e6 times
 #: more accurate. Stiff: 1e-3, first order like Euler, with errors against Radau about as
@@ -117,6 +122,10 @@ class SolverSettings:
     history : m_x before t = 0 (core.history): "constant" (default, eq. 19's delta),
              "consistent" (delta (1 + t), no kink at t = 0) or "state:<digest>" (the
              final state of another run, given to simulate as ``carried``).
+    stop   : when the run stops (STOPS): "t_end" (default, the paper's protocol) or
+             "certified" (at the first chunk's end where its attractor is certified,
+             t_end at the latest: core.certified_stop; core.point.run_point honours it).
+             ``simulate`` itself always integrates to ``until`` or t_end.
     """
 
     method: str = "euler"
@@ -126,9 +135,12 @@ class SolverSettings:
     lyap: bool = True
     trace_points: int = 2000
     history: str = "constant"
+    stop: str = "t_end"
 
     def __post_init__(self) -> None:
         check_history(self.history)
+        if not isinstance(self.stop, str) or self.stop not in STOPS:
+            raise ParameterError("stop", self.stop, "one of " + ", ".join(STOPS))
         if not isinstance(self.method, str) or self.method not in METHODS:
             raise ParameterError("method", self.method, "one of " + ", ".join(METHODS))
         if self.dt is not None:

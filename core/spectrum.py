@@ -118,7 +118,7 @@ def spectrum(p: Params, s: SolverSettings, n: int,
     logs = np.zeros((g.n_steps // g.renorm_steps, n))
     done = m.tangents()(coefficients(p), g.dt, g.n_delay, g.n_steps, g.renorm_steps, init, hx, e, h,
                   logs)
-    if done < g.n_steps:
+    if done < 0:  # blew up (core.tangents: a negative count)
         return None
     estimates = [estimate(logs[:, i], g.renorm_interval) for i in range(n)]
     return Spectrum(tuple(x.value for x in estimates), tuple(x.error for x in estimates),

@@ -100,7 +100,8 @@ def orthonormalise(e, h, n, dt, logs, row):
 def euler_tangents(coef, dt, n_delay, n_steps, renorm_steps, init, hx, e, h, logs):
     """core.euler.euler's steps with the N = e.shape[0] tangents e (N, 5) and their m_x
     rings h (N, 1, n_delay); logs (n_steps // renorm_steps, N) receives the log-growths.
-    Returns the steps done (< n_steps on blow-up)."""
+    Returns n_steps, or minus the steps done at a blow-up (the step that blew up
+    counted: at the last step too, where a count alone would not tell)."""
     a, q, f1, k, d = coef[0], coef[1], coef[2], coef[3], coef[4]
     m_x, m_y, s_x, s_y, u = init[0], init[1], init[2], init[3], init[4]  # (19)
     hist = hx[0:2 * n_delay:2].copy()  # m_x(-tau + j dt): the history
@@ -127,7 +128,7 @@ def euler_tangents(coef, dt, n_delay, n_steps, renorm_steps, init, hx, e, h, log
                 pos = 0
         m_x, m_y, s_x, s_y, u = euler_step(m_x, m_y, s_x, s_y, u, m_x_tau, dt, a, q, f1, k, d)
         if blown_up(m_y, s_y):
-            return n + 1
+            return -(n + 1)  # negative: blew up, even at the last step
         if n + 1 == next_r:
             orthonormalise(e, h, h.shape[2], dt, logs, i_r)
             i_r += 1
@@ -177,7 +178,7 @@ def rk4_tangents(coef, dt, n_delay, n_steps, renorm_steps, init, hx, e, h, logs)
                 no_delay, dt, a, q, f1, k)
         m_x, m_y, s_x, s_y, u = x_new, y_new, sx_new, sy_new, u_new
         if blown_up(m_y, s_y):
-            return n + 1
+            return -(n + 1)  # negative: blew up, even at the last step
         if n + 1 == next_r:
             # the slot at pos (step n - N) is stale: make it vanish from the inner product
             for i in range(nv):

@@ -7,7 +7,7 @@ import argparse
 import shutil
 from typing import TYPE_CHECKING
 
-from slopetui.cli.continuation import print_bifurcations, print_point
+from slopetui.cli.branch_lines import print_bifurcations, print_point
 from slopetui.cli.options import UsageError, int_arg, open_db
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text

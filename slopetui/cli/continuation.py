@@ -7,8 +7,7 @@ import argparse
 import math
 import sys
 import time
-from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from core.branch_start import MIN_STEP, BranchSpec, past_end, start
 from core.continuation import bifurcations, criticality, walk
@@ -16,10 +15,11 @@ from core.orbit import OrbitError
 from core.params import PARAM_NAMES, ParameterError, Params
 from core.periodic_orbit import SEED_T_END
 from slopetui.cli.arguments.continuation import MAX_STEP
+from slopetui.cli.branch_lines import print_bifurcations, print_point
 from slopetui.cli.options import float_arg, int_arg, open_db, say_queued
 from slopetui.cli.orbit import check_seed_steps, point_of
-from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
+from slopetui.queue.warm_up import say_if_compiling
 from slopetui.store.queries import run_by_id
 from slopetui.sweeps.branch_records import bifurcation_record, point_record
 from slopetui.sweeps.branches import submit
@@ -77,22 +77,6 @@ def _bif_record(b: Bifurcation) -> dict[str, object]:
     return bifurcation_record(b.type, b.value, b.period, b.multiplier)
 
 
-def print_point(param: str, point: Mapping[str, Any]) -> None:
-    print(f"{param} = {point['value']:<12.8g} period {point['period']:<12.8g} amplitude "
-          f"{point['amplitude']:<10.6g} {'stable' if point['stable'] else 'unstable'}",
-          flush=True)
-
-
-def print_bifurcations(param: str, found: Sequence[Mapping[str, Any]]) -> None:
-    for b in found:
-        mu = b["multiplier"]
-        print(f"{terminal_safe(b['type']):<16} {param} = {b['value']:.8g}, period {b['period']:.8g}"
-              + (f", multiplier {mu[0]:+.6f}{mu[1]:+.6f}i"
-                 if b["type"] not in ("fold", "hopf") else ""))
-    if not found:
-        print("no bifurcation on this branch")
-
-
 def _submit(args: argparse.Namespace, spec: BranchSpec) -> int:
     cid = submit(open_db(args), spec, args.from_run)
     return say_queued(args.json, "continuation", cid, f"slopetui branch {cid}")
@@ -114,6 +98,7 @@ def handle(args: argparse.Namespace) -> int:
     spec = BranchSpec(params, args.param, dt, args.from_hopf, end, args.points, args.max_step)
     if args.submit:
         return _submit(args, spec)
+    say_if_compiling("continue")
     t0 = time.process_time()
     try:
         branch, hopf = start(spec)

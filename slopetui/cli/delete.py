@@ -27,7 +27,7 @@ def handle(args: argparse.Namespace) -> int:
         raise control.UnknownSweep(sweep)
     p = found[0]
     if p.running:  # the store refuses too (in its transaction): asking first would be idle
-        raise UsageError(str(control.SweepBusy(sweep, p.running)))
+        raise UsageError(str(control.SweepBusy(sweep, p.running, p.status)))
     if not args.yes:
         if sys.stdin is None or not sys.stdin.isatty():
             raise UsageError(f"stdin is not a terminal, so there is no one to ask: pass "

@@ -20,7 +20,6 @@ from slopetui.store.queries import runs_of, sweep_exists
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.export import write_csv
 from slopetui.sweeps.export_files import write_json
-from slopetui.sweeps.frames import runs_frame
 from slopetui.whole_files import as_text, write_whole
 
 if TYPE_CHECKING:
@@ -66,6 +65,7 @@ def _export_csv(db: Database, sweep: int, output: str | None) -> int:
 
 def _export_frame(db: Database, sweep: int, form: str, output: str | None) -> int:
     """The sweep's runs as Parquet or JSON, from their DataFrame, to ``output`` or stdout."""
+    from slopetui.sweeps.frames import runs_frame  # pandas: not for `export --csv`
 
     frame = runs_frame(db, sweep)
     if output:

@@ -13,15 +13,14 @@ from collections.abc import Mapping, Sequence
 from dataclasses import asdict
 from typing import TYPE_CHECKING, Any
 
-from core.hysteresis import T_SETTLE, TOL, WINDOW, hysteresis
 from core.params import ParameterError, Params
 from core.solve import MAX_RUN_BYTES, MAX_STEPS
 from slopetui.cli.options import UsageError, int_arg, open_db, say_queued
-from slopetui.cli.orbit import point_of
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
 from slopetui.plots.hysteresis_plot import render_hysteresis
 from slopetui.queue.hysteresis_jobs import TOL_MAX, transition_fields
+from slopetui.queue.warm_up import say_if_compiling
 from slopetui.sweeps.hysteresis_runs import HysteresisSpec, hysteresis_of, submit
 
 if TYPE_CHECKING:
@@ -49,6 +48,9 @@ def _number(flag: str, text: str, params: Params | None = None, name: str = "") 
 
 def _checked(args: argparse.Namespace
              ) -> tuple[Params, float, float, float, float, float, float]:
+    from core.hysteresis import T_SETTLE, TOL, WINDOW  # numba: see _compute_or_submit
+    from slopetui.cli.orbit import point_of
+
     params, dt = point_of(args)
     start = _number("from", args.start, params, args.param)
     stop = _number("to", args.stop, params, args.param)
@@ -179,6 +181,14 @@ def handle(args: argparse.Namespace) -> int:
         if given is None:
             raise UsageError(f"the following argument is required: {flag} (or --show ID to "
                              "print a stored sweep)")
+    return _compute_or_submit(args)
+
+
+def _compute_or_submit(args: argparse.Namespace) -> int:
+    # numba and scipy (~0.5 s) load here, for a sweep computed or submitted: `--show`
+    # (a stored sweep's lines and plot) never needs them
+    from core.hysteresis import hysteresis
+
     try:
         params, dt, start, stop, t_settle, window, tol = _checked(args)
     except ParameterError as exc:
@@ -186,6 +196,7 @@ def handle(args: argparse.Namespace) -> int:
         return 2
     if args.submit:
         return _submit(args, params, dt, start, stop, t_settle, window, tol)
+    say_if_compiling("hysteresis")
     t0 = time.process_time()
 
     def say(direction: str, pt: WarmPoint) -> None:

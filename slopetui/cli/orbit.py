@@ -13,6 +13,7 @@ from core.params import PARAM_NAMES, ParameterError, Params
 from core.periodic_orbit import SEED_SPAN, OrbitError, find_orbit
 from slopetui.cli.arguments.orbit import MAX_SEED_STEPS, MIN_T_SEED
 from slopetui.json_text import json_text
+from slopetui.queue.warm_up import say_if_compiling
 
 if TYPE_CHECKING:
     from core.periodic_orbit import Orbit
@@ -112,6 +113,7 @@ def handle(args: argparse.Namespace) -> int:
     except ParameterError as exc:
         print(f"slopetui orbit: error: {exc}", file=sys.stderr)
         return 2
+    say_if_compiling("orbit")
     t0 = time.process_time()
     try:
         orbit = find_orbit(params, dt, t_seed)

@@ -36,7 +36,7 @@ def handle(args: argparse.Namespace) -> int:
     from slopetui.queue.local_pool import local_pools
     from slopetui.queue.workers_table import live_workers
     from slopetui.sweeps.control import UnknownSweep
-    from slopetui.sweeps.progress import sweep_progress
+    from slopetui.sweeps.progress import claimed_line, sweep_progress
 
     ids = [sweep_arg(text) for text in args.sweeps]  # before the database opens
     db = open_db(args)
@@ -84,6 +84,8 @@ def handle(args: argparse.Namespace) -> int:
         if waiting:
             print(f"{kind.plural}: " + ", ".join(f"{n} {k}" for k, n in sorted(waiting.items()))
                   + f" ({kind.shown_by})")
+    if held := claimed_line(db, len(workers)):
+        print(held)
     print()
     for pool in starting:
         up = "" if pool.uptime_s is None else f", up {duration_text(pool.uptime_s)}"

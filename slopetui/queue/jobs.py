@@ -1,11 +1,12 @@
-"""The life of a job (a run) in the queue: claim, begin, heartbeat, complete, fail, release.
+"""The life of a job (a run) in the queue: claim, begin, complete, fail, release (the
+heartbeat and the requeues of every kind of job are ``slopetui.queue.registry``'s).
 
 The statements, and why they cannot hand one run to two workers, are in
 ``slopetui.store.runs.claims``; this module holds what a job is and the queue's policy: how many
 runs a batch may hold, when a run has used its attempts, the lease's defaults.
 
 A worker claims a run under a lease, which lasts while its heartbeat (database time) is
-younger than the lease length; ``requeue_expired`` hands the runs of silent workers to
+younger than the lease length; ``registry.requeue_expired`` hands the runs of silent workers to
 others, and fails a run after ``max_attempts``. Every write of a result is guarded by the
 lease, so a worker that lost its lease cannot write a second result for a run that another
 worker has taken over.

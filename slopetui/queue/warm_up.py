@@ -29,9 +29,11 @@ start (the pool's crash-loop rule) instead of charging attempts to runs.
 from __future__ import annotations
 
 import logging
+import sys
 import threading
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 from core import jit_cache
 
@@ -47,6 +49,38 @@ COMPILING_AFTER_S = 5.0
 #: What a pool says once its warm-up turns out to be a compilation.
 COMPILING = ("compiling the numba kernels, once (first run after an install or an engine "
              "change; cached afterwards)")
+
+
+#: The kernels of the orbit analyses (``slopetui orbit``, ``continue``, ``hysteresis``), by
+#: their module in core: every one of them integrates with core.period_map.flow (eqs.
+#: 6a-6e and their tangent, into which numba compiles core.model's functions too). A
+#: cold `slopetui orbit` compiled exactly these: period_map.flow and core.model's eight.
+ANALYSIS_KERNELS = ("period_map",)
+#: What an analysis command says on stderr before it compiles them (``say_if_compiling``).
+COMPILING_ONCE = ("compiling kernels (once: the first analysis after an install or an "
+                  "engine change; cached afterwards)")
+
+
+def kernels_compiled(modules: tuple[str, ...] = ANALYSIS_KERNELS) -> bool:
+    """Whether numba's cache holds a compiled kernel of each ``core.<module>`` for this
+    checkout of the engine: an index file ``<module>.<function>-<line>.py<version>.nbi``
+    in the sub-folder numba files core's kernels under (named after core's path, so
+    another checkout's kernels, which this one would compile again, do not count). Only
+    looks for files: an index numba finds stale (another CPU, another numba) still
+    counts, and the compilation then goes unannounced, as before."""
+    from numba.core.caching import _CacheLocator  # numba's own naming of the sub-folder
+
+    folder = jit_cache.kernel_folder() / _CacheLocator.get_suitable_cache_subpath(
+        str(jit_cache.CORE_DIR / "__init__.py"))
+    return all(any(Path(folder).glob(f"{module}.*.nbi")) for module in modules)
+
+
+def say_if_compiling(command: str, modules: tuple[str, ...] = ANALYSIS_KERNELS) -> None:
+    """Say COMPILING_ONCE on stderr, as ``slopetui <command>: ...``, unless the kernels
+    of ``modules`` are compiled already (``kernels_compiled``): a silent pause of seconds
+    before the first line looks like a hang. Call it before the first kernel runs."""
+    if not kernels_compiled(modules):
+        print(f"slopetui {command}: {COMPILING_ONCE}", file=sys.stderr, flush=True)
 
 
 def warm_up() -> None:

@@ -39,6 +39,9 @@ def _values(what: str, table: str, where: str) -> Dropped:
 
 #: Each revision's downgrade (to the one before it): what it drops.
 DROPS: dict[str, tuple[Dropped, ...]] = {
+    # a run that stopped early reads as one that ran to its t_end (t_stop is derived
+    # again from t_blowup and t_end only for those that did)
+    "0013": (_values("stop rule (certified) and stopping time", "runs", "stop <> 't_end'"),),
     # the runs stay, with the labels they were given; what certified them goes
     "0012": (_values("certificates, accuracy estimates and Lyapunov spectra", "runs",
                      "certified IS NOT NULL"),),

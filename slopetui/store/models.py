@@ -119,6 +119,9 @@ class Run(Base):
     #: all started from the constant history).
     history: Mapped[str] = mapped_column(String(24), default="constant",
                                          server_default="constant")
+    #: When the run stops (core.solve.STOPS): t_end, or where its attractor is certified.
+    #: Server default as in migration 0013 (rows before it all ran to their t_end).
+    stop: Mapped[str] = mapped_column(Text, default="t_end", server_default="t_end")
     #: Which of the sweep's initial conditions (spec [[initial]]) the run starts from.
     ic: Mapped[int] = mapped_column(default=0, server_default="0")
     #: Digest of the engine's sources (core/*.py) the run is computed with.
@@ -169,6 +172,8 @@ class Run(Base):
     zero_one_k: Mapped[float | None] = mapped_column(Measure)
     t_blowup: Mapped[float | None] = mapped_column(Double)
     runtime_s: Mapped[float | None] = mapped_column(Double)
+    #: When the run stopped (migration 0013 backfilled the runs done before it).
+    t_stop: Mapped[float | None] = mapped_column(Measure)
     #: Migration 0012: NULL for runs computed before it, which were never tried.
     certified: Mapped[bool | None] = mapped_column(Boolean)
     certificate: Mapped[str | None] = mapped_column(Text)

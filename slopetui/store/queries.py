@@ -20,7 +20,7 @@ from slopetui.store.database import Database
 from slopetui.store.models import Run, Sweep
 
 __all__ = ["Engine", "database_now", "newest_sweep_id", "run_by_id", "runs_matching", "runs_of",
-           "runtime_total", "sweep_exists", "unfinished_runs"]
+           "runtime_total", "sweep_exists", "sweep_status", "unfinished_runs"]
 
 # ``Engine`` is named here for the faces' annotations (the SQL console's read-only engine),
 # so that they need not import SQLAlchemy to spell it.
@@ -51,6 +51,13 @@ def sweep_exists(db: Database, sweep_id: int) -> bool:
     """Whether the store has a sweep with this id."""
     with db.sessions() as s:
         return s.get(Sweep, sweep_id) is not None
+
+
+def sweep_status(db: Database, sweep_id: int) -> str | None:
+    """The sweep's stored status (active, paused, cancelled), None if there is no such
+    sweep."""
+    with db.sessions() as s:
+        return s.scalar(select(Sweep.status).where(Sweep.id == sweep_id))
 
 
 def runs_of(db: Database, sweep_id: int) -> Generator[Run, None, None]:

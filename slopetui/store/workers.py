@@ -1,7 +1,7 @@
 """The workers table: a worker process registers on start, unregisters on exit, and the
 live ones are read back (the pool, ``status``, ``workers`` and the application list them,
-see ``slopetui.queue.workers_table``). Heartbeats are ``slopetui.store.runs.claims``'s: they
-extend the worker's leases too.
+see ``slopetui.queue.workers_table``). Heartbeats are the lease's
+(``slopetui.store.jobs.leases.heartbeat``): they extend the worker's leases of every kind too.
 """
 
 from __future__ import annotations

@@ -8,7 +8,8 @@ sweep then goes on refining: the runs of its current level are queued again, and
 they finish a worker's idle poll queues the next level (``sweeps.adaptive``: cancelled
 sweeps do not advance, active ones do). Delete is not undone by anything: the faces ask
 first (``slopetui delete`` on a terminal or with --yes, the application's modal), and it
-refuses while runs of the sweep are running (``store.sweeps.writes.delete_sweep`` says why).
+refuses while runs of the sweep are running (``store.sweeps.writes.delete_sweep`` says why;
+``SweepBusy`` says what to do: cancel an active sweep, wait for a cancelled one).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from slopetui.store.database import Database
+from slopetui.store.queries import sweep_status
 from slopetui.store.sweeps.writes import (
     Deletion,
     cancel_sweep,
@@ -34,14 +36,27 @@ class UnknownSweep(LookupError):
 
 
 class SweepBusy(RuntimeError):
-    """The sweep has running runs: it cannot be deleted now (nothing was written)."""
+    """The sweep has running runs: it cannot be deleted now (nothing was written).
 
-    def __init__(self, sweep_id: int, running: int) -> None:
+    What to do depends on its ``status``: an active sweep keeps handing runs out, so it is
+    cancelled first; a cancelled (or paused) one hands out nothing more, and its running
+    runs, in a worker's kernel or claimed in its batch, finish or give up on their own:
+    cancelling it again would change nothing, so the message says to wait, and where to
+    see them."""
+
+    def __init__(self, sweep_id: int, running: int, status: str = "active") -> None:
         runs = "run is" if running == 1 else "runs are"
-        super().__init__(f"sweep {sweep_id} cannot be deleted while {running} of its {runs} "
-                         f"running: cancel it (slopetui cancel {sweep_id}, or c), wait for "
-                         "them to finish, then delete it")
-        self.sweep_id, self.running = sweep_id, running
+        busy = f"sweep {sweep_id} cannot be deleted while {running} of its {runs} running"
+        if status == "active":
+            super().__init__(f"{busy}: cancel it (slopetui cancel {sweep_id}, or c), wait "
+                             "for them to finish, then delete it")
+        else:
+            them = "it" if running == 1 else "them"
+            super().__init__(
+                f"{busy}: the sweep is {status}, so nothing more is handed out; wait for "
+                f"{them} to finish or give up in the workers (slopetui runs --sweep "
+                f"{sweep_id} --status running, or the queue screen, 2), then delete it")
+        self.sweep_id, self.running, self.status = sweep_id, running, status
 
 
 @dataclass(frozen=True)
@@ -91,7 +106,7 @@ def delete(db: Database, sweep_id: int) -> Deletion:
     if out is None:
         raise UnknownSweep(sweep_id)
     if out.running:
-        raise SweepBusy(sweep_id, out.running)
+        raise SweepBusy(sweep_id, out.running, sweep_status(db, sweep_id) or "active")
     return out
 
 

@@ -21,7 +21,6 @@ from slopetui.json_text import json_text
 from slopetui.store.queries import runs_of, sweep_exists
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.export import write_csv
-from slopetui.sweeps.frames import json_rows, runs_frame
 from slopetui.whole_files import as_text, first_free, write_whole
 
 if TYPE_CHECKING:
@@ -53,6 +52,8 @@ def write_json(frame: pd.DataFrame, out: IO[str]) -> int:
     """Strict JSON (no NaN literal: jq and JavaScript refuse it; NaN and ±inf are null,
     slopetui.json_text), one run a line, the text as stored: what ``slopetui export
     --json`` writes."""
+    from slopetui.sweeps.frames import json_rows  # pandas: see export_sweep
+
     rows = json_rows(frame)
     out.write("[\n" if rows else "[")
     out.write(",\n".join(json_text(row, ensure_ascii=False) for row in rows))
@@ -76,6 +77,9 @@ def export_sweep(db: Database, sweep_id: int, fmt: str, folder: Path) -> Exporte
             with closing(runs_of(db, sweep_id)) as runs:  # the session closes if a write fails
                 return write_csv(runs, out)
     else:
+        # pandas (0.3-0.5 s) loads with the first JSON export, not with the application
+        # (which imports this module for its palette) nor with `export --csv`
+        from slopetui.sweeps.frames import runs_frame
 
         frame = runs_frame(db, sweep_id)
 

@@ -15,7 +15,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from core.fold_curve import fold_curve
 from slopetui.sweeps.spec import SweepSpec
 
 if TYPE_CHECKING:  # core.fold_curve loads scipy: imported where the curve is computed
@@ -53,6 +52,8 @@ def fold_overlay(spec: SweepSpec, progress: Callable[[float, float | None], None
         return None
     assert spec.y is not None
     points = []
+    from core.fold_curve import fold_curve  # numba and scipy: see the TYPE_CHECKING import
+
     for point in fold_curve(spec.base, [float(t) for t in spec.y.values()], name=spec.x.param):
         if progress is not None:
             progress(point.second, point.fold)

@@ -46,6 +46,7 @@ from slopetui.tui.background import BackgroundActions
 from slopetui.tui.commands import SlopeCommands
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.screens.branches import BranchesScreen
+from slopetui.tui.screens.confirm import ConfirmScreen
 from slopetui.tui.screens.error import StoreChoice, StoreErrorScreen
 from slopetui.tui.screens.help import HelpScreen
 from slopetui.tui.screens.new_sweep import NewSweepScreen
@@ -277,6 +278,19 @@ class SlopeApp(App[None], inherit_bindings=False):
                                                 severity="error", timeout=8))
 
     # -- screens pushed on top --
+
+    async def action_quit(self) -> None:
+        """Quit; on a screen that holds unsaved input (the new-sweep form, ``unsaved``)
+        ask first, naming what would be lost: ctrl+q threw a filled form away at once. A
+        second ctrl+q, on the question, quits."""
+        unsaved = getattr(self.screen, "unsaved", None)
+        lost = unsaved() if callable(unsaved) else None
+        if lost is None:
+            self.exit()
+            return
+        self.push_screen(ConfirmScreen(f"Quit slopetui? {lost}", yes="Quit",
+                                       no="Keep editing"),
+                         lambda yes: self.exit() if yes else None)
 
     async def action_new_sweep(self) -> None:
         await self.new_sweep()

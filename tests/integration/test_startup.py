@@ -29,7 +29,7 @@ from tests.support import QUICK_SOLVER, finish_all, submit_quick
 #: core.solve and core.stability, the sweeps' specs), Alembic (~0.2 s), the application
 #: (Textual, rich) and plotext.
 NEVER_FOR_HELP = ("numba", "llvmlite", "core.batch", "numpy", "alembic", "textual", "rich",
-                  "plotext", "sqlalchemy", "argcomplete", "pandas", "matplotlib")
+                  "plotext", "sqlalchemy", "argcomplete", "pandas", "matplotlib", "scipy")
 #: What the commands that read the store (status, runs, sql) may load of NEVER_FOR_HELP.
 THE_DRIVER = {"sqlalchemy"}
 
@@ -117,3 +117,23 @@ def test_runs_as_csv_loads_no_numba(busy_store):
     come), never the kernels."""
     assert not loaded_by("runs", "--csv", "--db", busy_store) & {"numba", "llvmlite",
                                                                   "core.batch"}
+
+
+#: What the commands and the application that only read stored results must not load:
+#: the kernels, scipy (continuation, shooting) and pandas (the notebooks' frames).
+NEVER_FOR_READING = {"numba", "llvmlite", "core.batch", "scipy", "pandas"}
+
+
+@pytest.mark.parametrize("argv", [
+    ["branch"], ["hysteresis", "--show", "1"], ["export", "1", "--csv"]], ids=" ".join)
+def test_commands_that_read_stored_results_load_no_kernels_and_no_pandas(busy_store, argv):
+    """`branch` (its lines are the walk's, not the walk), `hysteresis --show` and `export
+    --csv` read the store; the kernels and pandas load only where something is computed or
+    a DataFrame built."""
+    assert not loaded_by(*argv, "--db", busy_store) & NEVER_FOR_READING
+
+
+def test_the_application_loads_no_kernels_scipy_or_pandas_to_start():
+    """The application imports what its first screens need; the run detail, the fold
+    overlay, a figure and a JSON export load their heavy modules when first used."""
+    assert not loaded_after("import slopetui.tui.app") & NEVER_FOR_READING

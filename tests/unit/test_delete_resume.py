@@ -125,6 +125,24 @@ def test_delete_refuses_while_runs_are_running_and_writes_nothing(store):
     assert n_runs(store) == 0
 
 
+def test_delete_of_a_cancelled_sweep_with_running_runs_says_to_wait(store):
+    """Cancelling again would change nothing: the runs a worker holds finish or give up on
+    their own. The message said "cancel it" all the same."""
+    sweep = submit_quick(store, 3).sweep_id
+    batch = jobs.claim_batch(store, "w", 2)
+    assert control.cancel(store, sweep) == 1
+    with pytest.raises(control.SweepBusy) as busy:
+        control.apply(store, "delete", sweep)
+    text = str(busy.value)
+    assert "cancel it" not in text and "slopetui cancel" not in text
+    assert "while 2 of its runs are running: the sweep is cancelled" in text
+    assert "wait for them to finish or give up" in text
+    assert f"slopetui runs --sweep {sweep} --status running" in text
+    for job in batch:
+        jobs.release(store, job, "w")
+    assert control.apply(store, "delete", sweep) == f"sweep {sweep} deleted with its 3 runs"
+
+
 # -- the command line --
 
 
@@ -175,6 +193,10 @@ def test_delete_an_unknown_or_busy_sweep(db, db_url, capsys):
     code, _, err = cli(capsys, "delete", str(sweep), "--yes", "--db", db_url)
     assert code == 2 and "running" in err and f"slopetui cancel {sweep}" in err
     assert n_runs(db, Run.sweep_id == sweep) == 2
+    control.cancel(db, sweep)  # its held run finishes on its own: wait, not cancel
+    code, _, err = cli(capsys, "delete", str(sweep), "--yes", "--db", db_url)
+    assert code == 2 and "cancelled" in err and "wait for it to finish" in err
+    assert "slopetui cancel" not in err
 
 
 def test_cli_resume_of_a_cancelled_sweep(db, db_url, capsys):

@@ -28,7 +28,7 @@ JSON_CONTRACT = ["regime", "lambda_max", "lambda_err", "amplitude", "period", "p
 NOT_RESULT = {"id", "sweep_id", "ix", "iy", "a", "b", "c", "d", "k", "v", "tau", "delta",
               "method", "dt", "t_end", "window", "lyap", "engine", "cache_key", "status",
               "worker_id", "attempts", "created_at", "started_at", "heartbeat_at",
-              "finished_at", "error", "cached_from", "level", "inferred", "history", "ic"}
+              "finished_at", "error", "cached_from", "level", "inferred", "history", "ic", "stop"}
 #: The SQL type of each kind of result field.
 KIND_TYPES = {"measure": Measure, "count": Integer, "text": String, "list": JSON,
               "optional": Double, "flag": Boolean, "pairs": JSON}

@@ -11,7 +11,7 @@ import pytest
 
 from core.classify import CHAOS_LAMBDA_MIN
 from core.params import ParameterError, Params
-from core.solve import SolverSettings
+from core.solve import SolverSettings, make_grid, simulate
 from core.spectrum import MAX_EXPONENTS, Spectrum, check_count, check_spectrum, evidence, spectrum
 from core.stability import roots
 
@@ -122,3 +122,19 @@ def test_more_tangent_memory_than_a_run_may_take_is_refused_with_the_count_that_
     with pytest.raises(ParameterError, match=r"spectrum = 16 .* allowed 1 <= N <= 13 at tau = 10000"):
         check_spectrum(p, s, 16)
     check_spectrum(p, s, 13)
+
+
+def test_a_blow_up_at_the_very_last_step_gives_no_spectrum():
+    """The tangent kernels say a blow-up with a negative count, so that one at the last
+    step (Euler at dt 0.3, k = 6, tau = 10: step 68 of 68; simulate flags it blown) is not
+    taken for a finished run: a count of 68 of 68 alone cannot tell."""
+    p = Params(k=6.0, tau=10.0, delta=1e-3)
+    dt = 0.3
+    steps = [n for n in range(60, 90)
+             if simulate(p, SolverSettings(method="euler", dt=dt, t_end=n * dt, window=n * dt / 2,
+                                           lyap=False)).blown]
+    assert steps, "no blow-up within 90 steps: the case needs another point"
+    t_end = steps[0] * dt  # the shortest run that blows up: at its last step
+    s = SolverSettings(method="euler", dt=dt, t_end=t_end, window=t_end / 2, lyap=True)
+    assert simulate(p, s).steps_done == make_grid(p, s).n_steps
+    assert spectrum(p, s, 2) is None

@@ -89,9 +89,9 @@ def declare(sub: argparse._SubParsersAction) -> None:
                         f"{MAX_ATTEMPTS_RANGE[1]} (default {defaults.MAX_ATTEMPTS})")
     p.add_argument("--batch", type=int, default=defaults.DEFAULT_BATCH, metavar="N",
                    help="runs with the same solver settings claimed together, 1 to "
-                        f"{MAX_BATCH} (default {defaults.DEFAULT_BATCH}); Euler batches go "
-                        "through the batched kernel, RK4 runs are computed and stored one "
-                        "by one")
+                        f"{MAX_BATCH} (default {defaults.DEFAULT_BATCH}); Euler and RK4 batches "
+                        "go through the batched kernels, stiff runs are computed and stored "
+                        "one by one")
     p.add_argument("--memory", type=int, default=defaults.MEMORY_MIB, metavar="MIB",
                    help=f"memory the runs of a batch may take together, {MEMORY_RANGE[0]} to "
                         f"{MEMORY_RANGE[1]} MiB (default {defaults.MEMORY_MIB}): a batch of "

@@ -23,6 +23,8 @@ class SweepTallies:
     cached   : done runs that took an earlier result, per sweep
     inferred : inferred runs of adaptive sweeps, per sweep
     recent   : computed runs finished since ``since``, and the earliest start among them
+    lifetime : computed runs finished, the earliest start and the latest finish among them,
+               for the sweeps that have no run queued or running
     """
 
     now: datetime
@@ -32,6 +34,7 @@ class SweepTallies:
     cached: dict[int, int]
     inferred: dict[int, int]
     recent: dict[int, tuple[int, datetime | None]]
+    lifetime: dict[int, tuple[int, datetime | None, datetime | None]]
 
 
 def sweep_tallies(db: Database, sweep_ids: list[int] | None, rate_window: timedelta) -> SweepTallies:
@@ -57,12 +60,30 @@ def sweep_tallies(db: Database, sweep_ids: list[int] | None, rate_window: timede
                                   .where(Run.sweep_id.in_(adaptive), Run.inferred.is_(True))
                                   .group_by(Run.sweep_id)).all()) if adaptive else {}
         since = now - rate_window
+        computed = (Run.sweep_id.in_(ids), Run.status == "done", Run.cached_from.is_(None),
+                    Run.inferred.is_(False))
         recent = {sid: (n, first) for sid, n, first in s.execute(
             select(Run.sweep_id, func.count(), func.min(Run.started_at))
-            .where(Run.sweep_id.in_(ids), Run.status == "done", Run.cached_from.is_(None),
-                   Run.inferred.is_(False), Run.finished_at >= since)
+            .where(*computed, Run.finished_at >= since)
             .group_by(Run.sweep_id))}
-    return SweepTallies(now, since, sweeps, counts, cached, inferred, recent)
+        # only the sweeps with nothing queued or running: a full read of their done runs
+        idle = [sid for sid in ids
+                if not (counts.get(sid, {}).get("queued") or counts.get(sid, {}).get("running"))]
+        lifetime = {sid: (n, first, last) for sid, n, first, last in s.execute(
+            select(Run.sweep_id, func.count(), func.min(Run.started_at),
+                   func.max(Run.finished_at))
+            .where(*computed, Run.sweep_id.in_(idle)).group_by(Run.sweep_id))} if idle else {}
+    return SweepTallies(now, since, sweeps, counts, cached, inferred, recent, lifetime)
+
+
+def running_runs(db: Database) -> tuple[int, int]:
+    """How many runs are running, and how many of them a worker has begun (started_at
+    set): the others were claimed in a batch and wait their turn in it (started_at NULL,
+    ``store.claims``)."""
+    with db.sessions() as s:
+        held, begun = s.execute(select(func.count(), func.count(Run.started_at))
+                                .where(Run.status == "running")).one()
+    return held, begun
 
 
 def active_sweep_ids(db: Database) -> set[int]:

@@ -160,6 +160,9 @@ class NewSweepScreen(SlopeScreen[int | None]):
         self.speeds: dict[tuple[str, bool], float] = {}
         #: The fixed values of the swept parameters, shown again when no longer swept.
         self.unswept: dict[str, str] = {}
+        #: Every field's value as the form opened (on_mount): what quitting would lose is
+        #: what differs from it (``unsaved``).
+        self.opened: dict[str, Any] = {}
 
     def compose(self) -> ComposeResult:
         yield Header()
@@ -212,6 +215,29 @@ class NewSweepScreen(SlopeScreen[int | None]):
     def on_mount(self) -> None:
         self.count_workers()
         self.validate_form()
+        self.opened = self._values()  # as shown: the swept parameters' fields emptied
+
+    def _values(self) -> dict[str, Any]:
+        """Every field's value, by its id."""
+        values: dict[str, Any] = {}
+        values.update((w.id, w.value) for w in self.query(Input) if w.id is not None)
+        values.update((w.id, w.value) for w in self.query(Select) if w.id is not None)
+        values.update((w.id, w.value) for w in self.query(Checkbox) if w.id is not None)
+        return values
+
+    def unsaved(self) -> str | None:
+        """What quitting now would lose, in a sentence, or None if the form is as it
+        opened: the app asks before a quit (ctrl+q) that would throw away a filled form
+        (slopetui.tui.app)."""
+        changed = [name for name, value in self._values().items()
+                   if self.opened.get(name) != value]
+        if not changed:
+            return None
+        fields = ", ".join(name.replace("-", " ") for name in changed[:4])
+        more = f" and {len(changed) - 4} more" if len(changed) > 4 else ""
+        runs = f" for {self.spec.n_runs:,} runs" if self.spec is not None else ""
+        return (f"The new sweep's form{runs} is not submitted: what you entered ({fields}"
+                f"{more}) would be lost.")
 
     @work(thread=True, exclusive=True, group="new-sweep-workers")
     def count_workers(self) -> None:

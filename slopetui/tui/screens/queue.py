@@ -1,5 +1,7 @@
-"""Queue and workers: the live workers and what each runs; pause, resume, cancel (which
-asks first, in the modal of ``screens.confirm``: one key once cancelled 1,072 runs)."""
+"""Queue and workers: the live workers and what each runs, and what the runs they hold are
+(claimed in a batch, or computing: ``sweeps.progress.claimed_text``, as `slopetui status`
+says it); pause, resume, cancel (which asks first, in the modal of ``screens.confirm``:
+one key once cancelled 1,072 runs)."""
 
 from __future__ import annotations
 
@@ -19,6 +21,7 @@ from slopetui.sweeps.control import EXPLAINED
 from slopetui.sweeps.progress import (
     SweepProgress,
     WorkerInfo,
+    claimed_line,
     live_workers,
     sweep_progress,
 )
@@ -48,6 +51,7 @@ class QueueScreen(SlopeScreen[None]):
     class Loaded(Message):
         sweeps: list[SweepProgress]
         workers: list[WorkerInfo]
+        claimed: str  # claimed_line: "" when no run is held
 
     def compose(self) -> ComposeResult:
         yield Header()
@@ -55,6 +59,7 @@ class QueueScreen(SlopeScreen[None]):
         workers: DataTable[Any] = DataTable(id="worker-table", cursor_type="row")
         workers.add_columns("worker", "running", "jobs done", "heartbeat", "since")
         yield workers
+        yield Static("", id="queue-claimed")
         yield Static("Sweeps (p pause, r resume, c cancel the highlighted one)",
                      classes="section-title")
         sweeps: DataTable[Any] = DataTable(id="queue-table", cursor_type="row", zebra_stripes=True)
@@ -78,7 +83,9 @@ class QueueScreen(SlopeScreen[None]):
         if db is None:  # refresh_data starts this once the store is open
             return
         try:
-            self.post_message(self.Loaded(sweep_progress(db), live_workers(db)))
+            workers = live_workers(db)
+            self.post_message(self.Loaded(sweep_progress(db), workers,
+                                          claimed_line(db, len(workers))))
         except Exception as exc:
             self.post_message(StoreFailed("read the queue", f"{type(exc).__name__}: {exc}"))
 
@@ -96,6 +103,9 @@ class QueueScreen(SlopeScreen[None]):
             "Workers: none live (slopetui worker --detach starts them)")
         if not message.workers:
             workers.add_row("no live workers", "", "", "", "")
+        claimed = self.query_one("#queue-claimed", Static)
+        claimed.update(message.claimed)
+        claimed.display = bool(message.claimed)
         table = self.query_one("#queue-table", DataTable)
         row = table.cursor_row
         # The cursor stays on its sweep, not its row: p, r and c act on the highlighted

@@ -12,7 +12,8 @@ per character (``slopetui.plots.lattice_cells``), where the Hopf curve, the fold
 cycles and the cursor are drawn as blocks of their own colours (the line under the grid
 names the run under the cursor); without colour (NO_COLOR) in markers, a block of runs
 per character. A click puts the cursor on the block clicked. ``z`` switches to full
-resolution, one run per block, the view following the cursor, and back.
+resolution, one run per block, the view following the cursor, and back; on a lattice
+whose every run has its own cell already it says so (nothing would change).
 
 An adaptive sweep is drawn like any other: an inferred run in its regime's marker and
 colour, dimmed in markers (a block is dimmed when all its runs are inferred; half blocks
@@ -229,9 +230,16 @@ class PhaseGrid(Widget, can_focus=True):
             self.post_message(RunMarked(found[0]))
 
     def action_zoom(self) -> None:
-        """Full resolution, or the whole lattice again; the cursor stays on its run."""
+        """Full resolution, or the whole lattice again; the cursor stays on its run. A
+        lattice whose every run has a cell of its own already would look the same at full
+        resolution (only the sweep list would go): it says so instead."""
         view = self.view()
         if view is None:
+            return
+        if not self.full and view.sx == view.sy == 1 and self.data is not None:
+            self.notify(f"every run of this {len(self.data.xs)} x {len(self.data.ys)} lattice "
+                        "has its own cell already: z zooms in on a lattice drawn in blocks of "
+                        "several runs", title="Full resolution")
             return
         ix, iy = self._center_run(*view.clamp(*self.cursor), view)
         self.full = not self.full
