@@ -8,8 +8,9 @@ dt = 1e-3, window t_end / 100, as a worker claims a batch:
 
 (a) the overhead of chunking: no lane ever retires. A: the kernel without stops
     (simulate_batch; with ``--against DIR``, that of another checkout's core/, e.g. main's:
-    ``git archive main | tar -x -C DIR``); B: the same points with a predicate asked after
-    every chunk that always says no (every lane's trajectory so far built each time).
+    ``git archive main | tar -x -C DIR``, and then A': this tree's); B: the same points
+    with a predicate asked after every chunk that always says no (every lane's trajectory
+    so far built each time).
 (b) lanes retiring at a realistic time: 128 points on 64 lanes, every other one stopping
     at the second chunk end (2 % of the run, as 2e3 of the paper's 1e5 time units). A: the
     kernel without stops computes all 128 to t_end (two batches); B: with stops, a stopped
@@ -88,13 +89,21 @@ def main() -> None:
     def never(tr: Trajectory) -> bool:
         return False
 
-    got = rounds({"A": no_stop, "B": lambda: cb._Lanes(g, points, s).run(never)}, args.repeat)
-    a, b = (statistics.median(t for t, _ in got[k]) for k in "AB")
-    ratio = statistics.median(tb / ta for (ta, _), (tb, _) in zip(got["A"], got["B"], strict=True))
-    print(f"(a) no lane retires, 64 points: A {label} {a:.3f} s; B chunked, asked every chunk "
-          f"{b:.3f} s; B / A {ratio:.3f} (rounds: "
-          + ", ".join(f"{tb / ta:.3f}" for (ta, _), (tb, _) in zip(got["A"], got["B"], strict=True))
-          + ")", flush=True)
+    calls = {"A": no_stop, "B": lambda: cb._Lanes(g, points, s).run(never)}
+    if args.against:  # this tree's kernel without stops, beside the other's
+        calls["A'"] = lambda: cb.simulate_batch(points, s)
+    got = rounds(calls, args.repeat)
+    med = {k: statistics.median(t for t, _ in got[k]) for k in got}
+    print(f"(a) no lane retires, 64 points: A {label} {med['A']:.3f} s; B chunked, asked every "
+          f"chunk {med['B']:.3f} s", flush=True)
+    for k in [k for k in ("B", "A'") if k in got]:
+        ratios = [tb / ta for (ta, _), (tb, _) in zip(got["A"], got[k], strict=True)]
+        print(f"    {k} / A {statistics.median(ratios):.3f} (rounds: "
+              + ", ".join(f"{r:.3f}" for r in ratios) + ")", flush=True)
+    if "A'" in got:
+        ratios = [tb / ta for (ta, _), (tb, _) in zip(got["A'"], got["B"], strict=True)]
+        print(f"    B / A' {statistics.median(ratios):.3f} (rounds: "
+              + ", ".join(f"{r:.3f}" for r in ratios) + ")", flush=True)
 
     many = [Params(k=float(k), tau=10.0) for k in np.linspace(6.0, 16.0, 128)]
     stop_at = 2 * c

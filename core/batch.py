@@ -993,6 +993,9 @@ class _Lanes:
         """Integrate every point, asking ``finished`` after every chunk (chunk_steps) of
         each lane still going; returns the runs in the points' order."""
         g, s = self.g, self.s
+        if len(self.points) > self.width and not refills(g, s):
+            raise ValueError(f"RK4 with a delay of one step (tau = dt = {g.dt:g}) restarts no "
+                             f"lane after step 0: at most {self.width} points on {self.width} lanes")
         at = self.at
         c = chunk_steps(g) if finished is not None else NEVER
         self._fill()
