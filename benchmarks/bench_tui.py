@@ -112,7 +112,7 @@ def synthetic_record(k: float, tau: float, k_hopf: float) -> dict[str, object]:
             "frequency": math.nan if not peaks else 0.095, "drift": 0.02,
             "zero_one_k": math.nan, "t_blowup": None, "runtime_s": 0.8,
             "certified": False, "certificate": "not attempted", "multipliers": [], "slips": 0,
-            "dt_error": math.nan, "spectrum": [], "spectrum_err": []}
+            "dt_error": math.nan, "spectrum": [], "spectrum_err": [], "t_stop": 100.0}
 
 
 def submit_filled(db, spec_dict: Mapping[str, Any], queued: int) -> tuple[int, int]:

@@ -22,7 +22,7 @@ if TYPE_CHECKING:  # only named: the figures' tables use cell() without the stor
     from slopetui.store.models import Run
 
 COLUMNS = ("id", "sweep_id", "ix", "iy", "ic", *PARAM_NAMES, "history", "method", "dt",
-           "t_end", "window", "lyap", "status", *RESULT_NAMES, "attempts", "worker_id",
+           "t_end", "stop", "window", "lyap", "status", *RESULT_NAMES, "attempts", "worker_id",
            "cached_from", "started_at", "finished_at", "error", "inferred", "level")
 
 

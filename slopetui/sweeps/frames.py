@@ -82,8 +82,8 @@ _RESULT_KINDS: dict[str, Kind] = {"text": "text", "measure": "float", "count": "
 KINDS: dict[str, Kind] = {
     "id": "int", "sweep_id": "int", "ix": "int", "iy": "int", "ic": "int",
     **{name: "float" for name in PARAM_NAMES},
-    "history": "text", "method": "text", "dt": "float", "t_end": "float", "window": "float",
-    "lyap": "bool", "status": "text",
+    "history": "text", "method": "text", "dt": "float", "t_end": "float", "stop": "text",
+    "window": "float", "lyap": "bool", "status": "text",
     **{name: _RESULT_KINDS[BY_NAME[name].kind] for name in RESULT_NAMES},
     "attempts": "int", "worker_id": "text", "cached_from": "int?", "started_at": "time",
     "finished_at": "time", "error": "text", "inferred": "bool", "level": "int?",

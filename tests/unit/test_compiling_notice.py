@@ -46,7 +46,7 @@ def stop(*args, **kwargs):
                                      ["continue", "--param", "k", "--from-hopf"]])
 def test_analyses_say_when_they_compile(command, monkeypatch, capsys):
     monkeypatch.setattr("slopetui.cli.orbit.find_orbit", stop)
-    monkeypatch.setattr("slopetui.cli.hysteresis.hysteresis", stop)
+    monkeypatch.setattr("core.hysteresis.hysteresis", stop)  # imported when computing
     monkeypatch.setattr("slopetui.cli.continuation.start", stop)
     for compiled, said in ((False, True), (True, False)):
         monkeypatch.setattr(warm_up, "kernels_compiled", lambda modules, c=compiled: c)

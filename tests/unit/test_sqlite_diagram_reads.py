@@ -43,7 +43,7 @@ def record(i: int) -> dict[str, Any]:
             "drift": math.nan if i == 2 else 0.125, "zero_one_k": math.nan,
             "t_blowup": None, "runtime_s": 0.5, "certified": False,
             "certificate": "not attempted", "multipliers": [], "slips": 0,
-            "dt_error": math.nan, "spectrum": [], "spectrum_err": []}
+            "dt_error": math.nan, "spectrum": [], "spectrum_err": [], "t_stop": 100.0}
 
 
 def fill(db: Database, sweep_id: int) -> jobs.Job:
