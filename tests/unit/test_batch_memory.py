@@ -140,7 +140,8 @@ def test_a_batch_writes_its_re_integrations_over_the_lanes_samples():
     redone = ["stiff-fallback" in r.summary.flags for r in results]
     assert sum(redone) >= 2 and not all(redone), redone  # the test means something
     block = results[0].trajectory.window.base
-    assert block is not None and block.shape[0] == len(REDONE) + -len(REDONE) % VECTOR
+    # a row per run: the columns that pad the kernel's lanes to whole vectors record nothing
+    assert block is not None and block.shape[0] == len(REDONE)
     for p, got, again in zip(REDONE, results, redone, strict=True):
         tr = got.trajectory
         assert tr.window.base is block and tr.mid.base is block, p
