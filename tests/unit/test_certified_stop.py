@@ -20,7 +20,7 @@ from core.certified_stop import (
     simulate_to_certificate,
 )
 from core.params import ParameterError, Params
-from core.point import run_point
+from core.point import run_batch, run_point
 from core.solve import SolverSettings, make_grid, simulate
 from core.stability import leading_exponent
 
@@ -168,3 +168,18 @@ def test_run_says_where_a_certified_run_stopped_and_whence_its_lambda_max(capsys
     assert "the leading root" in lam and "euler map at dt" not in lam
     assert float(lam.split()[1]) == pytest.approx(leading_exponent(Params(k=4.0, tau=10.0)),
                                                   rel=1e-3)
+
+
+def test_a_certified_batch_stops_each_run_at_its_certificate():
+    """run_batch under stop = certified gives each point its own run_point result (the
+    single kernel, in chunks), so that a queued sweep's runs stop early too: a fixed point
+    (k = 4) and a cycle (k = tau = 10) stop before t_end, as run alone."""
+    points = [Params(k=4.0, tau=10.0), Params(k=10.0, tau=10.0)]
+    s = SolverSettings(t_end=T_END, stop="certified")
+    batch = [r.as_record() | {"runtime_s": 0} for r in run_batch(points, s)]
+    alone = [run_point(p, s).as_record() | {"runtime_s": 0} for p in points]
+    assert [r["t_stop"] < T_END for r in batch] == [True, True]
+    for got, want in zip(batch, alone, strict=True):
+        assert got.keys() == want.keys()
+        for key in got:
+            assert got[key] == want[key] or (got[key] != got[key] and want[key] != want[key]), key
