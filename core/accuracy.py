@@ -168,7 +168,7 @@ def dt_error(tr: Trajectory, summary: Summary) -> DtError:
     amp, per = (_richardson(a[i], b[i], order) for i in (0, 1))
     value = max((abs(v) for v in (amp, per) if math.isfinite(v)), default=math.nan)
     span = float(coarse.window_t[-1])
-    reason = (f"Richardson, dt against dt/2 over t_end + [{span / 2:.4g}, {span:.4g}]"
+    reason = (f"Richardson, dt against dt/2 over the run's end + [{span / 2:.4g}, {span:.4g}]"
               + ("" if relaxed else "; the dt/2 shadow still relaxing: a lower bound")
               + ("; a continuum's amplitude and return" if continuum else ""))
     return DtError(value, amp, per, (a[2], b[2]), span, relaxed, reason, time.process_time() - t0)

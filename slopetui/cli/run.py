@@ -52,6 +52,9 @@ def spectrum_count(args: argparse.Namespace, params: Params, settings: SolverSet
     if str(given).strip() == "0":
         return 0
     n = check_count(given)
+    if settings.stop == "certified":  # the tangents integrate to t_end (core.spectrum)
+        raise ParameterError("spectrum", given, "0 (none) with --stop certified: the spectrum "
+                             "integrates to t_end; run it with --stop t_end")
     check_spectrum(params, settings, n)
     return n
 

@@ -78,14 +78,11 @@ def expected_stop(t_end: float, stops: Stops) -> float | None:
 
 
 def _speed(spec: SweepSpec, speeds: Speeds | None) -> float | None:
-    """The measured seconds per step of the spec's method, lyap and stop rule, else of the
-    other stop rule (a step costs about the same; a certified run's steps also pay for its
-    certification's attempts), else None."""
+    """The measured seconds per step of the spec's method, lyap and stop rule, else None.
+    Not the other rule's: a certified run's steps also pay for its analysis and its
+    certification's attempts, which a short run spreads over few steps (speeds.py)."""
     s = spec.solver
-    for stop in (s.stop, *(other for other in STOPS if other != s.stop)):
-        if speeds and (s.method, s.lyap, stop) in speeds:
-            return speeds[(s.method, s.lyap, stop)]
-    return None
+    return speeds.get((s.method, s.lyap, s.stop)) if speeds else None
 
 
 def seconds_per_run(spec: SweepSpec, speeds: Speeds | None = None,

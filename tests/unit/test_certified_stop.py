@@ -183,3 +183,13 @@ def test_a_certified_batch_stops_each_run_at_its_certificate():
         assert got.keys() == want.keys()
         for key in got:
             assert got[key] == want[key] or (got[key] != got[key] and want[key] != want[key]), key
+
+
+def test_run_refuses_a_spectrum_under_the_certified_stop(capsys):
+    """The tangents of --spectrum integrate to t_end whatever the run's stop: asked
+    together, one line naming the field, exit 2, nothing computed."""
+    from slopetui.cli import main
+
+    assert main(["run", "--k", "4", "--tau", "10", "--stop", "certified", "--spectrum", "2"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "spectrum" in err and "--stop certified" in err

@@ -238,7 +238,9 @@ def test_the_estimate_of_a_certified_sweep_assumes_t_end_until_certified_runs_ar
 def test_the_estimate_takes_the_stores_stopping_times_and_speed_per_step(db):
     """Three certified runs, stored as if they had stopped at t = 50, 100 and at t_end
     (200): a new sweep to t_end = 200 expects (50 + 100 + 200) / 3; one to t_end = 80,
-    (50 + 80 + 80) / 3. The speed per step is charged per step to t_stop."""
+    (50 + 80 + 80) / 3. The speed is the runs' runtime over their steps to t_stop, summed
+    (a median of each run's ratio priced a run stopped early by its analysis alone), so
+    that at the runs' own mean steps it gives their mean runtime."""
     submit(db, spec_with("certified"))
     finish_all(db)
     with db.transaction() as s:
@@ -250,8 +252,11 @@ def test_the_estimate_takes_the_stores_stopping_times_and_speed_per_step(db):
     assert expected_stop(200.0, stops) == pytest.approx(350.0 / 3, abs=0.01)
     assert expected_stop(80.0, stops) == pytest.approx(210.0 / 3)
     speeds = measured_speeds(db)
-    per_step = sorted(runtime / (t_stop / dt) for runtime, t_stop, dt in runs.values())
-    assert speeds[("rk4", True, "certified")] == pytest.approx(per_step[1])
+    runtimes = [runtime for runtime, _, _ in runs.values()]
+    steps = [t_stop / dt for _, t_stop, dt in runs.values()]
+    assert speeds[("rk4", True, "certified")] == pytest.approx(sum(runtimes) / sum(steps))
+    mean_steps = sum(steps) / len(steps)
+    assert speeds[("rk4", True, "certified")] * mean_steps == pytest.approx(sum(runtimes) / 3)
     line = describe(spec_with("certified"), 1, speeds, stops)
     assert "certified stop at 58 % of t_end on average, from 3 certified runs here" in line
     assert "(measured speed;" in line
@@ -267,3 +272,15 @@ def test_the_runs_table_shows_stop_and_t_stop(db, db_url, capsys):
     assert header.split()[-2:] == ["stop", "t_stop"]
     assert len(lines) == 3 and all(line.split()[-2] == "certified" for line in lines)
     assert all(0 < float(line.split()[-1]) <= 200.01 for line in lines)
+
+
+def test_a_t_end_sweep_is_not_priced_by_certified_runs_speed():
+    """A certified run's steps carry its analysis and certification over few steps: a
+    sweep to t_end with only certified speeds measured takes the reference speed."""
+    from slopetui.sweeps.estimate import OVERHEAD_S, REFERENCE_S_PER_STEP, seconds_per_run
+
+    spec = spec_with("t_end")
+    s = spec.solver
+    assert s.dt is not None
+    reference = s.t_end / s.dt * REFERENCE_S_PER_STEP[(s.method, s.lyap)] + OVERHEAD_S
+    assert seconds_per_run(spec, {(s.method, s.lyap, "certified"): 1e-6}) == pytest.approx(reference)
