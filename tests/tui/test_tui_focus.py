@@ -63,6 +63,8 @@ def test_the_form_lights_the_field_with_the_keys_and_says_tab_moves_on(db):
             assert background(name.parent) != background(stop.parent)
             await pilot.press("1", "q")  # typed into the name
             assert isinstance(app.screen, NewSweepScreen) and name.value == "1q"
+            await pilot.press("tab")  # the stop rule, beside the name
+            await wait_until(pilot, lambda: app.focused is form.query_one("#solver-stop"))
             await pilot.press("tab")
             await wait_until(pilot, lambda: app.focused is levels)
             await pilot.pause()
