@@ -89,6 +89,7 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import replace
+from typing import TypeVar
 
 import numpy as np
 from numba import njit, uint64
@@ -101,7 +102,7 @@ from core.model import JIT, coefficients, rhs, rhs_tangent
 from core.params import Params
 from core.recording import blown_up
 from core.rk4 import hermite_mid
-from core.solve import Grid, SolverSettings, Trajectory, make_grid, moved_into, simulate, trajectory_of
+from core.solve import Grid, SolverSettings, Trajectory, make_grid, moved_into, simulate, trajectory_of, window_times
 from core.spare_buffers import sample_array
 
 #: The engine's numba options, with numpy's error model: Python's would test every
@@ -890,6 +891,8 @@ def simulate_batch(points: Sequence[Params], s: SolverSettings | None = None,
     return [tr for tr in out if tr is not None]
 
 
+#: What a run stopped by simulate_batch_asking keeps beside it (its certificate, say).
+E = TypeVar("E")
 #: What decides that a run may stop: its trajectory so far (simulate_batch).
 Finished = Callable[[Trajectory], bool]
 #: A batch with stops asks ``finished`` after chunks of at least this many time units (a
@@ -923,6 +926,56 @@ def _alone(p: Params, s: SolverSettings, finished: Finished | None) -> Trajector
     while tr.chunk is not None and not finished(tr):
         tr = simulate(p, s, resume=tr, until=(tr.steps_done + c) * g.dt)
     return tr
+
+
+#: What a lane's run at one of its chunk ends is asked (simulate_batch_asking): what stops
+#: it there (its evidence, kept beside its run), or None: it goes on.
+Ask = Callable[[Trajectory], E | None]
+#: A grid's chunk ends (simulate_batch_asking): (the chunk's last step, the grid of a run of
+#: that length), the last (g.n_steps, g), each twice the one before it.
+Ends = Callable[[Params, Grid], list[tuple[int, Grid]]]
+
+
+#: A run computed by the single kernel instead (simulate_batch_asking): from its start
+#: (None), or onward from a lane's run at a chunk end.
+Alone = Callable[[Params, Trajectory | None], tuple[Trajectory, E | None]]
+
+
+def simulate_batch_asking(points: Sequence[Params], s: SolverSettings, ends: Ends, ask: Ask[E],
+                          alone: Alone[E]) -> list[tuple[Trajectory, E | None]]:
+    """Integrate every point with the same settings in batched numba calls, each run asked
+    ``ask`` at the chunk ends of its grid (``ends``) and stopped at the first that answers
+    (what answered kept beside the run); a run that never stops is the no-stop batch's run
+    to t_end, bit for bit (samples, logs, minima, state).
+
+    Unlike simulate_batch's ``finished`` (questions every CHUNK_T, lanes refilled), the
+    lanes of a batch all start at step 0 and none is refilled, so that their chunk ends are
+    the batch's and each chunk's window (the last ``window`` time units before its end)
+    is sampled in every lane by rewriting its sampler between chunks (_Lanes.run_asking).
+    A stopped lane's column goes to the last active one: the lanes still going stay dense.
+    Groups of fewer than MIN_LANES points, and methods with no lane kernel, go to
+    ``alone`` from their start, and so do a batch's last lanes, onward from their chunk
+    end, when fewer than MIN_LANES are left (_Lanes.run_asking says why)."""
+    if s.history != "constant":
+        raise ValueError(f"the batched kernels start from the constant history only, not "
+                         f"{s.history!r}: compute such runs with core.solve.simulate")
+    out: list[tuple[Trajectory, E | None] | None] = [None] * len(points)
+    groups: dict[Grid, list[int]] = {}
+    for i, p in enumerate(points):
+        groups.setdefault(make_grid(p, s), []).append(i)
+    for g, members in groups.items():
+        chunks = ends(points[members[0]], g)
+        if len(members) < MIN_LANES or not method(s.method).batched or len(chunks) < 2 \
+                or not refills(g, s):
+            for i in members:
+                out[i] = alone(points[i], None)
+            continue
+        for first in range(0, len(members), LANES):
+            lanes = members[first:first + LANES]
+            runs = _Lanes(g, [points[i] for i in lanes], s).run_asking(chunks, ask, alone)
+            for i, run in zip(lanes, runs, strict=True):
+                out[i] = run
+    return [run for run in out if run is not None]
 
 
 def _integrate(g: Grid, points: list[Params], s: SolverSettings) -> list[Trajectory]:
@@ -1014,6 +1067,99 @@ class _Lanes:
             self._fill()
         runtime = time.perf_counter() - t0
         return self._runs(runtime)
+
+    def run_asking(self, ends: list[tuple[int, Grid]], ask: Ask[E], alone: Alone[E]
+                   ) -> list[tuple[Trajectory, E | None]]:
+        """Every point from step 0 (no more than the lanes), asked ``ask`` at each chunk end
+        of ``ends`` but the last (t_end) with its chunk's trajectory (_chunk_view); a lane
+        that answers stops there. Each chunk samples its end window into the window's end
+        half (_chunk_sampler), the one before it having moved to the middle half: at t_end
+        the halves hold the run's middle and end windows, as a run without stops has them.
+
+        Lanes are padded to whole vectors, so that a few lanes left cost a vector's steps:
+        with fewer than MIN_LANES left they go on alone (``alone``, onward from their chunk
+        end). Measured at tau = 10, t_end 1e5 (benchmarks/bench_certified_batch.py): 8
+        lanes to t_end took 3.2-3.4 s of CPU, one run on the single kernel 1.0 s, so that
+        three runs alone cost about what a vector costs.
+        Each run's runtime_s is its share of the kernels' time (its steps on the lanes),
+        its own questions' and its own steps alone."""
+        g = self.g
+        st, ring, e_ring, li, lane_of, at = self.state
+        assert len(self.points) <= self.width and ends[-1][0] == g.n_steps
+        self._fill()
+        found: dict[int, E] = {}
+        onward: dict[int, Trajectory] = {}  # point -> its run, continued alone
+        asked = np.zeros(len(self.points))
+        kernel_s = 0.0
+        for c, (end, part) in enumerate(ends):
+            if c and g.n_mid:  # the previous chunk's window: this chunk's middle window
+                for j in range(int(at[B_ACTIVE])):
+                    w = self.win[int(lane_of[j])]
+                    w[:g.n_mid] = w[g.n_mid:]
+            self._chunk_sampler(part, own_middle=c == 0)
+            t0 = time.perf_counter()
+            batch_steps(self.rk4, g.dt, g.n_delay, g.n_steps, end, self.s.lyap, g.renorm_steps,
+                        *self.state, *self._outputs())
+            kernel_s += time.perf_counter() - t0
+            if at[B_ACTIVE] == 0 or end == g.n_steps:
+                break
+            settle_lanes(at, st, li, self.win, self.trace, lane_of, self.cross)
+            going: list[tuple[int, Trajectory]] = []
+            for j in range(int(at[B_ACTIVE]) - 1, -1, -1):  # a lane retired takes the last's column
+                i = int(lane_of[j])
+                t1 = time.perf_counter()
+                tr = self._chunk_view(j, part)
+                answer = ask(tr)
+                asked[i] += time.perf_counter() - t1
+                if answer is not None:
+                    self.stopped[i], found[i] = tr, answer
+                    retire_lane(j, self.width, st, ring, e_ring, li, lane_of, at, self.win,
+                                self.trace, self.done, self.lows, self.cross)
+                else:
+                    going.append((i, tr))
+            if 0 < at[B_ACTIVE] < MIN_LANES:
+                for i, tr in going:
+                    self.stopped[i] = tr
+                    onward[i], answer = alone(tr.params, tr)
+                    if answer is not None:
+                        found[i] = answer
+                break
+        runs = self._runs(kernel_s)
+        for i, tr in onward.items():
+            runs[i] = replace(tr, runtime_s=tr.runtime_s + runs[i].runtime_s)
+        return [(replace(tr, runtime_s=tr.runtime_s + asked[i]), found.get(i))
+                for i, tr in enumerate(runs)]
+
+    def _chunk_sampler(self, part: Grid, own_middle: bool) -> None:
+        """Each active lane's window sampler for the chunk of grid ``part``: its end window
+        into the window's end half (rows n_mid on), preceded by its own middle window (the
+        first chunk: a run of part's length) where ``own_middle`` and part has one."""
+        g = self.g
+        li, at = self.state[3], self.at
+        n_mid = part.n_mid if own_middle else 0
+        assert part.n_win == g.n_win and part.win_stride == g.win_stride and n_mid <= g.n_mid
+        for j in range(int(at[B_ACTIVE])):
+            li[j, W_NEXT] = part.mid_start if n_mid else part.win_start
+            li[j, W_I] = g.n_mid - n_mid
+            li[j, W_JUMP] = g.n_mid if n_mid else -1
+            li[j, W_RESUME] = part.win_start
+            li[j, W_COUNT] = g.n_samples
+
+    def _chunk_view(self, j: int, part: Grid) -> Trajectory:
+        """Lane j's run at its chunk's end (the step part.n_steps), as a run of part's length
+        would hold it: the chunk's end window and its times, its middle window (the previous
+        chunk's, or its own in the first) where part has one, the trace and logs so far, its
+        state there (_view)."""
+        tr = self._view(j)
+        g = self.g
+        win = self.win[int(self.state[4][j])].T
+        mid_t, mid = np.zeros(0), np.zeros((5, 0))
+        if part.n_mid:
+            mid_t, mid = window_times(part.mid_start, g.win_stride, part.n_mid, g.dt), win[:, :g.n_mid]
+        assert tr.chunk is not None
+        return replace(tr, window_t=window_times(part.win_start, g.win_stride, g.n_win, g.dt),
+                       window=win[:, g.n_mid:g.n_samples], mid_t=mid_t, mid=mid,
+                       final=tr.chunk.carried(tr.params.tau))
 
     def _ask(self, finished: Finished) -> None:
         """At a chunk's end: each active lane's trajectory so far to ``finished``, and the

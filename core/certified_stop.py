@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -43,7 +44,7 @@ from core.history import start as history_start
 from core.lyapunov import LyapunovEstimate, estimate
 from core.methods import method
 from core.params import Params
-from core.solve import Grid, SolverSettings, Trajectory, make_grid, trajectory_of
+from core.solve import Grid, SolverSettings, Trajectory, make_grid, trajectory_of, window_times
 
 #: The first chunk ends at this time or later (the first n_steps // 2^j at or past it):
 #: the paper's window of 1000 must fit in it, and the stable rest states decay below
@@ -95,10 +96,13 @@ def chunk_ends(p: Params, s: SolverSettings, g: Grid) -> list[tuple[int, Grid]]:
     return ends[::-1]
 
 
-def simulate_to_certificate(p: Params, s: SolverSettings,
-                            carried: CarriedState | None = None) -> Stopped:
+def simulate_to_certificate(p: Params, s: SolverSettings, carried: CarriedState | None = None,
+                            resume: Trajectory | None = None) -> Stopped:
     """Integrate (p, s) in chunks, stopping at the first whose attractor is certified (the
-    module docstring); t_end at the latest."""
+    module docstring); t_end at the latest. ``resume``: the run at one of its chunk ends
+    that did not stop there (a batch's lane: core.batch hands its last few lanes to the
+    single kernel), continued from its state and buffers at the next chunk (its runtime
+    then this continuation's)."""
     from core.model import coefficients  # numba's: loaded where a run is integrated
 
     g = make_grid(p, s)
@@ -107,14 +111,25 @@ def simulate_to_certificate(p: Params, s: SolverSettings,
     ends = chunk_ends(p, s, g)
     first = ends[0][1]
     init, hx = history_start(p, g.dt, g.n_delay, s.history, carried)
-    now, counts, ring, e_ring = start_arrays(m, g.n_delay, first.sample_start, g.renorm_steps,
-                                             init, hx)
-    trace = np.full((5, g.n_trace), np.nan)
-    logs = np.zeros(g.n_steps // g.renorm_steps if s.lyap else 0)
     windows: dict[int, np.ndarray] = {}  # each chunk's end window, by its last step
+    first_win = np.zeros((5, 0))
+    if resume is None:
+        start = 0
+        now, counts, ring, e_ring = start_arrays(m, g.n_delay, first.sample_start,
+                                                 g.renorm_steps, init, hx)
+        trace = np.full((5, g.n_trace), np.nan)
+        logs = np.zeros(g.n_steps // g.renorm_steps if s.lyap else 0)
+    else:
+        c, buffers = resume.chunk, resume.buffers
+        if c is None or buffers is None or resume.steps_done not in dict(ends[:-1]):
+            raise ValueError("only a run at one of its chunk ends (chunk_ends) is resumed")
+        start = 1 + [end for end, _ in ends].index(resume.steps_done)
+        now, counts, ring, e_ring = c.now.copy(), c.counts.copy(), c.ring.copy(), c.e_ring.copy()
+        trace, logs = np.array(buffers[1]), buffers[2].copy()  # the kernel's own layout
+        windows[resume.steps_done] = resume.window.copy()
     runtime = try_s = 0.0
     tries = 0
-    for j, (end, part) in enumerate(ends):
+    for j, (end, part) in enumerate(ends[start:], start):
         if j == 0:  # its middle window too, if it has one: the sampler of a run to `end`
             win = first_win = np.full((5, part.n_samples), np.nan)
             plan = plan_of(end, part.sample_start, part.win_stride, part.sample_jump,
@@ -129,6 +144,8 @@ def simulate_to_certificate(p: Params, s: SolverSettings,
                           win, trace, logs))
         runtime += time.perf_counter() - t0
         windows[end] = win[:, part.n_mid:] if j == 0 else win
+        if j == 0 and part.n_mid:  # the first chunk's own middle window, for _stopped
+            windows[end // 2] = win[:, :part.n_mid]
         blown = bool(counts[BLOWN] >= 0)
         state = ChunkState(s.method, g.dt, g.n_delay, now.copy(), counts.copy(), ring.copy(),
                            e_ring.copy())
@@ -143,6 +160,30 @@ def simulate_to_certificate(p: Params, s: SolverSettings,
         if cert is not None and cert.certified and near_linear(tr, summary):
             return Stopped(tr, cert, summary, chunks=j + 1, tries=tries, try_s=try_s)
     raise AssertionError("unreachable: the last chunk ends at t_end")
+
+
+def certified_batch(points: Sequence[Params], s: SolverSettings) -> list[Stopped]:
+    """The points integrated as simulate_to_certificate integrates each, on the batched
+    lanes (core.batch.simulate_batch_asking): the same chunk ends, the same question at
+    each (attempt, near_linear), a lane that is certified retiring there. Each run is
+    simulate_to_certificate's, bit for bit (tests/unit/test_certified_batch.py), its
+    runtime_s its share of the batch's kernel time plus its own tries."""
+    from core.batch import simulate_batch_asking  # numba's: loaded where runs are integrated
+
+    def ask(tr: Trajectory) -> tuple[Certificate, Summary] | None:
+        summary, cert = attempt(tr)
+        if cert is not None and cert.certified and near_linear(tr, summary):
+            return cert, summary
+        return None
+
+    def alone(p: Params, at: Trajectory | None) -> tuple[Trajectory, tuple[Certificate, Summary] | None]:
+        run = simulate_to_certificate(p, s, resume=at)
+        if run.certificate is None or run.summary is None:
+            return run.trajectory, None
+        return run.trajectory, (run.certificate, run.summary)
+
+    runs = simulate_batch_asking(points, s, lambda p, g: chunk_ends(p, s, g), ask, alone)
+    return [Stopped(tr, *found) if found is not None else Stopped(tr) for tr, found in runs]
 
 
 def attempt(tr: Trajectory) -> tuple[Summary, Certificate | None]:
@@ -166,16 +207,6 @@ def near_linear(tr: Trajectory, summary: Summary) -> bool:
     return abs(p.q) * h + p.a * h * h <= LINEAR_SHARE * abs(p.F1)  # divided by h
 
 
-def _times(start: int, stride: int, n: int, dt: float) -> np.ndarray:
-    """The sample times of a window sampler (core.solve._sample_times' floats)."""
-    steps = np.arange(n, dtype=np.int64)
-    steps *= stride
-    steps += start
-    times = steps.astype(float)
-    times *= dt
-    return times
-
-
 def _stopped(p: Params, s: SolverSettings, g: Grid, part: Grid, windows: dict[int, np.ndarray],
              end: int, trace: np.ndarray, logs: np.ndarray, runtime: float, state: ChunkState,
              carried: CarriedState | None) -> Trajectory:
@@ -184,11 +215,11 @@ def _stopped(p: Params, s: SolverSettings, g: Grid, part: Grid, windows: dict[in
     win = windows[end]
     mid_t, mid = np.zeros(0), np.zeros((5, 0))
     if part.n_mid:
-        mid_t, mid = _times(part.mid_start, part.win_stride, part.n_mid, g.dt), windows[end // 2]
+        mid_t, mid = window_times(part.mid_start, part.win_stride, part.n_mid, g.dt), windows[end // 2]
     n_t = end // g.trace_stride + 1
     n_r = end // g.renorm_steps if s.lyap else 0
-    return Trajectory(p, s, g, end, _times(part.win_start, part.win_stride, part.n_win, g.dt), win,
-                      g.trace_stride * g.dt * np.arange(n_t), trace[:, :n_t], logs[:n_r], runtime,
+    return Trajectory(p, s, g, end, window_times(part.win_start, part.win_stride, part.n_win, g.dt), win,
+                      g.trace_stride * np.arange(n_t) * g.dt, trace[:, :n_t], logs[:n_r], runtime,
                       mid_t, mid, final=state.carried(p.tau), carried=carried,
                       realisability=state.realisability(), chunk=state)
 

@@ -36,7 +36,7 @@ import numpy as np
 
 from core.accuracy import DtError, dt_error
 from core.batch import simulate_batch
-from core.certified_stop import certified_lambda, simulate_to_certificate
+from core.certified_stop import Stopped, certified_batch, certified_lambda, simulate_to_certificate
 from core.certify import NOT_ATTEMPTED, Certificate, certify, relabel
 from core.classify import Summary, classify
 from core.closure import CLOSURE_TOL, closure_flags, uphill_flags
@@ -147,24 +147,21 @@ def run_batch(points: Sequence[Params], s: SolverSettings | None = None) -> list
     what its runs lay out (core.solve.memory_of) with one run's more at a time: the stiff
     run before it is copied, or a lane's analysis.
 
-    Under ``stop = "certified"`` the points run one by one (run_point: the single kernel,
-    in chunks, each stopping at its certificate) until the batched lanes ask the
-    certifier (core.batch's ``finished``, not yet wired to it). Measured on 8 points of
-    tau = 10 (k 2-20, delta 0.1, Euler, lambda_max; benchmarks/bench_certified_batch.py,
-    CPU, in turns): at t_end 1e5 the 8 certified runs took 1.86 s against 3.65-3.83 s for
-    the batched kernel to t_end (6 of 8 stopped at t = 1562.5, one at 25000, one ran on),
-    with the same regimes and attractors; at t_end 2e4 they break even (1.29 against
-    1.36 s). A batch of runs that cannot be certified costs more this way: the single
-    kernel's speed and about 10 % of tries (core.certified_stop)."""
+    Under ``stop = "certified"`` the lanes stop where their runs' attractors are certified
+    (core.certified_stop.certified_batch: each run simulate_to_certificate's), and a stopped
+    lane's result keeps the certificate that stopped it (analyse). Runs from a carried
+    history, which the lanes do not start from, go one by one (run_point)."""
     s = s or SolverSettings()
-    if s.stop == "certified":
+    if s.stop == "certified" and s.history != "constant":
         return [run_point(p, s) for p in points]
-    trajectories = simulate_batch(points, s)
-    trajectories.reverse()
+    runs = (certified_batch(points, s) if s.stop == "certified"
+            else [Stopped(tr) for tr in simulate_batch(points, s)])
+    runs.reverse()
     results = []
-    while trajectories:  # each let go once analysed: a re-integrated lane's own window times
-        tr = trajectories.pop()  # (16 MiB at window 1e5) are freed, not held to the end
-        results.append(analyse(tr, tr.runtime_s, overwrite=True))
+    while runs:  # each let go once analysed: a re-integrated lane's own window times
+        run = runs.pop()  # (16 MiB at window 1e5) are freed, not held to the end
+        tr = run.trajectory
+        results.append(analyse(tr, tr.runtime_s, overwrite=True, certificate=run.certificate))
     return results
 
 

@@ -526,6 +526,17 @@ def _sampled(start: int, stride: int, n: int, last: int) -> int:
     return 0 if last < start else min(n, (last - start) // stride + 1)
 
 
+def window_times(start: int, stride: int, n: int, dt: float) -> np.ndarray:
+    """The times of n samples every ``stride`` steps from step ``start``: the floats of
+    _sample_times (the step, exact as a float, times dt), for one window."""
+    steps = np.arange(n, dtype=np.int64)
+    steps *= stride
+    steps += start
+    times = steps.astype(float)
+    times *= dt
+    return times
+
+
 def _sample_times(g: Grid) -> np.ndarray:
     """The times of the window sampler's columns (Grid.sample_steps() * dt, the same
     floats), built in one array of floats a part at a time: its step indices whole, as
