@@ -3,6 +3,7 @@ their diagram (computed and inferred runs) agrees with the brute-force one.
 
 Run:  python benchmarks/bench_adaptive.py [--num 128] [--levels 3] [--planes k-tau,c-tau]
           [--method rk4] [--dt 0.01] [--t-end 2000] [--window 500] [--lyap] [--workers N]
+          [--stop t_end|certified]
           [--adaptive-only]
 
 For each plane, the same final lattice (num x num) twice, each in its own temporary
@@ -60,6 +61,9 @@ from slopetui.sweeps.submit import submit
 PLANES: dict[str, dict[str, object]] = {
     "k-tau": {"x": {"param": "k", "start": 2, "stop": 20},
               "y": {"param": "tau", "start": 0.5, "stop": 10}, "fixed": {"delta": 0.1}},
+    # the certified stop's targets' plane (docs/speed.md)
+    "k-tau-wide": {"x": {"param": "k", "start": 0.5, "stop": 25},
+                   "y": {"param": "tau", "start": 0.5, "stop": 20}, "fixed": {"delta": 0.1}},
     "c-tau": {"x": {"param": "c", "start": 0.1, "stop": 10},
               "y": {"param": "tau", "start": 0.1, "stop": 20}, "fixed": {"k": 12, "delta": 0.1}},
     "a-tau": {"x": {"param": "a", "start": 0.1, "stop": 10},
@@ -78,7 +82,7 @@ def spec_data(plane: str, args: argparse.Namespace, adaptive: bool) -> dict[str,
         "x": {**p["x"], "num": args.num}, "y": {**p["y"], "num": args.num},  # type: ignore[dict-item]
         "fixed": p["fixed"],
         "solver": {"method": args.method, "dt": args.dt, "t_end": args.t_end,
-                   "window": args.window, "lyap": args.lyap}}
+                   "window": args.window, "lyap": args.lyap, "stop": args.stop}}
     if adaptive:
         data["adaptive"] = {"levels": args.levels}
     return data
@@ -162,6 +166,8 @@ def main() -> None:
     ap.add_argument("--t-end", dest="t_end", type=float, default=2000.0)
     ap.add_argument("--window", type=float, default=500.0)
     ap.add_argument("--lyap", action="store_true", help="compute lambda_max (off by default)")
+    ap.add_argument("--stop", choices=("t_end", "certified"), default="t_end",
+                    help="the runs' stop rule (default t_end: the paper's protocol)")
     ap.add_argument("--workers", type=int, default=0,
                     help="compute with `slopetui worker -j N` (default: in this process)")
     ap.add_argument("--adaptive-only", action="store_true",

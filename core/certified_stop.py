@@ -125,7 +125,7 @@ def simulate_to_certificate(p: Params, s: SolverSettings, carried: CarriedState 
             raise ValueError("only a run at one of its chunk ends (chunk_ends) is resumed")
         start = 1 + [end for end, _ in ends].index(resume.steps_done)
         now, counts, ring, e_ring = c.now.copy(), c.counts.copy(), c.ring.copy(), c.e_ring.copy()
-        trace, logs = np.array(buffers[1]), buffers[2].copy()  # the kernel's own layout
+        trace, logs = np.ascontiguousarray(buffers[1]), buffers[2].copy()  # the kernel's layout
         windows[resume.steps_done] = resume.window.copy()
     runtime = try_s = 0.0
     tries = 0

@@ -115,3 +115,23 @@ def test_runs_never_certified_are_the_no_stop_runs(alone_below: int,
         for x, y in ((tr.window, full.window), (tr.mid, full.mid), (tr.trace, full.trace),
                      (tr.window_t, full.window_t), (tr.mid_t, full.mid_t)):
             assert same(x, y), tr.params
+
+
+def test_a_stopped_run_s_result_is_its_window_s_analysis() -> None:
+    """run_batch keeps the summary the certificate was tried on rather than classifying the
+    same window again: the records equal a fresh analysis's (but the runtime)."""
+    from core.point import analyse, run_batch
+    s = settings("euler")
+    runs = certified_batch(POINTS, s)
+    results = run_batch(POINTS, s)
+    checked = 0
+    for run, result in zip(runs, results, strict=True):
+        if run.certificate is None:
+            continue
+        fresh = analyse(run.trajectory, 0.0, certificate=run.certificate).as_record()
+        kept = result.as_record()
+        fresh.pop("runtime_s")
+        kept.pop("runtime_s")
+        assert kept == fresh
+        checked += 1
+    assert checked >= 6
