@@ -20,9 +20,11 @@ run that was never measured differs from a NaN measurement: ``slopetui.sweeps.fr
 
 from __future__ import annotations
 
+import os
 from types import TracebackType
 from typing import TYPE_CHECKING
 
+from slopetui.store.location import url_of
 from slopetui.store.open import open_store as open_database
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.frames import runs_frame, sweeps_frame
@@ -109,19 +111,21 @@ class Store:
         return f"<slopetui.Store {self.url} ({state})>"
 
 
-def open_store(url: str | None = None) -> Store:
-    """The store at ``url`` (a SQLAlchemy URL: ``sqlite:////path/to/file.db``,
-    ``postgresql+psycopg://host/db``), default ``$SLOPETUI_DB``, else the SQLite file in
-    the user data folder; migrated to the current schema first, as every command does.
+def open_store(url: str | os.PathLike[str] | None = None) -> Store:
+    """The store at ``url``: a SQLAlchemy URL (``sqlite:////path/to/file.db``,
+    ``postgresql+psycopg://host/db``) or a plain path to a SQLite file (``"runs/x.db"``, a
+    ``pathlib.Path``; relative to the current folder), default ``$SLOPETUI_DB``, else the
+    SQLite file in the user data folder; migrated to the current schema first, as every
+    command does.
 
-        >>> store = slopetui.open_store("sqlite:////data/slopetui.db")
+        >>> store = slopetui.open_store("data/slopetui.db")
         >>> store.sweeps()[["id", "name", "status", "done", "n_runs"]]
         >>> store.runs(sweep=3).plot.scatter("k", "tau", c="lambda_max")
         >>> store.close()
     """
     import sys
 
-    db = open_database(url, read_only_ok=True)  # a Store only reads
+    db = open_database(None if url is None else url_of(url), read_only_ok=True)  # a Store only reads
     if db.read_only is not None:
         print(f"slopetui.open_store: {db.read_only}", file=sys.stderr)
     return Store(db)
