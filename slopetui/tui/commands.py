@@ -21,9 +21,11 @@ from textual.command import DiscoveryHit, Hit, Hits, Provider
 from textual.markup import escape
 from textual.screen import Screen
 
+from slopetui.sql_files import FILE_FORMATS
 from slopetui.sweeps.export_files import FORMATS
 from slopetui.sweeps.presets import PRESETS
 from slopetui.tui.screens.confirm import ask_then_control_id
+from slopetui.tui.screens.sql import SqlScreen
 from slopetui.tui.screens.sweeps import SweepsScreen
 
 if TYPE_CHECKING:
@@ -97,6 +99,11 @@ def commands(app: SlopeApp, screen: Screen[Any]) -> list[Command]:
     marked = ", ".join(map(str, app.marked)) or "none"
     found.append(Command("Compare the marked runs", f"marked: {marked}" + key_of(app, "compare"),
                          app.action_compare))
+    if isinstance(screen, SqlScreen) and screen.results is not None:
+        found += [Command(f"Save the console's results as {fmt.upper()}",
+                          f"the rows shown, into {folder}" + (" (ctrl+s)" if fmt == "csv" else ""),
+                          partial(screen.action_save_results, fmt))
+                  for fmt in FILE_FORMATS]
     figure = getattr(screen, "action_figure", None)
     if callable(figure):
         found.append(Command("Write this screen's figure", f"into {folder}", figure))
