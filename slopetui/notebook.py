@@ -10,6 +10,7 @@ Usage::
         sweeps = store.sweeps()              # one row per sweep, runs counted per status
         runs = store.runs(sweep=3)           # every column of `slopetui export 3 --csv`
         chaotic = store.runs(sweep=3, regime="complex")
+        paper = store.runs(tag="paper")      # the runs of the sweeps tagged paper
 
     runs.plot.scatter("k", "lambda_max")
 
@@ -26,6 +27,7 @@ from typing import TYPE_CHECKING
 
 from slopetui.store.location import url_of
 from slopetui.store.open import open_store as open_database
+from slopetui.sweeps.annotations import check_tag
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.frames import runs_frame, sweeps_frame
 
@@ -64,9 +66,10 @@ class Store:
         return self.database
 
     def runs(self, sweep: int | None = None, *, regime: str | None = None,
-             status: str | None = None) -> pd.DataFrame:
+             status: str | None = None, tag: str | None = None) -> pd.DataFrame:
         """The runs of ``sweep`` (None: of every sweep), of this regime (done runs with it)
-        and this status (queued, running, done, failed, cancelled), None meaning any:
+        and this status (queued, running, done, failed, cancelled), of the sweeps tagged
+        ``tag`` (``slopetui tag``), None meaning any:
         one row per run in grid order, with the columns of ``slopetui export SWEEP
         --csv``. Raises UnknownSweep for a sweep the store does not hold.
 
@@ -76,7 +79,9 @@ class Store:
 
             measured = runs[(runs.status == "done") & ~runs.inferred]
         """
-        return runs_frame(self._db(), sweep, regime=regime, status=status)
+        if tag is not None:
+            tag = check_tag(tag)  # "Paper" finds what `slopetui tag 3 Paper` stored as paper
+        return runs_frame(self._db(), sweep, regime=regime, status=status, tag=tag)
 
     def sweeps(self) -> pd.DataFrame:
         """Every sweep, one row each by id: name, status, creation time, the x and y axes
