@@ -26,6 +26,7 @@ from slopetui.sweeps.export_files import FORMATS
 from slopetui.sweeps.presets import PRESETS
 from slopetui.tui.screens.confirm import ask_then_control_id
 from slopetui.tui.screens.sql import SqlScreen
+from slopetui.tui.screens.sweep_labels import edit_labels
 from slopetui.tui.screens.sweeps import SweepsScreen
 
 if TYPE_CHECKING:
@@ -99,6 +100,9 @@ def commands(app: SlopeApp, screen: Screen[Any]) -> list[Command]:
     marked = ", ".join(map(str, app.marked)) or "none"
     found.append(Command("Compare the marked runs", f"marked: {marked}" + key_of(app, "compare"),
                          app.action_compare))
+    if app.marked:
+        found.append(Command("Clear the marked runs", f"marked: {marked}; the store keeps marks "
+                             "across restarts until cleared", app.clear_marks))
     if isinstance(screen, SqlScreen) and screen.results is not None:
         found += [Command(f"Save the console's results as {fmt.upper()}",
                           f"the rows shown, into {folder}" + (" (ctrl+s)" if fmt == "csv" else ""),
@@ -113,6 +117,9 @@ def commands(app: SlopeApp, screen: Screen[Any]) -> list[Command]:
                           f"or type {action} sweep and an id",
                           partial(ask_then_control_id, app, action, sweep))
                   for action in CONTROLS]
+        found.append(Command(f"Rename, tag or annotate sweep {sweep} (selected)",
+                             "its name, tags and note (key e; slopetui rename, tag, note)",
+                             partial(edit_labels, app, sweep)))
         found += [Command(f"Export sweep {sweep} (selected) as {fmt.upper()}",
                           f"its runs, as slopetui export --{fmt}, into {folder}",
                           partial(app.export_sweep, sweep, fmt))

@@ -16,7 +16,7 @@ import slopetui
 from slopetui.cli import main
 from slopetui.store.database import Database
 from slopetui.store.migrate import alembic_config, downgrade, plan_downgrade, upgrade
-from slopetui.store.runs.marks import clear_marks, marked_runs, toggle_mark
+from slopetui.store.runs.marks import clear_marks, marked_runs, set_mark
 from slopetui.store.sweeps.annotations import sweep_list
 from slopetui.sweeps import annotations, control, spec
 from slopetui.sweeps.annotations import LabelError
@@ -72,10 +72,11 @@ def test_marks_survive_the_session_and_go_with_their_runs(store: Database) -> No
     a, b, c = run_ids(store, first)
     d, _ = run_ids(store, second)
     for run in (c, a, d):
-        toggle_mark(store, run)
-    assert toggle_mark(store, b) == (True, (c, a, d, b))
-    assert toggle_mark(store, a) == (False, (c, d, b))
-    assert toggle_mark(store, 10_000) is None
+        set_mark(store, run, True)
+    assert set_mark(store, b, True) == (c, a, d, b)
+    assert set_mark(store, c, True) == (c, a, d, b)  # as it is: nothing moves
+    assert set_mark(store, a, False) == set_mark(store, a, False) == (c, d, b)
+    assert set_mark(store, 10_000, True) == (c, d, b)  # no such run
     assert marked_runs(store) == (c, d, b)  # read back as a restarted application reads them
     control.delete(store, first)
     assert marked_runs(store) == (d,)
@@ -173,7 +174,7 @@ def test_0014_keeps_the_rows_and_its_downgrade_names_what_goes(new_store_url, ba
     assert plan_downgrade(db, "0013").dropped == "no stored data"
     annotations.set_note(db, sweep, "kept?")
     annotations.add_tags(db, sweep, ["a", "b"])
-    toggle_mark(db, run_ids(db, sweep)[0])
+    set_mark(db, run_ids(db, sweep)[0], True)
     assert plan_downgrade(db, "0013").dropped == \
         "the note of 1 sweep, 2 sweep tags and 1 marked run"
     command.downgrade(alembic_config(db), "0013")

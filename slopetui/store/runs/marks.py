@@ -16,16 +16,18 @@ def marked_runs(db: Database) -> tuple[int, ...]:
         return tuple(conn.scalars(select(Mark.run_id).order_by(Mark.id)))
 
 
-def toggle_mark(db: Database, run_id: int) -> tuple[bool, tuple[int, ...]] | None:
-    """Mark the run, or unmark it if it is marked: (whether it is marked now, every
-    marked run in order); None if there is no such run."""
+def set_mark(db: Database, run_id: int, marked: bool) -> tuple[int, ...]:
+    """Mark the run (after the others) or unmark it; as it is already: nothing changes, and
+    a run the store does not hold (deleted meanwhile) is not marked. Every marked run, in
+    order. Idempotent, so that the application's writes, done off its UI thread in any
+    order, leave what it shows."""
     with db.transaction() as s:
-        if s.get(Run, run_id) is None:
-            return None
-        removed = rows_changed(s.execute(delete(Mark).where(Mark.run_id == run_id)))
-        if not removed:
+        if not marked:
+            s.execute(delete(Mark).where(Mark.run_id == run_id))
+        elif (s.get(Run, run_id) is not None
+              and s.scalar(select(Mark.id).where(Mark.run_id == run_id)) is None):
             s.execute(insert(Mark).values(run_id=run_id))
-        return not removed, tuple(s.scalars(select(Mark.run_id).order_by(Mark.id)))
+        return tuple(s.scalars(select(Mark.run_id).order_by(Mark.id)))
 
 
 def clear_marks(db: Database) -> int:
