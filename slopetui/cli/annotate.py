@@ -54,7 +54,8 @@ def handle_tag(args: argparse.Namespace) -> int:
         after = sweep_annotations.change_tags(db, sweep, add, remove)
     else:
         after = sweep_annotations.labels(db, sweep).tags
-    print(f"sweep {sweep} tags: {', '.join(after) or 'none'}")  # checked: safe as they are
+    # stored text: checked when slopetui wrote it, but any tool may write the store
+    print(f"sweep {sweep} tags: {terminal_safe(', '.join(after)) or 'none'}")
     return 0
 
 
@@ -72,7 +73,7 @@ def handle_sweeps(args: argparse.Namespace) -> int:
     print(f"{'id':>4}  {'status':9} {'runs':>7}  {'tags':20} name")
     for s in listed:
         print(f"{s.id:>4}  {terminal_safe(s.status):9} {s.n_runs:>7}  "
-              f"{','.join(s.tags) or '-':20} {terminal_safe(s.name)}")
+              f"{terminal_safe(','.join(s.tags)) or '-':20} {terminal_safe(s.name)}")
         if s.note:
             first = s.note.splitlines()[0]
             more = "…" if len(first) > NOTE_SHOWN or "\n" in s.note else ""

@@ -76,7 +76,7 @@ class SweepLabelsScreen(ModalScreen["LabelsEdit | None"]):
             yield Label("name")
             yield Input(terminal_safe(self.labels.name), id="labels-name")
             yield Label("tags (separated by spaces)")
-            yield Input(" ".join(self.labels.tags), placeholder="e.g. paper fig4",
+            yield Input(terminal_safe(" ".join(self.labels.tags)), placeholder="e.g. paper fig4",
                         id="labels-tags")
             yield Label("note")
             yield TextArea(terminal_safe_lines(self.labels.note or ""), id="labels-note",
