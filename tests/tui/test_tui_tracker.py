@@ -60,6 +60,8 @@ def test_e_renames_tags_and_annotates_the_selected_sweep(db: Database) -> None:
             await wait_until(pilot, lambda: isinstance(app.screen, SweepLabelsScreen))
             modal = app.screen
             assert modal.query_one("#labels-tags", Input).value == "old"
+            await pilot.pause()
+            assert modal.query_one("#labels-save", Button).region.bottom <= 24  # at 80x24 too
             modal.query_one("#labels-name", Input).value = "the (k, tau) plane"
             tags = modal.query_one("#labels-tags", Input)
             tags.value = "paper bad,tag"

@@ -51,7 +51,7 @@ class SpecCompareScreen(ModalScreen[None]):
         with Vertical(id="spec-box"):
             yield Static(Text(f"sweep {c.a.id} {terminal_safe(c.a.name)!r} against sweep "
                               f"{c.b.id} {terminal_safe(c.b.name)!r}: {n} of "
-                              f"{len(c.settings)} settings differ (* ; d: only those; esc)"),
+                              f"{len(c.settings)} settings differ (*; d: only those; esc closes)"),
                          id="spec-title")
             yield DataTable(id="spec-table", cursor_type="row", zebra_stripes=True)
 
