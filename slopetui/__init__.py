@@ -3,10 +3,10 @@
 The numerical engine lives in the separate top-level package ``core``; this package
 depends on it, never the reverse.
 
-``slopetui.open_store(url)`` opens a store for a notebook (``slopetui.notebook``: its runs
-and sweeps as pandas DataFrames). It is imported on first use (PEP 562), so that ``import
-slopetui`` (and ``slopetui --help``, which reads ``__version__``) loads no pandas,
-SQLAlchemy or numpy.
+``slopetui.open_store(url)`` (a URL, or a plain path to a SQLite file) opens a store for a
+notebook (``slopetui.notebook``: its runs and sweeps as pandas DataFrames). It is imported
+on first use (PEP 562), so that ``import slopetui`` (and ``slopetui --help``, which reads
+``__version__``) loads no pandas, SQLAlchemy or numpy; ``dir(slopetui)`` names it before.
 """
 
 from __future__ import annotations
@@ -29,3 +29,8 @@ def __getattr__(name: str) -> Any:
     value = getattr(importlib.import_module(module), name)
     globals()[name] = value
     return value
+
+
+def __dir__() -> list[str]:
+    """The module's own names and the lazy ones, which exist before their first use."""
+    return sorted({*globals(), *_EXPORTS})

@@ -10,6 +10,7 @@ Usage::
         sweeps = store.sweeps()              # one row per sweep, runs counted per status
         runs = store.runs(sweep=3)           # every column of `slopetui export 3 --csv`
         chaotic = store.runs(sweep=3, regime="complex")
+        paper = store.runs(tag="paper")      # the runs of the sweeps tagged paper
 
     runs.plot.scatter("k", "lambda_max")
 
@@ -20,10 +21,13 @@ run that was never measured differs from a NaN measurement: ``slopetui.sweeps.fr
 
 from __future__ import annotations
 
+import os
 from types import TracebackType
 from typing import TYPE_CHECKING
 
+from slopetui.store.location import url_of
 from slopetui.store.open import open_store as open_database
+from slopetui.sweeps.annotations import check_tag
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.frames import runs_frame, sweeps_frame
 
@@ -62,9 +66,10 @@ class Store:
         return self.database
 
     def runs(self, sweep: int | None = None, *, regime: str | None = None,
-             status: str | None = None) -> pd.DataFrame:
+             status: str | None = None, tag: str | None = None) -> pd.DataFrame:
         """The runs of ``sweep`` (None: of every sweep), of this regime (done runs with it)
-        and this status (queued, running, done, failed, cancelled), None meaning any:
+        and this status (queued, running, done, failed, cancelled), of the sweeps tagged
+        ``tag`` (``slopetui tag``), None meaning any:
         one row per run in grid order, with the columns of ``slopetui export SWEEP
         --csv``. Raises UnknownSweep for a sweep the store does not hold.
 
@@ -74,7 +79,9 @@ class Store:
 
             measured = runs[(runs.status == "done") & ~runs.inferred]
         """
-        return runs_frame(self._db(), sweep, regime=regime, status=status)
+        if tag is not None:
+            tag = check_tag(tag)  # "Paper" finds what `slopetui tag 3 Paper` stored as paper
+        return runs_frame(self._db(), sweep, regime=regime, status=status, tag=tag)
 
     def sweeps(self) -> pd.DataFrame:
         """Every sweep, one row each by id: name, status, creation time, the x and y axes
@@ -109,19 +116,21 @@ class Store:
         return f"<slopetui.Store {self.url} ({state})>"
 
 
-def open_store(url: str | None = None) -> Store:
-    """The store at ``url`` (a SQLAlchemy URL: ``sqlite:////path/to/file.db``,
-    ``postgresql+psycopg://host/db``), default ``$SLOPETUI_DB``, else the SQLite file in
-    the user data folder; migrated to the current schema first, as every command does.
+def open_store(url: str | os.PathLike[str] | None = None) -> Store:
+    """The store at ``url``: a SQLAlchemy URL (``sqlite:////path/to/file.db``,
+    ``postgresql+psycopg://host/db``) or a plain path to a SQLite file (``"runs/x.db"``, a
+    ``pathlib.Path``; relative to the current folder), default ``$SLOPETUI_DB``, else the
+    SQLite file in the user data folder; migrated to the current schema first, as every
+    command does.
 
-        >>> store = slopetui.open_store("sqlite:////data/slopetui.db")
+        >>> store = slopetui.open_store("data/slopetui.db")
         >>> store.sweeps()[["id", "name", "status", "done", "n_runs"]]
         >>> store.runs(sweep=3).plot.scatter("k", "tau", c="lambda_max")
         >>> store.close()
     """
     import sys
 
-    db = open_database(url, read_only_ok=True)  # a Store only reads
+    db = open_database(None if url is None else url_of(url), read_only_ok=True)  # a Store only reads
     if db.read_only is not None:
         print(f"slopetui.open_store: {db.read_only}", file=sys.stderr)
     return Store(db)

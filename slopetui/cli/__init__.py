@@ -29,7 +29,8 @@ from slopetui.store.url_text import holds_password
 #: `sql` would hide the handlers' modules of the same names).
 ARGUMENTS = ("run", "orbit", "continuation", "branch", "hysteresis", "submit", "example",
              "status", "show", "figure", "runs", "control", "delete", "sql", "worker",
-             "workers", "db", "cluster", "nblock", "reproduce", "completion")
+             "workers", "db", "cluster", "nblock", "reproduce", "completion", "annotate",
+             "compare")
 
 #: Each command's handler, ``module:function``: the module is imported on dispatch only.
 HANDLERS = {
@@ -57,6 +58,11 @@ HANDLERS = {
     "nblock": "slopetui.cli.nblock:handle",
     "reproduce": "slopetui.cli.reproduce:handle",
     "completion": "slopetui.cli.completion:handle",
+    "rename": "slopetui.cli.annotate:handle_rename",
+    "note": "slopetui.cli.annotate:handle_note",
+    "tag": "slopetui.cli.annotate:handle_tag",
+    "sweeps": "slopetui.cli.annotate:handle_sweeps",
+    "compare": "slopetui.cli.compare:handle",
 }
 #: Without a command: the terminal application, imported as a handler is.
 APPLICATION = "slopetui.tui.app:run_app"
@@ -70,7 +76,8 @@ APPLICATION = "slopetui.tui.app:run_app"
 #: (0.15 s), slopetui.sweeps.control the store (0.3 s) (python -c "import M", this host).
 USER_ERRORS = (("core.params", "ParameterError"), ("core.orbit", "OrbitError"),
                ("slopetui.sweeps.spec", "SpecError"), ("slopetui.store.failures", "StoreError"),
-               ("slopetui.sweeps.control", "UnknownSweep"), ("slopetui.cli.options", "UsageError"))
+               ("slopetui.sweeps.control", "UnknownSweep"), ("slopetui.cli.options", "UsageError"),
+               ("slopetui.sweeps.annotations", "LabelError"))
 #: The commands that run for hours (a pool, the application; None is the application):
 #: a password on their command line is in `ps` all that time, so they warn of it.
 LONG_LIVED = (None, "worker")

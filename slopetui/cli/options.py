@@ -37,7 +37,8 @@ class UsageError(Exception):
 
 #: The commands that only read the store: they open a SQLite store this user cannot
 #: write read-only (slopetui.store.database), saying so on stderr, rather than refuse it.
-READ_COMMANDS = frozenset({"status", "show", "sql", "runs", "export", "workers", "branch"})
+READ_COMMANDS = frozenset({"status", "show", "sql", "runs", "export", "workers", "branch",
+                           "sweeps", "compare"})
 
 
 def open_db(args: argparse.Namespace) -> Database:

@@ -11,6 +11,7 @@ from typing import IO, TYPE_CHECKING
 from slopetui.cli.options import int_arg, open_db, sweep_arg
 from slopetui.display_text import terminal_safe, terminal_safe_lines
 from slopetui.store.queries import runs_matching
+from slopetui.sweeps.annotations import check_tag
 
 if TYPE_CHECKING:
 
@@ -43,9 +44,10 @@ def text_to_stdout(write: Callable[[IO[str]], int]) -> int:
 def handle_runs(args: argparse.Namespace) -> int:
     limit = int_arg("--limit", args.limit, 0, note=" (0 for all)")
     sweep = None if args.sweep is None else sweep_arg(args.sweep, "--sweep")
+    tag = None if args.tag is None else check_tag(args.tag, "--tag")
 
     runs = runs_matching(open_db(args), sweep=sweep, regime=args.regime, status=args.status,
-                         limit=limit)
+                         tag=tag, limit=limit)
     if args.csv:
         csv_to_stdout(runs)
         return 0

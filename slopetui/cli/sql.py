@@ -13,6 +13,9 @@ stored (JSON escapes control characters itself); on a terminal, where an escape 
 in a name or an error would drive the terminal, the CSV goes through
 ``slopetui.display_text``'s sanitiser, and the table (text for reading) always does.
 
+``--out FILE`` writes the rows to a file, CSV or JSON by its extension, whole or not at
+all (``slopetui.sql_files``, the writer the application's console saves with).
+
 Exit status: 0 done; 1 the time limit stopped the query (the statement may be fine: give
 it more time); 2 bad options, or the database rejected or refused the statement (change
 the statement); 130 interrupted (Ctrl-C).
@@ -21,19 +24,20 @@ the statement); 130 interrupted (Ctrl-C).
 from __future__ import annotations
 
 import argparse
-import csv
-import math
+import errno
+import os
 import signal
 import sys
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
+from pathlib import Path
 from types import FrameType
 
 from slopetui.cli.options import UsageError, open_db
-from slopetui.display_text import TextOut, for_terminal, terminal_safe
-from slopetui.json_text import json_text
-from slopetui.sql_results import cell_text, error_text, fetch
+from slopetui.display_text import for_terminal, terminal_safe
+from slopetui.sql_files import CsvStream, JsonLinesStream, NothingToSave, RowStream, file_format, save
+from slopetui.sql_results import Fetched, cell_text, error_text, fetch
 from slopetui.store.read_query import (
     DEFAULT_TIMEOUT_S,
     QueryCancelled,
@@ -57,54 +61,9 @@ EXIT_INTERRUPTED = 130
 
 # -- output ------------------------------------------------------------------------------
 
-def _json_value(value: object) -> object:
-    return None if isinstance(value, float) and not math.isfinite(value) else value
-
-
-class Writer:
-    """Rows out as they come: start(columns), write(chunk)..., finish(count, more) when
-    every row asked for was read, else stop()."""
-
-    def __init__(self, out: TextOut) -> None:
-        self.out = out
-        self.started = False
-
-    def start(self, columns: list[str]) -> None:
-        self.columns = columns
-        self.started = True
-
-    def write(self, rows: list[Row]) -> None:
-        raise NotImplementedError
-
-    def finish(self, count: int, more: bool) -> None:
-        self.stop()
-
-    def stop(self) -> None:
-        self.out.flush()
-
-
-class CsvWriter(Writer):
-    def start(self, columns: list[str]) -> None:
-        super().start(columns)
-        self.csv = csv.writer(self.out, lineterminator="\n")
-        self.csv.writerow(columns)
-
-    def write(self, rows: list[Row]) -> None:
-        self.csv.writerows(rows)
-        self.out.flush()  # a reader downstream sees rows as they arrive
-
-
-class JsonWriter(Writer):
-    def write(self, rows: list[Row]) -> None:
-        for row in rows:
-            self.out.write(json_text({c: _json_value(v) for c, v in zip(self.columns, row, strict=True)},
-                                     default=str) + "\n")
-        self.out.flush()
-
-
-class TableWriter(Writer):
+class TableWriter(RowStream):
     """Aligned columns: holds the first TABLE_WIDTH_ROWS rows to measure them, then
-    streams."""
+    streams; finish() ends with the count."""
 
     def start(self, columns: list[str]) -> None:
         super().start([terminal_safe(c) for c in columns])  # cell_text escapes the cells
@@ -136,12 +95,11 @@ class TableWriter(Writer):
             self._release()
         super().stop()
 
-    def finish(self, count: int, more: bool) -> None:
+    def counted(self, count: int, more: bool) -> None:
         if self.held is not None:
             self._release()
         self.out.write(f"({count} row{'s' if count != 1 else ''}"
                        f"{'; more not shown, see --limit' if more else ''})\n")
-        super().finish(count, more)
 
 
 # -- Ctrl-C -----------------------------------------------------------------------------
@@ -179,10 +137,16 @@ def handle(args: argparse.Namespace) -> int:
                      else parse_timeout(args.timeout))
     except ValueError as exc:
         raise UsageError(f"--timeout {exc}") from None
+    try:
+        fmt = None if args.out is None else file_format(args.out)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     query = ReadQuery(args.query, timeout_s)
+    if fmt is not None:
+        return _save(args, query, fmt)
     # CSV is data: raw into a file or a pipe, escaped on a terminal only
-    writer: Writer = (CsvWriter(for_terminal(sys.stdout)) if args.csv
-                      else (JsonWriter if args.json else TableWriter)(sys.stdout))
+    writer: RowStream = (CsvStream(for_terminal(sys.stdout)) if args.csv
+                         else (JsonLinesStream if args.json else TableWriter)(sys.stdout))
     engine = open_db(args).read_only_engine()
     try:
         with cancel_on_sigint(query):
@@ -195,19 +159,53 @@ def handle(args: argparse.Namespace) -> int:
         engine.dispose()
     if fetched.columns is None:
         print("(no rows: the statement returns nothing)")
-    else:
-        writer.finish(fetched.count, fetched.more)
+        return 0
+    if isinstance(writer, TableWriter):
+        writer.counted(fetched.count, fetched.more)
+    writer.finish()
     return 0
 
 
-def _report(exc: QueryCancelled | QueryTimedOut | QueryError) -> int:
-    """One line on stderr; the exit status."""
+def _save(args: argparse.Namespace, query: ReadQuery, fmt: str) -> int:
+    """--out FILE: the rows written whole or not at all (a failed query leaves no file,
+    and an older one as it was); one line on stdout says how many, and where."""
+    target = Path(os.path.realpath(args.out))
+    if target.is_dir():  # refused before the query runs
+        raise UsageError(f"--out: cannot write {terminal_safe(args.out)}: "
+                         f"{os.strerror(errno.EISDIR)} (allowed: a file in an existing folder)")
+    engine = open_db(args).read_only_engine()
+
+    def fill(stream: RowStream) -> Fetched:
+        return fetch(engine, query, stream.write, args.limit, start=stream.start)
+
+    try:
+        with cancel_on_sigint(query):
+            fetched = save(target, fmt, fill)
+    except (QueryCancelled, QueryTimedOut, QueryError) as exc:
+        return _report(exc, " (nothing written)")
+    except NothingToSave as exc:
+        print(f"slopetui sql: {exc}: {terminal_safe(args.out)} not written", file=sys.stderr)
+        return EXIT_REJECTED
+    except OSError as exc:
+        raise UsageError(f"--out: cannot write {terminal_safe(args.out)}: "
+                         f"{exc.strerror or exc} (allowed: a file in an existing folder "
+                         "you can write to)") from None
+    finally:
+        engine.dispose()
+    noun = "row" if fetched.count == 1 else "rows"
+    more = "; more not written, see --limit (0 for all)" if fetched.more else ""
+    print(f"{fetched.count} {noun} written to {terminal_safe(target)}{more}")
+    return 0
+
+
+def _report(exc: QueryCancelled | QueryTimedOut | QueryError, note: str = "") -> int:
+    """One line on stderr (ending in ``note``); the exit status."""
     if isinstance(exc, QueryCancelled):
-        print("slopetui sql: interrupted", file=sys.stderr)
+        print(f"slopetui sql: interrupted{note}", file=sys.stderr)
         return EXIT_INTERRUPTED
     if isinstance(exc, QueryTimedOut):
         hint = " (--timeout S sets the limit; 0 for none)" if exc.timeout_s else ""
-        print(f"slopetui sql: {terminal_safe(exc)}{hint}", file=sys.stderr)
+        print(f"slopetui sql: {terminal_safe(exc)}{hint}{note}", file=sys.stderr)
         return EXIT_TIMED_OUT
-    print(f"slopetui sql: {error_text(exc)}", file=sys.stderr)
+    print(f"slopetui sql: {error_text(exc)}{note}", file=sys.stderr)
     return EXIT_REJECTED

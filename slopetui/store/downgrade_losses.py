@@ -39,6 +39,10 @@ def _values(what: str, table: str, where: str) -> Dropped:
 
 #: Each revision's downgrade (to the one before it): what it drops.
 DROPS: dict[str, tuple[Dropped, ...]] = {
+    # the sweeps and runs stay; what the user wrote on them and marked goes
+    "0014": (_values("note", "sweeps", "note IS NOT NULL"),
+             Dropped("sweep tag", "sweep tags", "SELECT count(*) FROM sweep_tags"),
+             Dropped("marked run", "marked runs", "SELECT count(*) FROM marks")),
     # a run that stopped early reads as one that ran to its t_end (t_stop is derived
     # again from t_blowup and t_end only for those that did)
     "0013": (_values("stop rule (certified) and stopping time", "runs", "stop <> 't_end'"),),

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 from platformdirs import user_data_path
 
@@ -49,3 +50,15 @@ def checked_url(url: str) -> str:
         raise StoreError(f"--db = {url!r} is an in-memory SQLite database, a new empty store "
                          f"that is gone when the command ends: {ALLOWED_URLS}")
     return url
+
+
+def url_of(target: str | os.PathLike[str]) -> str:
+    """A store named as a notebook names it: a SQLAlchemy URL as it is, or a plain path
+    (``"runs/x.db"``, a ``pathlib.Path``) as the URL of that SQLite file, relative to the
+    current folder. A URL is told by its ``://``, which no file name a user types holds."""
+    if isinstance(target, os.PathLike) or "://" not in target:
+        if not os.fspath(target).strip():
+            raise StoreError(f"store = {os.fspath(target)!r} is empty: a path to a SQLite "
+                             f"file (runs/x.db) or {ALLOWED_URLS.removeprefix('allowed ')}")
+        return f"sqlite:///{Path(os.fspath(target)).expanduser().absolute()}"
+    return target

@@ -77,6 +77,8 @@ class Sweep(Base):
     level: Mapped[int | None]
     #: server defaults '0' as in migration 0002 (why a literal: see there).
     refined: Mapped[bool] = mapped_column(Boolean, default=False, server_default="0")
+    #: The user's note on the sweep (``slopetui note``), NULL for none (migration 0014).
+    note: Mapped[str | None] = mapped_column(Text)
 
     runs: Mapped[list[Run]] = relationship(back_populates="sweep", passive_deletes=True)
 
@@ -434,3 +436,28 @@ class InitialState(Base):
     #: CarriedState.to_bytes(): tau, dt, the five variables, m_x over the last delay.
     state: Mapped[bytes] = mapped_column(LargeBinary)
     created_at: Mapped[datetime] = mapped_column(DateTime, server_default=func.now())
+
+
+class SweepTag(Base):
+    """A tag of a sweep (``slopetui tag``): short words to filter sweeps and their runs by
+    (slopetui.sweeps.annotations says what a tag may be)."""
+
+    __tablename__ = "sweep_tags"
+
+    sweep_id: Mapped[int] = mapped_column(ForeignKey("sweeps.id", ondelete="CASCADE"),
+                                          primary_key=True)
+    tag: Mapped[str] = mapped_column(String(32), primary_key=True)
+
+    #: runs --tag and sweeps by tag look a tag up first
+    __table_args__ = (Index("ix_sweep_tags_tag", "tag"),)
+
+
+class Mark(Base):
+    """A run marked (m) for comparison, kept across the application's restarts; ``id``
+    orders the marks as they were made."""
+
+    __tablename__ = "marks"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    run_id: Mapped[int] = mapped_column(ForeignKey("runs.id", ondelete="CASCADE"), unique=True)
+

@@ -18,6 +18,7 @@ from sqlalchemy import Engine, func, select
 
 from slopetui.store.database import Database
 from slopetui.store.models import Run, Sweep
+from slopetui.store.sweeps.annotations import tagged
 
 __all__ = ["Engine", "database_now", "newest_sweep_id", "run_by_id", "runs_matching", "runs_of",
            "runtime_total", "sweep_exists", "sweep_status", "unfinished_runs"]
@@ -27,13 +28,17 @@ __all__ = ["Engine", "database_now", "newest_sweep_id", "run_by_id", "runs_match
 
 
 def runs_matching(db: Database, *, sweep: int | None = None, regime: str | None = None,
-                  status: str | None = None, limit: int | None = None) -> list[Run]:
-    """The runs with the given sweep id, regime and status (None: any), newest first;
-    at most ``limit`` of them (None or 0: all). ``slopetui runs``."""
+                  status: str | None = None, tag: str | None = None,
+                  limit: int | None = None) -> list[Run]:
+    """The runs with the given sweep id, regime and status, of a sweep with this tag
+    (None: any), newest first; at most ``limit`` of them (None or 0: all). ``slopetui
+    runs``."""
     query = select(Run).order_by(Run.id.desc())
     for column, value in (("sweep_id", sweep), ("regime", regime), ("status", status)):
         if value is not None:
             query = query.where(getattr(Run, column) == value)
+    if tag is not None:
+        query = query.where(Run.sweep_id.in_(tagged(tag)))
     if limit:
         query = query.limit(limit)
     with db.sessions() as s:

@@ -173,9 +173,9 @@ def _check_filters(regime: str | None, status: str | None) -> None:
 
 
 def runs_frame(db: Database, sweep: int | None = None, *, regime: str | None = None,
-               status: str | None = None) -> pd.DataFrame:
-    """The runs of ``sweep`` (None: of every sweep) with the given regime and status
-    (None: any) as a DataFrame with the columns of ``COLUMNS``, dtypes and missing values
+               status: str | None = None, tag: str | None = None) -> pd.DataFrame:
+    """The runs of ``sweep`` (None: of every sweep) with the given regime and status, of
+    the sweeps with this tag (None: any) as a DataFrame with the columns of ``COLUMNS``, dtypes and missing values
     as the module docstring says. ``regime`` selects done runs with that regime, computed
     or inferred.
 
@@ -185,7 +185,7 @@ def runs_frame(db: Database, sweep: int | None = None, *, regime: str | None = N
     _check_filters(regime, status)
     if sweep is not None:
         sweep = operator.index(sweep)  # a numpy integer of a frame's id column binds as int
-    rows = run_rows(db, COLUMNS, sweep=sweep, regime=regime, status=status)
+    rows = run_rows(db, COLUMNS, sweep=sweep, regime=regime, status=status, tag=tag)
     if rows is None:
         assert sweep is not None
         raise UnknownSweep(sweep)

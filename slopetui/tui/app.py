@@ -39,6 +39,7 @@ from textual.worker import Worker
 from slopetui.display_text import terminal_safe_lines
 from slopetui.store.database import Database
 from slopetui.store.open import open_store
+from slopetui.store.runs.marks import clear_marks, marked_runs, set_mark
 from slopetui.sweeps import control, export_files
 from slopetui.sweeps.fold_overlay import Curve
 from slopetui.tui import figure_writing
@@ -122,7 +123,8 @@ class SlopeApp(App[None], inherit_bindings=False):
         #: Fold-of-cycles curves by sweep id, computed on request (seconds to minutes
         #: each) and kept for the session: a sweep's spec never changes.
         self.fold_curves: dict[int, Curve] = {}
-        #: Runs marked with m for the compare screen (v), in the order marked.
+        #: Runs marked with m for the compare screen (v), in the order marked: the store's
+        #: (store.runs.marks), read once it is open, so that they survive a restart.
         self.marked: list[int] = []
         #: Where the figure key (f) and the palette's exports write: $SLOPETUI_FIGURES,
         #: else the user data folder's figures/ (figure_writing.default_folder).
@@ -204,6 +206,10 @@ class SlopeApp(App[None], inherit_bindings=False):
         self.db = db  # before the screen in view is told
         self.store_error = None
         self.refresh_active_screen()
+        self.background.start(
+            partial(marked_runs, db), group="marks", done=self._marks_read,
+            failed=lambda exc: self.notify_text(f"could not read the marked runs: {exc}",
+                                                severity="warning", timeout=8))
         if self.start_workers:
             self.background.start(
                 partial(attach_pool, db), group="pool",
@@ -309,8 +315,13 @@ class SlopeApp(App[None], inherit_bindings=False):
 
     # -- runs marked for comparison, figures and exports --
 
+    def _marks_read(self, marks: tuple[int, ...]) -> None:
+        # marks made before the read (the store is open by then: none) are kept after them
+        self.marked = [*marks, *(r for r in self.marked if r not in marks)]
+
     def toggle_mark(self, run_id: int) -> None:
-        """Mark a run for the compare screen, or unmark it; say what is marked."""
+        """Mark a run for the compare screen, or unmark it; say what is marked. The store
+        keeps the marks (written off the UI thread; the list here is what it holds)."""
         if run_id in self.marked:
             self.marked.remove(run_id)
             verb = "unmarked"
@@ -320,6 +331,23 @@ class SlopeApp(App[None], inherit_bindings=False):
         listed = ", ".join(map(str, self.marked)) or "none"
         hint = "; v compares them" if len(self.marked) >= 2 else "; mark another to compare"
         self.notify(f"run {run_id} {verb} (marked: {listed}){hint}")
+        if self.db is not None:
+            db, wanted = self.db, run_id in self.marked
+            self.background.start(
+                partial(set_mark, db, run_id, wanted), group="marks", done=lambda _m: None,
+                failed=lambda exc: self.notify_text(
+                    f"run {run_id} {verb} for this session only: the store did not keep it "
+                    f"({exc})", severity="warning", timeout=8))
+
+    def clear_marks(self) -> None:
+        """Unmark every run, here and in the store."""
+        self.marked = []
+        self.notify("no run is marked now")
+        if self.db is not None:
+            self.background.start(partial(clear_marks, self.db), group="marks",
+                                  done=lambda _n: None,
+                                  failed=lambda exc: self.notify_text(
+                                      f"could not clear the marks: {exc}", severity="error"))
 
     def action_compare(self) -> None:
         if len(self.marked) < 2:

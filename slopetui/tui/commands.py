@@ -21,9 +21,13 @@ from textual.command import DiscoveryHit, Hit, Hits, Provider
 from textual.markup import escape
 from textual.screen import Screen
 
+from slopetui.sql_files import FILE_FORMATS
 from slopetui.sweeps.export_files import FORMATS
 from slopetui.sweeps.presets import PRESETS
 from slopetui.tui.screens.confirm import ask_then_control_id
+from slopetui.tui.screens.spec_compare import compare_sweeps
+from slopetui.tui.screens.sql import SqlScreen
+from slopetui.tui.screens.sweep_labels import edit_labels
 from slopetui.tui.screens.sweeps import SweepsScreen
 
 if TYPE_CHECKING:
@@ -38,6 +42,8 @@ CONTROLS = ("pause", "resume", "cancel", "delete")
 
 OPEN_RUN = re.compile(r"(?:open\s+)?run\s+#?(\d+)", re.IGNORECASE)
 CONTROL_SWEEP = re.compile(rf"({'|'.join(CONTROLS)})\s+sweep\s+#?(\d+)", re.IGNORECASE)
+COMPARE_SWEEPS = re.compile(r"compare\s+sweeps?\s+#?(\d+)\s*(?:,|and|with|to)?\s*#?(\d+)",
+                            re.IGNORECASE)
 EXPORT_SWEEP = re.compile(rf"export\s+sweep\s+#?(\d+)(?:\s+(?:as\s+)?({'|'.join(FORMATS)}))?",
                           re.IGNORECASE)
 
@@ -97,6 +103,14 @@ def commands(app: SlopeApp, screen: Screen[Any]) -> list[Command]:
     marked = ", ".join(map(str, app.marked)) or "none"
     found.append(Command("Compare the marked runs", f"marked: {marked}" + key_of(app, "compare"),
                          app.action_compare))
+    if app.marked:
+        found.append(Command("Clear the marked runs", f"marked: {marked}; the store keeps marks "
+                             "across restarts until cleared", app.clear_marks))
+    if isinstance(screen, SqlScreen) and screen.results is not None:
+        found += [Command(f"Save the console's results as {fmt.upper()}",
+                          f"the rows shown, into {folder}" + (" (ctrl+s)" if fmt == "csv" else ""),
+                          partial(screen.action_save_results, fmt))
+                  for fmt in FILE_FORMATS]
     figure = getattr(screen, "action_figure", None)
     if callable(figure):
         found.append(Command("Write this screen's figure", f"into {folder}", figure))
@@ -106,6 +120,14 @@ def commands(app: SlopeApp, screen: Screen[Any]) -> list[Command]:
                           f"or type {action} sweep and an id",
                           partial(ask_then_control_id, app, action, sweep))
                   for action in CONTROLS]
+        found.append(Command(f"Compare the spec of sweep {sweep} (selected) with another",
+                             f"type compare sweeps {sweep} and an id, e.g. compare sweeps "
+                             f"{sweep} {max(sweep - 1, 1)}",
+                             partial(app.notify, f"type compare sweeps {sweep} and the other "
+                                                 "sweep's id in the palette")))
+        found.append(Command(f"Rename, tag or annotate sweep {sweep} (selected)",
+                             "its name, tags and note (key e; slopetui rename, tag, note)",
+                             partial(edit_labels, app, sweep)))
         found += [Command(f"Export sweep {sweep} (selected) as {fmt.upper()}",
                           f"its runs, as slopetui export --{fmt}, into {folder}",
                           partial(app.export_sweep, sweep, fmt))
@@ -117,7 +139,7 @@ def commands(app: SlopeApp, screen: Screen[Any]) -> list[Command]:
 
 def typed_commands(app: SlopeApp, query: str) -> Iterator[Command]:
     """The commands a query names with an id: "run 12", "open run 12", "pause sweep 3",
-    "export sweep 3 csv"."""
+    "export sweep 3 csv", "compare sweeps 3 5"."""
     query = query.strip()
     if match := OPEN_RUN.fullmatch(query):
         run_id = int(match[1])
@@ -127,6 +149,11 @@ def typed_commands(app: SlopeApp, query: str) -> Iterator[Command]:
         action, sweep = match[1].lower(), int(match[2])
         yield Command(f"{action.capitalize()} sweep {sweep}", f"as slopetui {action} {sweep}",
                       partial(ask_then_control_id, app, action, sweep))
+    if match := COMPARE_SWEEPS.fullmatch(query):
+        a, b = int(match[1]), int(match[2])
+        yield Command(f"Compare the specs of sweeps {a} and {b}",
+                      f"side by side, the settings that differ marked (slopetui compare {a} {b})",
+                      partial(compare_sweeps, app, a, b))
     if match := EXPORT_SWEEP.fullmatch(query):
         sweep = int(match[1])
         for fmt in [match[2].lower()] if match[2] else FORMATS:

@@ -409,3 +409,41 @@ def test_stored_escapes_reach_the_grid_escaped(db_url: str, evil_sweep: int) -> 
         assert not any(ch in screen for ch in ("\x1b", "\x07", "\x9b", "\u202e"))
 
     in_console(db_url, scenario)
+
+
+def test_ctrl_s_saves_the_rows_shown_and_names_the_file(store: str, tmp_path: Path,
+                                                        monkeypatch: pytest.MonkeyPatch) -> None:
+    """ctrl+s writes the table's rows, as stored, to a new CSV in the figures' folder (a
+    second save takes -2, never replacing the first); the notice names the path and, for
+    a result cut at the display limit, how much was saved. Nothing shown: nothing saved."""
+    folder = tmp_path / "figures"
+    monkeypatch.setenv("SLOPETUI_FIGURES", str(folder))
+
+    def notes(app: SlopeApp) -> list[str]:
+        return [n.message for n in app._notifications]
+
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        await pilot.press("ctrl+s")
+        await settle(pilot)
+        assert notes(app)[-1].startswith("nothing to save") and not folder.exists()
+        await run_sql(pilot, "SELECT id, k, char(27) || '[2J' AS raw FROM runs ORDER BY id")
+        await pilot.press("ctrl+s")  # the editor has the keys: it does not take ctrl+s
+        await settle(pilot)
+        assert notes(app)[-1] == f"{N_RUNS} rows saved to {folder / 'sql-results.csv'}"
+        assert (folder / "sql-results.csv").read_text().splitlines() == [
+            "id,k,raw", *(f"{i + 1},{k:.1f},\x1b[2J" for i, k in enumerate([4, 6, 8, 10, 12]))]
+        many = ("WITH RECURSIVE c(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM c "
+                "WHERE x < 2500) SELECT x FROM c")
+        await run_sql(pilot, many)
+        app.screen.action_save_results("json")  # what the palette's JSON entry calls
+        await settle(pilot)
+        shown = sql_screen.DISPLAY_LIMIT
+        assert notes(app)[-1].startswith(f"{shown} rows saved to {folder / 'sql-results.json'} "
+                                         f"(the first {shown} of 2500, as shown;")
+        assert json.loads((folder / "sql-results.json").read_text())[-1] == {"x": shown}
+        await pilot.press("ctrl+s")
+        await settle(pilot)
+        assert (folder / "sql-results-2.csv").is_file()
+        assert (folder / "sql-results.csv").read_text().startswith("id,k,raw\n")
+
+    in_console(store, scenario)

@@ -25,6 +25,7 @@ from core.result_fields import RESULT_NAMES
 from slopetui.cli import export as export_cli
 from slopetui.cli import main
 from slopetui.store.database import Database
+from slopetui.store.failures import StoreError
 from slopetui.store.models import Run
 from slopetui.sweeps.control import UnknownSweep, cancel
 from slopetui.sweeps.export import COLUMNS
@@ -363,3 +364,30 @@ def test_a_pipe_is_written_in_place_and_a_link_is_followed(db, db_url, tmp_path,
     assert main(["export", str(sweep), "--json", "-o", str(link), "--db", db_url]) == 0
     assert link.is_symlink() and len(json.loads(target.read_text())) == 5
     capsys.readouterr()
+
+
+def test_a_plain_path_opens_that_sqlite_file(db, tmp_path, monkeypatch):
+    """`open_store("x.db")`, a relative path, and a pathlib.Path open the SQLite file they
+    name, as its sqlite:/// URL would, never the default store."""
+    sweep = submit_quick(db).sweep_id
+    db.dispose()
+    monkeypatch.setenv("SLOPETUI_DB", f"sqlite:///{tmp_path / 'other.db'}")
+    monkeypatch.chdir(tmp_path)
+    for target in ("store.db", str(tmp_path / "store.db"), tmp_path / "store.db"):
+        with slopetui.open_store(target) as store:
+            assert store.url == f"sqlite:///{tmp_path / 'store.db'}"
+            assert list(store.sweeps()["id"]) == [sweep]
+    assert not (tmp_path / "other.db").exists()
+    with pytest.raises(StoreError, match="store = '' is empty"):
+        slopetui.open_store("")
+
+
+def test_dir_lists_the_names_loaded_on_first_use():
+    """`dir(slopetui)` names open_store and Store before either is loaded (tab completion
+    in a notebook reads dir)."""
+    probe = ("import sys, slopetui; names = dir(slopetui); "
+             "print('open_store' in names, 'Store' in names, '__version__' in names, "
+             "'slopetui.notebook' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True, timeout=60, env={**os.environ, "PYTHONPATH": os.getcwd()})
+    assert out.stdout.split() == ["True", "True", "True", "False"]

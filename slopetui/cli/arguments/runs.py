@@ -15,6 +15,8 @@ def declare(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--sweep", metavar="SWEEP", help="only this sweep (its id)")
     p.add_argument("--regime", choices=REGIMES, help="only this regime")
     p.add_argument("--status", choices=RUN_STATUSES, help="only this status")
+    p.add_argument("--tag", metavar="TAG", help="only the runs of sweeps with this tag "
+                                                "(slopetui tag)")
     p.add_argument("--limit", default="50", metavar="N",
                    help="at most N runs (default 50; 0 for all)")
     p.add_argument("--csv", action="store_true", help="CSV with every column")

@@ -24,8 +24,11 @@ def declare(sub: argparse._SubParsersAction) -> None:
     fmt = p.add_mutually_exclusive_group()
     fmt.add_argument("--csv", action="store_true", help="CSV output")
     fmt.add_argument("--json", action="store_true", help="one JSON object per row")
+    fmt.add_argument("--out", metavar="FILE",
+                     help="write the rows to FILE, CSV or JSON by its extension (.csv, "
+                          ".json: a list of objects); written whole or not at all")
     p.add_argument("--limit", type=int, default=1000, metavar="N",
-                   help="print at most N rows (default 1000; 0 for all)")
+                   help="print (or write to --out) at most N rows (default 1000; 0 for all)")
     # A string: parse_timeout's one-line error beats argparse's usage dump.
     p.add_argument("--timeout", metavar="S", default=None,
                    help=f"stop the query after S seconds of database time (default "

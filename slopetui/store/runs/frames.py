@@ -16,13 +16,14 @@ from sqlalchemy import Row, select
 
 from slopetui.store.database import Database
 from slopetui.store.models import Run, Sweep
+from slopetui.store.sweeps.annotations import tagged
 
 
 def run_rows(db: Database, columns: Sequence[str], *, sweep: int | None = None,
-             regime: str | None = None, status: str | None = None
+             regime: str | None = None, status: str | None = None, tag: str | None = None
              ) -> list[Row[Any]] | None:
-    """The named columns of the runs with the given sweep id, status and regime (None:
-    any), in grid order: by sweep, then as ``export`` writes a sweep (iy, then ix), then
+    """The named columns of the runs with the given sweep id, status and regime, of a
+    sweep with this tag (None: any), in grid order: by sweep, then as ``export`` writes a sweep (iy, then ix), then
     by initial condition. None if ``sweep`` names no stored sweep (checked in the same
     snapshot as the runs are read).
 
@@ -39,6 +40,8 @@ def run_rows(db: Database, columns: Sequence[str], *, sweep: int | None = None,
         query = query.where(Run.status == status)
     if regime is not None:
         query = query.where(Run.regime == regime, Run.status == "done")
+    if tag is not None:
+        query = query.where(Run.sweep_id.in_(tagged(tag)))
     query = query.order_by(Run.sweep_id, Run.iy, Run.ix, Run.ic)
     # a Core connection, not a Session: the ORM's row loading took as long as the read
     with db.read() as conn:  # one transaction: one snapshot for both reads

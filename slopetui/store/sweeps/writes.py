@@ -17,7 +17,8 @@ Every reference to a deleted run is cleared by explicit statements, not left to 
 schema's ``ON DELETE SET NULL`` alone (which needs SQLite's foreign_keys pragma on every
 connection that deletes): a run of another sweep that copied its result from one of them
 keeps the result and loses the pointer (``cached_from`` NULL), and so do a worker's
-``run_id``, a continuation's ``from_run`` and a kept initial state's ``source_run``.
+``run_id``, a continuation's ``from_run`` and a kept initial state's ``source_run``; the
+runs' marks and the sweep's tags go with them.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from sqlalchemy import delete, insert, select, update
 from sqlalchemy.orm import Session
 
 from slopetui.store.database import Database, rows_changed
-from slopetui.store.models import Continuation, InitialState, Run, Sweep, Worker
+from slopetui.store.models import Continuation, InitialState, Mark, Run, Sweep, SweepTag, Worker
 from slopetui.store.runs.cached_results import finished_results, result_of
 
 #: A run's columns by name, as ``insert(Run)`` takes them.
@@ -165,6 +166,8 @@ def delete_sweep(db: Database, sweep_id: int) -> Deletion | None:
                   .values(from_run=None), execution_options=bulk)
         s.execute(update(InitialState).where(InitialState.source_run.in_(doomed))
                   .values(source_run=None), execution_options=bulk)
+        s.execute(delete(Mark).where(Mark.run_id.in_(doomed)), execution_options=bulk)
+        s.execute(delete(SweepTag).where(SweepTag.sweep_id == sweep_id), execution_options=bulk)
         runs = rows_changed(s.execute(delete(Run).where(Run.sweep_id == sweep_id),
                                       execution_options=bulk))
         s.delete(sweep)

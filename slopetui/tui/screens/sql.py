@@ -9,9 +9,10 @@ A query runs through ``slopetui.store.read_query.ReadQuery`` and
 ``slopetui.sql_results.run_query`` (``fetch``, the code ``slopetui sql`` runs: the same
 default time limit, the same rows, the same error lines), which says how it ended: done,
 failed or halted. The screen cancels it when a new query starts, on ctrl+g, and when the
-screen is left or closed. The history file is ``slopetui.sql_history``'s; the schema comes
-from ``slopetui.store.catalog``. This module keeps the widgets, their events and how values
-look in a cell.
+screen is left or closed. ctrl+s (or the palette, as CSV or JSON) saves the rows shown
+through ``slopetui.sql_files``, the writer of ``slopetui sql --out``. The history file is
+``slopetui.sql_history``'s; the schema comes from ``slopetui.store.catalog``. This module
+keeps the widgets, their events and how values look in a cell.
 """
 
 from __future__ import annotations
@@ -43,6 +44,7 @@ from textual.worker import get_current_worker
 from slopetui import sql_history
 from slopetui.display_text import terminal_safe, terminal_safe_lines
 from slopetui.duration_text import duration_text
+from slopetui.sql_files import save_rows, unused_results_path
 from slopetui.sql_history import History
 from slopetui.sql_results import (
     QueryDone,
@@ -54,6 +56,7 @@ from slopetui.sql_results import (
 )
 from slopetui.store.catalog import Column, tables_and_columns
 from slopetui.store.read_query import DEFAULT_TIMEOUT_S, ReadQuery
+from slopetui.tui.figure_writing import ready_folder
 from slopetui.tui.messages import StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.widgets.query_editor import QueryEditor
@@ -147,6 +150,9 @@ class SqlScreen(SlopeScreen[None]):
         Binding("ctrl+l", "clear", "Clear", id="sql.clear", show=False),
         # Not in the footer (it only matters while a query runs): the status line names it.
         Binding("ctrl+g", "cancel_query", "Cancel query", show=False, id="sql.cancel"),
+        # Out of the footer for the same room: the help lists it, and the palette offers
+        # CSV and JSON.
+        Binding("ctrl+s", "save_results('csv')", "Save results", show=False, id="sql.save"),
     ]
 
     #: Time limit of a query (s; None for none): the same default as ``slopetui sql``.
@@ -162,6 +168,8 @@ class SqlScreen(SlopeScreen[None]):
         # The query running now (set and read on the UI thread only).
         self._query: ReadQuery | None = None
         self._status = ""
+        # The rows in the table, as the database gave them: what ctrl+s saves.
+        self.results: QueryDone | None = None
 
     def compose(self) -> ComposeResult:
         yield Header()
@@ -284,6 +292,7 @@ class SqlScreen(SlopeScreen[None]):
             return
         self._query = None
         self.query_one("#sql-results", DataTable).clear(columns=True)
+        self.results = None
         outcome = finished.outcome
         if isinstance(outcome, QueryDone):
             self.show_results(outcome, finished.cells)
@@ -302,6 +311,7 @@ class SqlScreen(SlopeScreen[None]):
         table = self.query_one("#sql-results", DataTable)
         table.add_columns(*(Text(terminal_safe(c)) for c in done.columns))
         table.add_rows(cells)
+        self.results = done
         noun = "row" if done.total == 1 else "rows"
         shown = f" (first {len(cells)} shown)" if done.total > len(cells) else ""
         if done.count_stopped:
@@ -394,7 +404,35 @@ class SqlScreen(SlopeScreen[None]):
         editor.clear()
         editor.focus()
         self.query_one("#sql-results", DataTable).clear(columns=True)
+        self.results = None
         self.set_status("", "-info")
+
+    def action_save_results(self, fmt: str = "csv") -> None:
+        """Write the rows shown, as the database gave them, to a new file (CSV or JSON,
+        slopetui.sql_files) in the folder figures go to, off the UI thread; the notice
+        names the path."""
+        done = self.results
+        if done is None:
+            self.app.notify("nothing to save: run a query that returns rows first")
+            return
+        folder = self.app.figure_folder
+
+        def save() -> tuple[Path, int]:
+            path = unused_results_path(ready_folder(folder), fmt)
+            return path, save_rows(path, done.columns, done.rows)
+
+        def saved(written: tuple[Path, int]) -> None:
+            path, n = written
+            part = (f" (the first {n} of {done.total}, as shown; slopetui sql --out FILE "
+                    "--limit 0 saves all)" if done.total > n else "")
+            self.app.notify_text(f"{n} row{'s' if n != 1 else ''} saved to {path}{part}",
+                                 timeout=10)
+
+        self.app.background.start(
+            save, group="sql-save", done=saved,
+            failed=lambda exc: self.app.notify_text(
+                f"could not save the results: {type(exc).__name__}: {exc}", severity="error",
+                timeout=10))
 
     # -- helpers --
 

@@ -55,6 +55,7 @@ from slopetui.tui import garbage
 from slopetui.tui.messages import RunChosen, RunMarked, StoreFailed
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.screens.confirm import ask_then_control
+from slopetui.tui.screens.sweep_labels import edit_labels
 from slopetui.tui.widgets.bifurcation_view import BifurcationView
 from slopetui.tui.widgets.phase_grid import GridData, PhaseGrid, cell_label
 from slopetui.tui.widgets.steady_footer import SteadyFooter
@@ -136,6 +137,9 @@ class SweepsScreen(SlopeScreen[None]):
                 tooltip="Move to the diagram: arrows move, enter opens a run, m marks it"),
         Binding("x", "delete", "Delete sweep", id="sweeps.delete", show=False,
                 tooltip=EXPLAINED["delete"]),
+        Binding("e", "labels", "Name, tags, note", id="sweeps.labels", show=False,
+                tooltip="Rename the selected sweep, tag it, write its note "
+                        "(as slopetui rename, tag, note)"),
         Binding("escape", "focus_list", "Sweep list", show=False),
     ]
 
@@ -447,6 +451,14 @@ class SweepsScreen(SlopeScreen[None]):
         p = self._selected_sweep()
         if p is not None:
             ask_then_control(self.app, "cancel", p)
+
+    def action_labels(self) -> None:
+        """The selected sweep's name, tags and note, in a modal (screens.sweep_labels)."""
+        p = self._selected_sweep()
+        if p is None:
+            self.notify("no sweep selected", severity="warning")
+        else:
+            edit_labels(self.app, p.id)
 
     def action_delete(self) -> None:
         """Delete the selected sweep and its runs, once the modal says yes."""

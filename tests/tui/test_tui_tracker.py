@@ -1,0 +1,114 @@
+"""What the application keeps for a tracker (Pilot, 80x24): marks that survive a restart,
+a sweep renamed, tagged and annotated with e, checked while typing, and two sweeps' specs
+side by side from the palette."""
+
+from __future__ import annotations
+
+from textual.widgets import Button, DataTable, Input, Static, TextArea
+
+from slopetui.store.database import Database
+from slopetui.store.runs.marks import marked_runs
+from slopetui.sweeps import annotations
+from slopetui.tui.screens.spec_compare import SpecCompareScreen
+from slopetui.tui.screens.sweep_labels import SweepLabelsScreen
+from slopetui.tui.widgets.phase_grid import PhaseGrid
+from tests.support import finish_all, submit_quick
+from tests.tui.support import run, wait_until
+from tests.tui.test_tui_app import app_for, plane
+from tests.tui.test_tui_keyboard import open_palette_and_choose
+
+
+def test_marks_survive_a_restart(db: Database) -> None:
+    plane(db, nx=4, ny=2)
+    finish_all(db)
+    marked: list[int] = []
+
+    async def first_session() -> None:
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            grid = app.query_one(PhaseGrid)
+            await wait_until(pilot, lambda: grid.data is not None)
+            await pilot.press("d", "m")
+            marked.append(grid.cursor_run()[0])
+            await pilot.press("right", "m", "right", "m", "left", "m")  # the second unmarked
+            marked.append(grid.cursor_run()[0] + 1)
+            await wait_until(pilot, lambda: marked_runs(db) == tuple(marked))
+            assert app.marked == marked
+
+    async def second_session() -> None:
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await wait_until(pilot, lambda: app.marked == marked)
+            await pilot.press("v")  # two marked: the compare screen opens on them
+            await wait_until(pilot, lambda: type(app.screen).__name__ == "CompareScreen")
+            assert app.screen.run_ids == marked
+
+    run(first_session)
+    run(second_session)
+
+
+def test_e_renames_tags_and_annotates_the_selected_sweep(db: Database) -> None:
+    sweep = plane(db, nx=3, ny=2)
+    annotations.add_tags(db, sweep, ["old"])
+
+    async def scenario() -> None:
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await wait_until(pilot, lambda: app.db is not None and app.query_one(PhaseGrid).data
+                             is not None)
+            await pilot.press("e")
+            await wait_until(pilot, lambda: isinstance(app.screen, SweepLabelsScreen))
+            modal = app.screen
+            assert modal.query_one("#labels-tags", Input).value == "old"
+            await pilot.pause()
+            assert modal.query_one("#labels-save", Button).region.bottom <= 24  # at 80x24 too
+            modal.query_one("#labels-name", Input).value = "the (k, tau) plane"
+            tags = modal.query_one("#labels-tags", Input)
+            tags.value = "paper bad,tag"
+            await pilot.pause()
+            error = str(modal.query_one("#labels-error", Static).render())
+            assert error.startswith("tags: 'bad,tag' is not a tag: allowed 1 to 32 letters")
+            assert modal.query_one("#labels-save", Button).disabled
+            await pilot.press("ctrl+s")  # refused while a field is not allowed
+            assert app.screen is modal
+            tags.value = "Paper fig4"
+            modal.query_one("#labels-note", TextArea).text = "coarse first pass\nredo at dt/2"
+            await pilot.pause()
+            assert str(modal.query_one("#labels-error", Static).render()) == ""
+            await pilot.press("ctrl+s")
+            await wait_until(pilot, lambda: annotations.labels(db, sweep).tags == ("fig4", "paper"))
+            saved = annotations.labels(db, sweep)
+            assert (saved.name, saved.note) == ("the (k, tau) plane", "coarse first pass\nredo at dt/2")
+            await wait_until(pilot, lambda: any(n.message.startswith(f"sweep {sweep} saved")
+                                                for n in app._notifications))
+
+    run(scenario)
+
+
+def test_the_palette_compares_two_sweeps_specs(db: Database) -> None:
+    first = submit_quick(db, 3).sweep_id
+    second = submit_quick(db, 4, tau=3.0).sweep_id
+
+    async def scenario() -> None:
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await wait_until(pilot, lambda: app.db is not None)
+            await open_palette_and_choose(app, pilot, f"compare sweeps {first} {second}",
+                                          f"Compare the specs of sweeps {first} and {second}")
+            await wait_until(pilot, lambda: isinstance(app.screen, SpecCompareScreen))
+            screen = app.screen
+            title = str(screen.query_one("#spec-title", Static).render())
+            assert f"2 of {len(screen.comparison.settings)} settings differ" in title
+            table = screen.query_one("#spec-table", DataTable)
+            assert table.row_count == len(screen.comparison.settings)
+            await pilot.press("d")
+            rows = [[str(c) for c in table.get_row_at(i)] for i in range(table.row_count)]
+            assert rows == [["*", "fixed.tau", "2", "3"], ["*", "x.num", "3", "4"]]
+            await pilot.press("escape")
+            assert not isinstance(app.screen, SpecCompareScreen)
+            await open_palette_and_choose(app, pilot, f"compare sweeps {first} 99",
+                                          f"Compare the specs of sweeps {first} and 99")
+            await wait_until(pilot, lambda: any("no sweep with id 99" in n.message
+                                                for n in app._notifications))
+
+    run(scenario)
