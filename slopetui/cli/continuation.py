@@ -4,58 +4,31 @@ its folds, period doublings and tori (and, from the Hopf point, its criticality)
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 import time
 from typing import TYPE_CHECKING
 
-from core.branch_start import MIN_STEP, BranchSpec, past_end, start
+from core.branch_start import MIN_STEP, past_end, start
 from core.continuation import bifurcations, criticality, walk
 from core.orbit import OrbitError
 from core.params import PARAM_NAMES, ParameterError, Params
-from core.periodic_orbit import SEED_T_END
-from slopetui.cli.arguments.continuation import MAX_STEP
 from slopetui.cli.branch_lines import print_bifurcations, print_point
-from slopetui.cli.options import float_arg, int_arg, open_db, say_queued
-from slopetui.cli.orbit import check_seed_steps, point_of
+from slopetui.cli.options import int_arg, open_db, say_queued
+from slopetui.cli.orbit import point_of
 from slopetui.json_text import json_text
 from slopetui.queue.warm_up import say_if_compiling
 from slopetui.store.queries import run_by_id
 from slopetui.sweeps.branch_records import bifurcation_record, point_record
 from slopetui.sweeps.branches import submit
+from slopetui.sweeps.continuation_request import continuation_spec
 
 if TYPE_CHECKING:
     from core.branch_start import BranchSpec
     from core.continuation import Bifurcation, BranchPoint
 
 
-def _end_value(args: argparse.Namespace, params: Params) -> float | None:
-    """--to as a number inside the parameter's own range (Params names the range)."""
-    if args.to is None:
-        return None
-    try:
-        value = float(args.to)
-    except ValueError:
-        raise ParameterError("to", args.to, "a finite number") from None
-    if not math.isfinite(value):
-        raise ParameterError("to", args.to, "a finite number")
-    params.with_(**{args.param: value})  # raises ParameterError naming the parameter
-    return value
-
-
-def _not_the_start(args: argparse.Namespace, params: Params, end: float | None) -> None:
-    """--to other than where the branch starts (the simulated orbit's or the stored run's
-    parameter; the Hopf point is not known yet): before, a branch from there to there
-    took one step past it and exited 0."""
-    here = getattr(params, args.param)
-    if end is not None and not args.from_hopf and end == here:
-        raise ParameterError("to", args.to, f"a value other than the start, {args.param} = {here:g}")
-
-
 def _check(args: argparse.Namespace) -> None:
-    """--points, --max-step and --from-run as numbers (one line naming a bad one)."""
-    args.points = int_arg("points", args.points, 2, 5000)
-    args.max_step = float_arg("max-step", args.max_step, 0, MAX_STEP, above=True)
+    """--from-run as a run id (one line naming a bad one)."""
     if args.from_run is not None:
         args.from_run = int_arg("from-run", args.from_run, 1, note=" (a run id)")
 
@@ -85,17 +58,14 @@ def _submit(args: argparse.Namespace, spec: BranchSpec) -> int:
 def handle(args: argparse.Namespace) -> int:
     try:
         params, dt = point_of(args)
-        end = _end_value(args, params)
         _check(args)
         if args.from_run is not None:
             params = _params_of_run(args, params)
-        _not_the_start(args, params, end)
-        if not args.from_hopf:  # a simulated orbit's seed, held in memory
-            check_seed_steps(params, dt, SEED_T_END)
+        spec = continuation_spec(params, dt, args.param, args.from_hopf, args.to, args.points,
+                                 args.max_step)
     except ParameterError as exc:
         print(f"slopetui continue: error: {exc}", file=sys.stderr)
         return 2
-    spec = BranchSpec(params, args.param, dt, args.from_hopf, end, args.points, args.max_step)
     if args.submit:
         return _submit(args, spec)
     say_if_compiling("continue")

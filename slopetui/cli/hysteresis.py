@@ -13,68 +13,26 @@ from collections.abc import Mapping, Sequence
 from dataclasses import asdict
 from typing import TYPE_CHECKING, Any
 
-from core.params import ParameterError, Params
-from core.solve import MAX_RUN_BYTES, MAX_STEPS
+from core.params import ParameterError
 from slopetui.cli.options import UsageError, int_arg, open_db, say_queued
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
 from slopetui.plots.hysteresis_plot import render_hysteresis
-from slopetui.queue.hysteresis_jobs import TOL_MAX, transition_fields
+from slopetui.queue.hysteresis_jobs import transition_fields
 from slopetui.queue.warm_up import say_if_compiling
+from slopetui.sweeps.hysteresis_request import hysteresis_spec
 from slopetui.sweeps.hysteresis_runs import HysteresisSpec, hysteresis_of, submit
 
 if TYPE_CHECKING:
     from core.hysteresis import WarmPoint
     from slopetui.sweeps.hysteresis_runs import StoredHysteresis
 
-#: Bytes a step of the window takes: core.hysteresis.settle keeps the window's five rows
-#: of float64, every step.
-WINDOW_STEP_BYTES = 5 * 8
-
-
-def _number(flag: str, text: str, params: Params | None = None, name: str = "") -> float:
-    """A finite number; with ``params``, a value of the parameter ``name`` (Params names
-    its range)."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise ParameterError(flag, text, "a finite number") from None
-    if not math.isfinite(value):
-        raise ParameterError(flag, text, "a finite number")
-    if params is not None:
-        params.with_(**{name: value})  # raises ParameterError naming the parameter's range
-    return value
-
-
-def _checked(args: argparse.Namespace
-             ) -> tuple[Params, float, float, float, float, float, float]:
-    from core.hysteresis import T_SETTLE, TOL, WINDOW  # numba: see _compute_or_submit
-    from slopetui.cli.orbit import point_of
+def _checked(args: argparse.Namespace) -> HysteresisSpec:
+    from slopetui.cli.orbit import point_of  # numba: see _compute_or_submit
 
     params, dt = point_of(args)
-    start = _number("from", args.start, params, args.param)
-    stop = _number("to", args.stop, params, args.param)
-    if start == stop:
-        raise ParameterError("to", args.stop, f"a value other than --from = {start:g}")
-    args.points = int_arg("points", args.points, 2, 2000)
-    t_settle = T_SETTLE if args.t_settle is None else _number("t-settle", args.t_settle)
-    window = min(WINDOW, t_settle) if args.window is None else _number("window", args.window)
-    if not (math.isfinite(t_settle) and t_settle >= 10 * params.tau and t_settle <= 1e6):
-        raise ParameterError("t-settle", t_settle, f"a number from 10 tau = {10 * params.tau:g} "
-                                                   "to 1e6")
-    if t_settle / dt > MAX_STEPS:  # a run's limit (core.solve), per point
-        raise ParameterError("t-settle", t_settle, f"at most {MAX_STEPS:.0e} steps of dt = "
-                                                   f"{dt:g}, {MAX_STEPS * dt:g}")
-    if not (math.isfinite(window) and 10 * dt <= window <= t_settle):
-        raise ParameterError("window", window, f"a number from 10 dt to --t-settle = {t_settle:g}")
-    if window / dt * WINDOW_STEP_BYTES > MAX_RUN_BYTES:  # held in memory, as a run's
-        high = MAX_RUN_BYTES / WINDOW_STEP_BYTES * dt
-        raise ParameterError("window", window, f"at most {high:g} ({MAX_RUN_BYTES / 1024**3:g} "
-                                               f"GiB of samples at dt = {dt:g})")
-    tol = TOL if args.tol is None else _number("tol", args.tol)
-    if not 0.0 < tol < TOL_MAX:
-        raise ParameterError("tol", tol, f"a number above 0 and below {TOL_MAX:g}")
-    return params, dt, start, stop, t_settle, window, tol
+    return hysteresis_spec(params, dt, args.param, args.start, args.stop, args.points,
+                           args.t_settle, args.window, args.tol)
 
 
 def fields(pt: WarmPoint) -> dict[str, Any]:
@@ -130,10 +88,8 @@ def _plot(param: str, up: Sequence[Mapping[str, Any]], down: Sequence[Mapping[st
                             height=max(size.lines - 2, 12)))
 
 
-def _submit(args: argparse.Namespace, params: Params, dt: float, start: float, stop: float,
-            t_settle: float, window: float, tol: float) -> int:
-    sid = submit(open_db(args), HysteresisSpec(params, args.param, start, stop, args.points,
-                                               dt, t_settle, window, tol))
+def _submit(args: argparse.Namespace, spec: HysteresisSpec) -> int:
+    sid = submit(open_db(args), spec)
     return say_queued(args.json, "hysteresis sweep", sid, f"slopetui hysteresis --show {sid}")
 
 
@@ -190,12 +146,14 @@ def _compute_or_submit(args: argparse.Namespace) -> int:
     from core.hysteresis import hysteresis
 
     try:
-        params, dt, start, stop, t_settle, window, tol = _checked(args)
+        spec = _checked(args)
     except ParameterError as exc:
         print(f"slopetui hysteresis: error: {exc}", file=sys.stderr)
         return 2
     if args.submit:
-        return _submit(args, params, dt, start, stop, t_settle, window, tol)
+        return _submit(args, spec)
+    params, dt, start, stop = spec.params, spec.dt, spec.start, spec.stop
+    t_settle, window, tol, points = spec.t_settle, spec.window, spec.tol, spec.n_points
     say_if_compiling("hysteresis")
     t0 = time.process_time()
 
@@ -203,8 +161,7 @@ def _compute_or_submit(args: argparse.Namespace) -> int:
         if not args.json:
             print(_line(direction, args.param, fields(pt)), flush=True)
 
-    result = hysteresis(params, args.param, start, stop, args.points, dt, t_settle, window, say,
-                        tol)
+    result = hysteresis(params, args.param, start, stop, points, dt, t_settle, window, say, tol)
     took = time.process_time() - t0
     up, down = [fields(p) for p in result.up], [fields(p) for p in result.down]
     found = {**transition_fields("onset_up", result.onset),
@@ -215,7 +172,7 @@ def _compute_or_submit(args: argparse.Namespace) -> int:
                          "dt": dt, "t_settle": t_settle, "window": window, "tol": tol,
                          "runtime_s": took}))
         return 0
-    _changes(args.param, up, down, found, tol, abs(stop - start) / (args.points - 1))
+    _changes(args.param, up, down, found, tol, abs(stop - start) / (points - 1))
     print(f"{len(up) + len(down)} points, {took:.1f} s")
     if args.plot:
         _plot(args.param, up, down, f"hysteresis in {args.param}")

@@ -3,17 +3,17 @@
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 import time
 from typing import TYPE_CHECKING
 
 from core.classify import maxima_words
+from core.orbit import OrbitError
 from core.params import PARAM_NAMES, ParameterError, Params
-from core.periodic_orbit import SEED_SPAN, OrbitError, find_orbit
-from slopetui.cli.arguments.orbit import MAX_SEED_STEPS, MIN_T_SEED
 from slopetui.json_text import json_text
 from slopetui.queue.warm_up import say_if_compiling
+from slopetui.sweeps import orbit_point
+from slopetui.sweeps.orbit_point import seed_length
 
 if TYPE_CHECKING:
     from core.periodic_orbit import Orbit
@@ -24,44 +24,7 @@ SHOWN = 10
 
 def point_of(args: argparse.Namespace) -> tuple[Params, float]:
     """The validated parameters and step; raises ParameterError naming the field."""
-    params = Params(**{n: getattr(args, n) for n in PARAM_NAMES if getattr(args, n) is not None})
-    if params.tau <= 0.0:  # before dt, whose range it sets
-        raise ParameterError("tau", params.tau, "> 0 (periodic orbits of this model need a delay)")
-    try:
-        dt = float(args.dt)
-    except ValueError:
-        raise ParameterError("dt", args.dt, "a number in (0, tau]") from None
-    if not (math.isfinite(dt) and 0 < dt <= params.tau):
-        raise ParameterError("dt", args.dt, f"a number in (0, tau = {params.tau:g}]")
-    if params.tau / dt > 1e5:
-        raise ParameterError("dt", args.dt, f"at least tau / 1e5 = {params.tau / 1e5:g} "
-                                            "(the orbit's state holds 2 tau / dt numbers)")
-    return params, dt
-
-
-def seed_length(text: str, params: Params, dt: float) -> float:
-    """--t-seed as a number the seed simulation can run; ParameterError naming it, or dt
-    when even the shortest seed is too many steps of it (check_seed_steps)."""
-    check_seed_steps(params, dt, MIN_T_SEED)
-    high = MAX_SEED_STEPS * dt
-    allowed = f"a number from {MIN_T_SEED:g} to {high:g} ({MAX_SEED_STEPS:g} steps of dt = {dt:g})"
-    try:
-        value = float(text)
-    except ValueError:
-        raise ParameterError("t-seed", text, allowed) from None
-    if not (math.isfinite(value) and MIN_T_SEED <= value <= high):  # -5: a ValueError, inf:
-        raise ParameterError("t-seed", text, allowed)               # an OverflowError before
-    return value
-
-
-def check_seed_steps(params: Params, dt: float, t_seed: float) -> None:
-    """A ParameterError naming dt when the seed simulation (t_seed, and at least 4 tau +
-    600: core.periodic_orbit.find_orbit) would take more than MAX_SEED_STEPS of it."""
-    length = max(t_seed, 4 * params.tau + SEED_SPAN)
-    if length > MAX_SEED_STEPS * dt:
-        raise ParameterError("dt", dt, f"at least {length:g} / {MAX_SEED_STEPS:g} = "
-                                       f"{length / MAX_SEED_STEPS:g} (the seed simulation of "
-                                       f"{length:g} time units is held in memory)")
+    return orbit_point.point_of(vars(args))
 
 
 def record(o: Orbit, runtime_s: float) -> dict[str, object]:
@@ -116,7 +79,7 @@ def handle(args: argparse.Namespace) -> int:
     say_if_compiling("orbit")
     t0 = time.process_time()
     try:
-        orbit = find_orbit(params, dt, t_seed)
+        orbit = orbit_point.compute_orbit(params, dt, t_seed)
     except OrbitError as exc:
         print(f"slopetui orbit: no orbit: {exc}", file=sys.stderr)
         return 1

@@ -4,16 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from core.params import PARAM_NAMES
 from slopetui.cli.arguments.orbit import add_point_options
-
-#: Parameters a branch can follow: every parameter of the model but delta, which only
-#: places the seed (eq. 19), not the orbit.
-CONTINUABLE = tuple(n for n in PARAM_NAMES if n != "delta")
-
-#: The largest --max-step: a step along the branch in (parameter, period) space; a larger
-#: one is no request a continuation can honour (its steps adapt far below it).
-MAX_STEP = 1e3
+from slopetui.sweeps.continuation_request import CONTINUABLE, MAX_STEP
 
 
 def declare(sub: argparse._SubParsersAction) -> None:

@@ -6,15 +6,8 @@ import argparse
 
 from core.params import PARAM_NAMES
 from slopetui.cli.arguments.run import PARAM_HELP, accept_negative_numbers
+from slopetui.sweeps.orbit_point import MAX_SEED_STEPS, MIN_T_SEED
 
-#: The seed simulation's shortest length: returns are looked for in its second half,
-#: which must hold a few oscillations (the basic period is about 10 time units); below
-#: it the search read an empty window (a ValueError from numpy).
-MIN_T_SEED = 100.0
-
-#: Its most steps: the seed's trajectory is held whole, 5 float64 rows (40 bytes a step),
-#: so 5e7 steps take 2 GB, as a run may (core.solve); beyond, MemoryError or hours.
-MAX_SEED_STEPS = 5e7
 
 def add_point_options(p: argparse.ArgumentParser) -> None:
     """The parameter flags of ``run`` (--k, --tau, ...) and the orbit's step."""
