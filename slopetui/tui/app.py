@@ -36,6 +36,7 @@ from textual.widget import AwaitMount
 from textual.widgets import Select
 from textual.worker import Worker
 
+from core.params import Params
 from slopetui.display_text import terminal_safe_lines
 from slopetui.store.database import Database
 from slopetui.store.open import open_store
@@ -45,6 +46,8 @@ from slopetui.sweeps.fold_overlay import Curve
 from slopetui.tui import figure_writing
 from slopetui.tui.background import BackgroundActions
 from slopetui.tui.commands import SlopeCommands
+from slopetui.tui.screens import analyses
+from slopetui.tui.screens.analysis_form import AnalysisFormScreen
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.screens.branches import BranchesScreen
 from slopetui.tui.screens.confirm import ConfirmScreen
@@ -289,7 +292,7 @@ class SlopeApp(App[None], inherit_bindings=False):
         """Quit; on a screen that holds unsaved input (the new-sweep form, ``unsaved``)
         ask first, naming what would be lost: ctrl+q threw a filled form away at once. A
         second ctrl+q, on the question, quits."""
-        unsaved = getattr(self.screen, "unsaved", None)
+        unsaved = getattr(self.screen, "unsaved", None)  # the new-sweep and analysis forms
         lost = unsaved() if callable(unsaved) else None
         if lost is None:
             self.exit()
@@ -308,6 +311,34 @@ class SlopeApp(App[None], inherit_bindings=False):
         await self.push_screen(screen)  # mounted: its fields exist
         if preset is not None:
             screen.query_one("#preset", Select).value = preset
+
+    # -- the analyses (slopetui.tui.screens.analyses) --
+
+    def analysis_point(self) -> tuple[Params, str]:
+        """Where the analyses open: the point of the screen in view (the diagram cursor's,
+        a run's: its ``analysis_point``), else the paper's defaults; and a word on which."""
+        for screen in reversed(self.screen_stack):
+            point_of = getattr(screen, "analysis_point", None)
+            found = point_of() if callable(point_of) else None
+            if found is not None:
+                return found
+        return Params(), "the paper's defaults"
+
+    def open_analysis(self, kind: str) -> None:
+        """The form of one analysis: "continuation", "hysteresis" or "orbit", at
+        analysis_point()."""
+        at, where = self.analysis_point()
+        form = {"continuation": analyses.continuation, "hysteresis": analyses.hysteresis,
+                "orbit": analyses.orbit}[kind](at)
+        self.push_screen(AnalysisFormScreen(form))
+        self.notify_text(f"the form opens at {where}", timeout=4)
+
+    def action_open_analysis(self, kind: str) -> None:
+        self.open_analysis(kind)
+
+    def certified_rerun(self, run_id: int) -> None:
+        """The form that queues run ``run_id`` again with the certified stop."""
+        self.push_screen(AnalysisFormScreen(analyses.rerun(self.db, run_id)))
 
     def open_run(self, run_id: int) -> None:
         from slopetui.tui.screens.run_detail import RunDetailScreen  # numba: module docstring

@@ -40,6 +40,21 @@ SCREEN_NAMES = {"sweeps": "Sweeps", "queue": "Queue and workers", "sql": "SQL co
 #: Controls of a sweep, as the palette and ``slopetui pause|resume|cancel`` name them.
 CONTROLS = ("pause", "resume", "cancel", "delete")
 
+#: The analyses' forms (SlopeApp.open_analysis): kind, what the palette calls it, and
+#: where it opens and what it does.
+ANALYSES = (
+    ("continuation", "continuation of periodic orbits",
+     "at the diagram cursor's or a run's point; queued for the pool (slopetui continue; "
+     "Branches screen key c)"),
+    ("hysteresis", "hysteresis sweep",
+     "up and down one parameter around the cursor's or a run's point; queued for the pool "
+     "(slopetui hysteresis; Branches screen key h)"),
+    ("orbit", "periodic orbit at the cursor's point",
+     "its period, amplitude and Floquet multipliers, computed here (slopetui orbit; key o "
+     "in a run's detail)"),
+)
+
+RERUN = re.compile(r"(?:certified\s+)?re-?run\s+(?:run\s+)?#?(\d+)", re.IGNORECASE)
 OPEN_RUN = re.compile(r"(?:open\s+)?run\s+#?(\d+)", re.IGNORECASE)
 CONTROL_SWEEP = re.compile(rf"({'|'.join(CONTROLS)})\s+sweep\s+#?(\d+)", re.IGNORECASE)
 COMPARE_SWEEPS = re.compile(r"compare\s+sweeps?\s+#?(\d+)\s*(?:,|and|with|to)?\s*#?(\d+)",
@@ -68,6 +83,13 @@ def selected_sweep(app: SlopeApp) -> int | None:
     return None
 
 
+def shown_run(screen: Screen[Any]) -> int | None:
+    """The run whose detail ``screen`` is, if it is one (duck-typed: the run detail's
+    module loads numba, kept out of the palette's imports)."""
+    run_id = getattr(screen, "run_id", None)
+    return run_id if isinstance(run_id, int) and hasattr(screen, "action_rerun") else None
+
+
 def key_of(app: SlopeApp, action: str) -> str:
     """" (key k)" for the app's binding of ``action``, "" if it has none."""
     for binding in type(app).BINDINGS:
@@ -93,6 +115,17 @@ def commands(app: SlopeApp, screen: Screen[Any]) -> list[Command]:
                       f"preset {p.key}: the form filled with the paper's panel, to change "
                       "before submitting", partial(app.new_sweep, p.key))
               for p in PRESETS]
+    found += [Command(f"New {title}", f"the form, {help}", partial(app.open_analysis, kind))
+              for kind, title, help in ANALYSES]
+    run = shown_run(screen)
+    if run is not None:
+        found.append(Command(f"Certified re-run of run {run} (shown)",
+                             "queue it again with stop = certified, a one-run sweep (key u)",
+                             partial(app.certified_rerun, run)))
+    found.append(Command("Certified re-run of a run by id",
+                         "type rerun run and its id, e.g. rerun run 12",
+                         partial(app.notify, "type rerun run and the run's id in the palette, "
+                                             "e.g. rerun run 12")))
     for mode in app.MODES:
         found.append(Command(f"Go to {SCREEN_NAMES.get(mode, mode)}", "screen"
                              + key_of(app, f"switch_mode('{mode}')"),
@@ -141,6 +174,11 @@ def typed_commands(app: SlopeApp, query: str) -> Iterator[Command]:
     """The commands a query names with an id: "run 12", "open run 12", "pause sweep 3",
     "export sweep 3 csv", "compare sweeps 3 5"."""
     query = query.strip()
+    if match := RERUN.fullmatch(query):
+        run_id = int(match[1])
+        yield Command(f"Certified re-run of run {run_id}",
+                      "queue it again with stop = certified, a one-run sweep",
+                      partial(app.certified_rerun, run_id))
     if match := OPEN_RUN.fullmatch(query):
         run_id = int(match[1])
         yield Command(f"Open run {run_id}", "its detail: time series, phase plane, spectrum",

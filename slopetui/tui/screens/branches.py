@@ -12,6 +12,7 @@ from typing import Any
 from rich.text import Text
 from textual import events, on, work
 from textual.app import ComposeResult
+from textual.binding import Binding
 from textual.message import Message
 from textual.widgets import DataTable, Header, Static
 
@@ -35,9 +36,8 @@ from slopetui.tui.widgets.steady_footer import SteadyFooter
 
 #: The bifurcations column is cut to this many characters, so the table fits 80 columns.
 FOUND_WIDTH = 24
-EMPTY_HINT = ("No continuations yet: queue one with slopetui continue --param k --from-hopf "
-              "--submit (or a sweep with slopetui hysteresis ... --submit); the workers "
-              "compute it point by point.")
+EMPTY_HINT = ("No continuations yet: c queues one (from the Hopf point or an orbit), h a "
+              "hysteresis sweep; the pool computes them point by point.")
 #: What is highlighted: ("branch", continuation id) or ("hysteresis", sweep id).
 Selection = tuple[str, int]
 #: The table of each kind of row.
@@ -191,6 +191,15 @@ class BranchesScreen(SlopeScreen[None]):
         chosen: StoredBranch | StoredHysteresis | None
         #: Bifurcations of each finished continuation by id (the table's column).
         found: dict[int, list[BifurcationRecord]]
+
+    BINDINGS = [
+        Binding("c", "app.open_analysis('continuation')", "New continuation",
+                id="branches.continuation",
+                tooltip="The form of a continuation of orbits (slopetui continue --submit)"),
+        Binding("h", "app.open_analysis('hysteresis')", "New hysteresis",
+                id="branches.hysteresis",
+                tooltip="The form of a hysteresis sweep (slopetui hysteresis --submit)"),
+    ]
 
     def __init__(self) -> None:
         super().__init__()

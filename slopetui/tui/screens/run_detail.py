@@ -50,7 +50,7 @@ from textual.widgets import Header, Static, TabbedContent, TabPane
 from textual.worker import get_current_worker
 
 from core.jit_cache import source_digest
-from core.params import ParameterError, Params
+from core.params import PARAM_NAMES, ParameterError, Params
 from core.result_fields import DETAIL_FIELDS, ResultField
 from core.solve import SolverSettings
 from slopetui.display_text import terminal_safe_lines
@@ -309,6 +309,10 @@ class RunDetailScreen(SlopeScreen[None]):
         Binding("z", "zoom", "Zoom", id="run_detail.zoom"),
         Binding("f", "figure", "Figure", id="run_detail.figure"),
         Binding("m", "mark", "Mark", id="run_detail.mark"),
+        Binding("u", "rerun", "Certified re-run", id="run_detail.rerun", show=False,
+                tooltip="Queue this run again with stop = certified (a one-run sweep)"),
+        Binding("o", "orbit", "Orbit", id="run_detail.orbit", show=False,
+                tooltip="The periodic orbit at this run's point, with its multipliers"),
         # the tabs are on screen and clickable: their keys stay out of the footer (80 columns)
         Binding("t", f"show_tab('{TAB_TIME}')", "Time", id="run_detail.tab_time", show=False),
         Binding("p", f"show_tab('{TAB_PHASE}')", "Phase", id="run_detail.tab_phase",
@@ -427,6 +431,22 @@ class RunDetailScreen(SlopeScreen[None]):
         self._status(f"recomputation failed: {message.cause}", "error")
 
     # -- actions ---------------------------------------------------------------------------
+
+    def analysis_point(self) -> tuple[Params, str] | None:
+        """Where an analysis opened from here starts (SlopeApp.analysis_point): this run's
+        point; None until it is read."""
+        run = self.run
+        if run is None:
+            return None
+        return Params(**{n: getattr(run, n) for n in PARAM_NAMES}), f"run {run.id}'s point"
+
+    def action_rerun(self) -> None:
+        """The form that queues this run again with the certified stop."""
+        self.app.certified_rerun(self.run_id)
+
+    def action_orbit(self) -> None:
+        """The orbit form at this run's point."""
+        self.app.open_analysis("orbit")
 
     def action_back(self) -> None:
         self.dismiss(None)

@@ -41,6 +41,7 @@ from textual.message import Message
 from textual.widgets import ContentSwitcher, DataTable, Header, Static
 from textual.worker import get_current_worker
 
+from core.params import Params
 from slopetui.display_text import terminal_safe
 from slopetui.duration_text import duration_text
 from slopetui.sweeps import fold_overlay
@@ -414,6 +415,21 @@ class SweepsScreen(SlopeScreen[None]):
     def _zoomed(self, message: PhaseGrid.Zoomed) -> None:
         # at full resolution the list gives its lines to the diagram (slopetui.tcss)
         self.set_class(message.full, "-zoomed")
+
+    def analysis_point(self) -> tuple[Params, str] | None:
+        """Where an analysis opened from here starts (SlopeApp.analysis_point): the phase
+        diagram cursor's point (the sweep's fixed values, the cursor's x and y), else the
+        selected sweep's fixed values; None with no sweep on show."""
+        shown = self._shown
+        if shown is None:
+            return None
+        spec = shown.spec
+        at = self.query_one(PhaseGrid).cursor_run() if spec.y is not None else None
+        if at is None or spec.y is None:
+            return spec.base, f"sweep {shown.id}'s fixed values"
+        _run_id, x, y, _label = at
+        return (spec.base.with_(**{spec.x.param: x, spec.y.param: y}),
+                f"the cursor's point, {spec.x.param} = {x:g}, {spec.y.param} = {y:g}")
 
     @on(RunChosen)
     def _open_run(self, message: RunChosen) -> None:
