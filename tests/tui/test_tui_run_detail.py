@@ -140,6 +140,11 @@ def test_a_done_run_shows_its_summary_four_plots_and_the_match(db_url, done_stor
         shown = text_of(screen, "#certificate-text")
         assert shown.startswith(("certified: ", "not certified: "))
         assert ("inside the unit circle" in shown) == bool(stored_multipliers)
+        # and drawn: the circle with each multiplier on it or off it
+        circle = screen.query_one("#plot-multipliers", PlotView)
+        assert stored_multipliers, "k = 12 settles on a certified orbit"
+        assert circle.display and "|μ| = 1" in str(circle.content)
+        assert f"{len(stored_multipliers)} inside" in str(circle.content)
         await pilot.press("escape")
         await pilot.pause()
         assert not isinstance(app.screen, RunDetailScreen)

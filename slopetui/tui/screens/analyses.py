@@ -120,7 +120,7 @@ def _check_orbit(values: dict[str, str]) -> Checked:
     steps = orbit_point.seed_steps(params, dt, t_seed)
     return Checked((params, dt, t_seed),
                    f"a seed simulation of {steps:.3g} RK4 steps, then Newton-Krylov shooting on "
-                   f"a state of {2 * round(params.tau / dt):,} numbers; seconds to a minute")
+                   f"a state of {2 * round(params.tau / dt):,} numbers (2 tau / dt)")
 
 
 def orbit_text(o: Orbit) -> str:

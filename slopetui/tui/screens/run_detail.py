@@ -45,6 +45,7 @@ from dataclasses import dataclass
 from textual import events, work
 from textual.app import ComposeResult
 from textual.binding import Binding
+from textual.containers import VerticalScroll
 from textual.message import Message
 from textual.widgets import Header, Static, TabbedContent, TabPane
 from textual.worker import get_current_worker
@@ -54,6 +55,7 @@ from core.params import PARAM_NAMES, ParameterError, Params
 from core.result_fields import DETAIL_FIELDS, ResultField
 from core.solve import SolverSettings
 from slopetui.display_text import terminal_safe_lines
+from slopetui.plots.multiplier_plot import render_multipliers
 from slopetui.plots.run_plots import (
     TIME_PERIODS,
     render_lyapunov,
@@ -349,8 +351,11 @@ class RunDetailScreen(SlopeScreen[None]):
                 yield PlotView(id="plot-spectrum")
             with TabPane("λmax", id=TAB_LYAP):
                 yield PlotView(id="plot-lyap")
-            with TabPane("Certificate", id=TAB_CERT):
+            with TabPane("Certificate", id=TAB_CERT), VerticalScroll(id="certificate-pane"):
                 yield Static("", id="certificate-text", markup=False)
+                # a certified orbit's multipliers drawn against the unit circle, under
+                # their list; hidden for a run without them (a fixed point, no certificate)
+                yield PlotView(id="plot-multipliers")
         yield SteadyFooter()
 
     def on_mount(self) -> None:
@@ -504,6 +509,16 @@ class RunDetailScreen(SlopeScreen[None]):
             summary.update(summary_text(self.run, max(width, 20)))
             self.query_one("#certificate-text", Static).update(
                 certificate_text(self.run, max(width - 2, 20)))
+            self._show_multipliers(self.run)
+
+    def _show_multipliers(self, run: StoredRun) -> None:
+        plot = self.query_one("#plot-multipliers", PlotView)
+        pairs = list(run.multipliers or [])
+        plot.display = bool(pairs) and run.done
+        if plot.display:
+            title = f"run {run.id}: Floquet multipliers and |μ| = 1"
+            plot.show(lambda width, height, color: render_multipliers(
+                pairs, title=title, width=width, height=height, color=color))
 
     def _status(self, text: str, kind: str = "") -> None:
         status = self.query_one("#run-status", Static)
