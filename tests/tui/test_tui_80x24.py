@@ -127,8 +127,22 @@ def test_every_screen_shows_its_essential_text_whole(db, size):
             await pilot.press("4")
             await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen)
                              and "No continuations yet" in drawn(app))
-            missing.check(app, "slopetui continue --param k --from-hopf --submit",
-                         "point by point")
+            missing.check(app, "c queues one", "h a hysteresis sweep", "point by point",
+                         "c New continuation", "h New hysteresis")
+
+            # the analysis forms: every field, the estimate, how to start and leave
+            await pilot.press("c")
+            await wait_until(pilot, lambda: "≈ from the Hopf point" in drawn(app))
+            missing.check(app, "param k", "from hopf", "to (none)", "points 300", "tau 10",
+                         "delta 0.1", "dt 0.01", "max-step 0.5", "at most 300 points",
+                         "Queue (ctrl+s)", "^s Start", "esc Cancel")
+            await pilot.press("escape")
+            await pilot.press("h")
+            await wait_until(pilot, lambda: "≈ 42 points (up and down)" in drawn(app))
+            missing.check(app, "param k", "from 8", "to 12", "points 21", "t-settle 6000",
+                         "window 1000", "tol 0.001", "Queue (ctrl+s)")
+            await pilot.press("escape")
+            await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen))
 
             # the comparison of two runs, and the help
             await pilot.press("1")

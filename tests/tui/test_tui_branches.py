@@ -153,7 +153,9 @@ def test_no_continuations_says_how_to_queue_one(db):
             await pilot.press("4")
             await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen))
             detail = app.screen.query_one("#branch-detail")
-            await wait_until(pilot, lambda: "--submit" in str(detail.render()))
+            # the keys that open the forms, not a command line to type elsewhere
+            await wait_until(pilot, lambda: "c queues one" in str(detail.render()))
+            assert "h a hysteresis sweep" in str(detail.render())
 
     run(scenario)
 

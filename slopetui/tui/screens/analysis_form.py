@@ -130,6 +130,7 @@ class AnalysisFormScreen(SlopeScreen[None]):
 
     def on_mount(self) -> None:
         self.title = self.analysis.title
+        self.sub_title = ""  # the app's would be cut at 80 columns after the title
         self.opened = self.values()
         self.validate_form()
 
