@@ -8,8 +8,8 @@ import time
 from typing import TYPE_CHECKING
 
 from core.classify import maxima_words
-from core.orbit import OrbitError
 from core.params import PARAM_NAMES, ParameterError, Params
+from core.periodic_orbit import OrbitError, find_orbit
 from slopetui.json_text import json_text
 from slopetui.queue.warm_up import say_if_compiling
 from slopetui.sweeps import orbit_point
@@ -79,7 +79,7 @@ def handle(args: argparse.Namespace) -> int:
     say_if_compiling("orbit")
     t0 = time.process_time()
     try:
-        orbit = orbit_point.compute_orbit(params, dt, t_seed)
+        orbit = find_orbit(params, dt, t_seed)
     except OrbitError as exc:
         print(f"slopetui orbit: no orbit: {exc}", file=sys.stderr)
         return 1
