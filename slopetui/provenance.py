@@ -63,7 +63,10 @@ def engine(digest: str | None) -> dict[str, str | None]:
 
 
 def params_of(params: Any) -> dict[str, float]:
-    """The eight parameters (a, b, c, d, k, v, tau, delta) of a Params or a stored row."""
+    """The eight parameters (a, b, c, d, k, v, tau, delta) of a Params, a stored row or a
+    mapping of them."""
+    if isinstance(params, Mapping):
+        return {n: float(params[n]) for n in PARAM_NAMES}
     return {n: float(getattr(params, n)) for n in PARAM_NAMES}
 
 

@@ -19,7 +19,7 @@ from slopetui.cli.options import UsageError, int_arg, open_db, say_queued
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
 from slopetui.plots.hysteresis_plot import render_hysteresis
-from slopetui.provenance import computed_at
+from slopetui.provenance import computed_at, params_of
 from slopetui.queue.hysteresis_jobs import TOL_MAX, transition_fields
 from slopetui.queue.warm_up import say_if_compiling
 from slopetui.sweeps.hysteresis_runs import HysteresisSpec, hysteresis_of, submit
@@ -147,8 +147,9 @@ def _show(args: argparse.Namespace) -> int:
     if args.json:
         print(json_text({**sweep.summary(), "up": [record(p) for p in sweep.up],
                          "down": [record(p) for p in sweep.down],
-                         # as a sweep computed now says it; the engine it was computed with
-                         **computed_at(row, {"method": "rk4", "dt": row.dt,
+                         # as a sweep computed now says it (args.param's value at --from);
+                         # the engine it was computed with
+                         **computed_at({**params_of(row), row.param: row.start}, {"method": "rk4", "dt": row.dt,
                                              "t_settle": row.t_settle, "window": row.window,
                                              "tol": row.tol}, row.engine)}))
         return 0
