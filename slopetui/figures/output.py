@@ -38,7 +38,7 @@ Decisions:
   before its header, ``# slopetui: <the JSON>``, rather than columns, which would repeat
   the same 20 values on each of thousands of rows of traces (read it with
   ``pandas.read_csv(path, comment="#")``). The caption (``write(caption=True)``): the text
-  line under the figure, in a strip added below it (the panels keep their size).
+  line in a strip saved under the figure (add_caption; the panels keep their size).
 """
 
 from __future__ import annotations
@@ -61,6 +61,7 @@ from slopetui.sweeps.export import cell
 
 if TYPE_CHECKING:  # matplotlib is imported when a figure is drawn or saved, not before
     from matplotlib.figure import Figure
+    from matplotlib.transforms import Bbox
 
 __all__ = ["CREATOR", "FORMATS", "PNG_DPI", "RASTER_DPI", "Drawing", "FigureError", "Table",
            "check_output", "data_paths", "write"]
@@ -181,30 +182,35 @@ CAPTION_PT = 6.5
 CAPTION_STRIP_IN = 0.22
 
 
-def add_caption(figure: Figure, text: str) -> None:
-    """``text`` in a strip added under the figure: the figure grows by the strip, and the
-    constrained layout keeps the panels above it, at their size. A line too long for the
-    width at CAPTION_PT is set smaller (DejaVu Sans averages about 0.55 em a character;
-    at the 6.4 in width of a diagram, 6.5 pt holds about 130 characters)."""
+def add_caption(figure: Figure, text: str) -> Bbox:
+    """``text`` in a strip under the figure, and the area to save with it (savefig's
+    bbox_inches): the figure's own area and the strip below it. The layout is made at the
+    figure's own size and then kept (the panels keep their size and place), and the
+    figure's "outside" legends, which hang from the edge of the area saved, stay on the
+    figure's own edge, above the strip. A line too long for the width at CAPTION_PT is
+    set smaller (DejaVu Sans averages about 0.55 em a character; at the 6.4 in width of a
+    diagram, 6.5 pt holds about 130 characters)."""
+    from matplotlib.transforms import Bbox
+
+    figure.draw_without_rendering()  # the constrained layout, at the figure's own size
+    figure.set_layout_engine("none")
+    for legend in figure.legends:
+        legend.set_bbox_to_anchor((0.0, 0.0, 1.0, 1.0), transform=figure.transFigure)
     width, height = figure.get_size_inches()
-    figure.set_figheight(height + CAPTION_STRIP_IN)
-    strip = CAPTION_STRIP_IN / (height + CAPTION_STRIP_IN)
-    from matplotlib.layout_engine import ConstrainedLayoutEngine
-
-    engine = figure.get_layout_engine()
-    if isinstance(engine, ConstrainedLayoutEngine):  # slopetui.figures.canvas.new_figure's
-        engine.set(rect=(0.0, strip, 1.0, 1.0 - strip))
     size = min(CAPTION_PT, 0.97 * width * 72 / (0.55 * max(len(text), 1)))
-    figure.text(0.5, strip / 2, text, ha="center", va="center", fontsize=size, color="0.25")
+    figure.text(0.5, -CAPTION_STRIP_IN / 2 / height, text, ha="center", va="center",
+                fontsize=size, color="0.25")
+    return Bbox([[0.0, -CAPTION_STRIP_IN], [width, height]])
 
 
-def _save_figure(figure: Figure, fmt: str, facts: Mapping[str, Any] | None, out: IO[bytes]) -> None:
+def _save_figure(figure: Figure, fmt: str, facts: Mapping[str, Any] | None, area: Bbox | None,
+                 out: IO[bytes]) -> None:
     import matplotlib
 
     # the rc settings of the save (module docstring), for its duration only
     with _SAVE_LOCK, matplotlib.rc_context({"pdf.fonttype": FONTTYPE, "ps.fonttype": FONTTYPE,
                                             "svg.hashsalt": SVG_HASH_SALT}):
-        figure.savefig(out, format=fmt, **_save_options(fmt, facts))
+        figure.savefig(out, format=fmt, bbox_inches=area, **_save_options(fmt, facts))
 
 
 def _write_table(table: Table, facts: Mapping[str, Any] | None, out: IO[str]) -> None:
@@ -256,12 +262,14 @@ def write(drawing: Drawing, path: str | os.PathLike[str], *, caption: bool = Fal
     targets = [target, *data_paths(target, drawing)]
     temps: list[Path] = []
     current = target
+    area = None  # the figure's own area, unless a caption adds a strip under it
     if caption and drawing.facts is not None:
         from slopetui.figures.figure_facts import figure_caption
 
-        add_caption(drawing.figure, figure_caption(dict(drawing.facts)))
+        area = add_caption(drawing.figure, figure_caption(dict(drawing.facts)))
     try:
-        _stage(target, True, partial(_save_figure, drawing.figure, fmt, drawing.facts), temps)
+        _stage(target, True, partial(_save_figure, drawing.figure, fmt, drawing.facts, area),
+               temps)
         for table, csv_path in zip(drawing.tables, targets[1:], strict=True):
             current = csv_path
             _stage(csv_path, False, partial(_write_table, table, drawing.facts), temps)

@@ -123,3 +123,28 @@ def test_runs_figure_names_each_run_and_what_they_share(db, db_url, sweep, tmp_p
                for f in facts["runs"])
     assert line.startswith(f"runs {a}, {b}: a=3.2 b=7.2 c=4.8 d=0.0001 k varied")
     assert _csv_facts(tmp_path / "cmp.csv") == facts
+
+
+@pytest.mark.slow  # recomputes two runs (~1 s): out of the fast loop
+def test_the_caption_sits_under_the_legends_and_panels(db, sweep, tmp_path):
+    """Before: a line inside the figure overprinted the comparison's legend, which the
+    constrained layout hangs from the figure's lower edge."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from slopetui.figures.figure_files import runs_figure
+    from slopetui.figures.output import write
+    from slopetui.store.queries import runs_of
+    from slopetui.sweeps.recompute import load_run
+
+    runs = [load_run(db, r.id) for r in runs_of(db, sweep)]
+    drawing = runs_figure(runs)
+    height = drawing.figure.get_size_inches()[1]
+    write(drawing, tmp_path / "cmp.png", caption=True)
+    figure = drawing.figure
+    assert figure.get_size_inches()[1] == height  # the panels keep their size
+    renderer = FigureCanvasAgg(figure).get_renderer()
+    caption = figure.texts[-1].get_window_extent(renderer)
+    above = [*(legend.get_window_extent(renderer) for legend in figure.legends),
+             *(ax.get_tightbbox(renderer) for ax in figure.axes)]
+    assert figure.legends and all(box.y0 >= caption.y1 for box in above)
+    assert caption.y1 <= 0  # in the strip under the figure's own area
