@@ -149,9 +149,9 @@ def _show(args: argparse.Namespace) -> int:
                          "down": [record(p) for p in sweep.down],
                          # as a sweep computed now says it (args.param's value at --from);
                          # the engine it was computed with
-                         **computed_at({**params_of(row), row.param: row.start}, {"method": "rk4", "dt": row.dt,
-                                             "t_settle": row.t_settle, "window": row.window,
-                                             "tol": row.tol}, row.engine)}))
+                         **computed_at({**params_of(row), row.param: row.start},
+                                       {"method": "rk4", "dt": row.dt, "t_settle": row.t_settle,
+                                        "window": row.window, "tol": row.tol}, row.engine)}))
         return 0
     print(f"hysteresis sweep {sweep.id} in {param} from {row.start:g} to {row.stop:g}, "
           f"{row.n_points} points each way: {terminal_safe(row.status)}, {row.n_done} points, "
