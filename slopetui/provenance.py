@@ -11,10 +11,11 @@ that holds a result names them (docs/outputs.md), in one of two shapes built her
 **The engine.** Its digest is ``core.jit_cache.source_digest()``, the hash of core/*.py
 that keys the kernel cache, the result cache and the run detail's comparison: one owner,
 read here, never computed again. A run computed now carries this installation's digest and
-version. A stored run carries the digest it was computed with (the ``engine`` column of
-``runs``); the store keeps no version, so its version is this installation's only when
-the digests agree, and null (an empty cell) otherwise: a version that was not recorded
-is not guessed.
+version. A stored run carries the digest stored with it (the ``engine`` column of
+``runs``, written when the run is queued: the worker that computes it does not rewrite
+it); the store keeps no version, so its version is this installation's only when the
+digests agree, and null (an empty cell) otherwise: a version that was not recorded is
+not guessed.
 
 **A figure** names the same facts (``figure_facts``): in its PDF or SVG metadata, in a
 comment line at the top of the CSV beside it, and in its optional one-line caption.
