@@ -2,14 +2,16 @@
 ``params``, ``solver``, ``engine``, and what the figure shows (``sweep`` or ``runs``).
 
 * **A sweep's figure** (its phase or bifurcation diagram) draws the stored results: its
-  params are the sweep's fixed parameters with ``varied`` naming its axes, its solver the
+  params are the sweep's fixed parameters, ``varied`` naming its axes (their params null:
+  no one value), its solver the
   spec's, its engine the digests its done runs were computed with (``sweep_engines``: one,
   unless the engine changed while the sweep was computed; then their digests joined by
   ", " and no version).
 * **A run's figure** redraws the run from its stored inputs with this installation's
   engine (slopetui.sweeps.recompute): its ``engine`` is this one, and ``stored_engine``
   the digest of the stored result its title quotes. Several runs: one entry each under
-  ``runs``, and the common facts (a parameter that differs between them is ``varied``).
+  ``runs``, and the common facts (a parameter that differs between them is ``varied``,
+  and null among the common params).
 
 The facts go into the figure's metadata, a comment line at the top of each CSV beside it
 and, on request, its one-line caption (slopetui.figures.output.write).
@@ -40,7 +42,14 @@ def sweep_facts(diagram: SweepDiagram, engines: Sequence[str]) -> dict[str, Any]
         eng: dict[str, Any] = engine(engines[0])
     else:  # none done yet, or several engines: no one version
         eng = {"version": None, "digest": ", ".join(engines) or None}
-    return {"sweep": diagram.id, "varied": varied, **computed_at(spec.base, solver), "engine": eng}
+    facts = {"sweep": diagram.id, "varied": varied, **computed_at(spec.base, solver), "engine": eng}
+    return _without_varied(facts)
+
+
+def _without_varied(facts: dict[str, Any]) -> dict[str, Any]:
+    """The facts with each varied parameter as None (null): it has no one value."""
+    return {**facts, "params": {n: None if n in facts["varied"] else v
+                                for n, v in facts["params"].items()}}
 
 
 def _run_facts(run: StoredRun) -> dict[str, Any]:
@@ -57,8 +66,8 @@ def runs_facts(runs: Sequence[StoredRun]) -> dict[str, Any]:
     varied = [n for n in PARAM_NAMES if any(f["params"][n] != first["params"][n] for f in each)]
     solver = {key: value for key, value in first["solver"].items()
               if all(f["solver"][key] == value for f in each)}
-    return {"runs": each, "varied": varied, "params": params_of(first["params"]),
-            "solver": solver, "engine": this_engine()}
+    return _without_varied({"runs": each, "varied": varied, "params": params_of(first["params"]),
+                            "solver": solver, "engine": this_engine()})
 
 
 def figure_caption(facts: dict[str, Any]) -> str:

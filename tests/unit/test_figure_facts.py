@@ -52,6 +52,7 @@ def test_a_sweeps_figure_names_its_params_solver_and_engine_in_the_svg_and_csv(
     line, facts = _svg_metadata(out)
     assert facts["sweep"] == sweep and facts["varied"] == ["k"]
     assert facts["params"]["tau"] == 2.0 and facts["params"]["delta"] == 0.1
+    assert facts["params"]["k"] is None  # varied: no one value
     assert facts["solver"] == {"method": "rk4", "dt": 0.01, "t_end": 200.0, "window": 100.0,
                                "lyap": False, "history": "constant", "stop": "t_end"}
     assert facts["engine"] == {"version": slopetui.__version__, "digest": source_digest()}
@@ -118,6 +119,7 @@ def test_runs_figure_names_each_run_and_what_they_share(db, db_url, sweep, tmp_p
     assert main(["figure", "--run", str(a), "--run", str(b), "-o", str(out), "--db", db_url]) == 0
     line, facts = _svg_metadata(out)
     assert [f["run"] for f in facts["runs"]] == [a, b] and facts["varied"] == ["k"]
+    assert facts["params"]["k"] is None and [f["params"]["k"] for f in facts["runs"]] == [4.0, 12.0]
     # redrawn now by this engine; the stored result by the engine stored with the run
     assert all(f["engine"]["digest"] == f["stored_engine"] == source_digest()
                for f in facts["runs"])
