@@ -13,6 +13,7 @@ from core.params import PARAM_NAMES, ParameterError, Params
 from core.periodic_orbit import SEED_SPAN, OrbitError, find_orbit
 from slopetui.cli.arguments.orbit import MAX_SEED_STEPS, MIN_T_SEED
 from slopetui.json_text import json_text
+from slopetui.provenance import computed_at
 from slopetui.queue.warm_up import say_if_compiling
 
 if TYPE_CHECKING:
@@ -64,8 +65,9 @@ def check_seed_steps(params: Params, dt: float, t_seed: float) -> None:
                                        f"{length:g} time units is held in memory)")
 
 
-def record(o: Orbit, runtime_s: float) -> dict[str, object]:
-    """The --json object: the orbit, its multipliers and how it was found."""
+def record(o: Orbit, runtime_s: float, t_seed: float) -> dict[str, object]:
+    """The --json object: the orbit, its multipliers and how it was found, then what it
+    was computed at (``params``, ``solver``, ``engine``: slopetui.provenance)."""
     m = o.multipliers
     values = m.values[:SHOWN]
     return {
@@ -81,7 +83,8 @@ def record(o: Orbit, runtime_s: float) -> dict[str, object]:
         "newton_steps": o.newton_steps,
         "residual": o.residual,
         "runtime_s": runtime_s,
-        "params": {n: getattr(o.params, n) for n in PARAM_NAMES},
+        # RK4 is the orbit's map (core.period_map); t_seed: the simulation of its first guess
+        **computed_at(o.params, {"method": "rk4", "dt": o.grid.dt, "t_seed": t_seed}),
     }
 
 
@@ -121,5 +124,5 @@ def handle(args: argparse.Namespace) -> int:
         print(f"slopetui orbit: no orbit: {exc}", file=sys.stderr)
         return 1
     took = time.process_time() - t0
-    print(json_text(record(orbit, took)) if args.json else render(orbit, took))
+    print(json_text(record(orbit, took, t_seed)) if args.json else render(orbit, took))
     return 0
