@@ -17,8 +17,15 @@ import numpy as np
 from core.classify import find_peaks
 from core.floquet import Multipliers, multipliers
 from core.orbit import Grid, OrbitError, PeriodMap
-from core.orbit_seed import (SLIP_PERIOD_TOL, find_return, n_slip_seed, simulate,
-                             simulate_from, slips_per_return, state_at)
+from core.orbit_seed import (
+    SLIP_PERIOD_TOL,
+    find_return,
+    n_slip_seed,
+    simulate,
+    simulate_from,
+    slips_per_return,
+    state_at,
+)
 from core.params import Params
 from core.shooting import Solution, correct
 

@@ -8,14 +8,20 @@ import sys
 import time
 from typing import TYPE_CHECKING
 
+import numpy as np
+
+from core.certify import STABLE_MARGIN
 from core.classify import maxima_words
+from core.orbit import Grid
+from core.orbit_seed import state_from_carried
 from core.params import PARAM_NAMES, ParameterError, Params
 from core.periodic_orbit import SEED_SPAN, OrbitError, find_orbit
-from slopetui.cli.arguments.orbit import MAX_SEED_STEPS, MIN_T_SEED
+from slopetui.cli.arguments.orbit import MAX_SEED_STEPS, MAX_SLIPS, MIN_T_SEED
 from slopetui.json_text import json_text
 from slopetui.queue.warm_up import say_if_compiling
 
 if TYPE_CHECKING:
+    from core.history import CarriedState
     from core.periodic_orbit import Orbit
 
 #: Multipliers printed and in --json (the leading ones, by modulus).
@@ -72,7 +78,9 @@ def record(o: Orbit, runtime_s: float) -> dict[str, object]:
         "period": o.period,
         "amplitude": o.amplitude,
         "maxima_per_period": o.maxima_per_period,
+        "slips": o.slips,
         "stable": o.stable,
+        "marginal": marginal(o),
         "multipliers": [[float(v.real), float(v.imag)] for v in values],
         "moduli": [float(abs(v)) for v in values],
         "flow_multiplier": [m.flow.real, m.flow.imag],
@@ -85,15 +93,26 @@ def record(o: Orbit, runtime_s: float) -> dict[str, object]:
     }
 
 
+def marginal(o: Orbit) -> bool:
+    """A nontrivial multiplier within core.certify.STABLE_MARGIN of the unit circle: the
+    n-slip orbits' 2 (n - 1) near-neutral ones (0.999991 at k = 18, tau = 10, n = 3) are
+    resolved (the flow multiplier is 2e-7 from 1 there) but the stability is weak."""
+    others = o.multipliers.nontrivial
+    return bool(others.size and abs(float(np.abs(others).max()) - 1.0) < STABLE_MARGIN)
+
+
 def render(o: Orbit, runtime_s: float) -> str:
     m = o.multipliers
     p = o.params
     lines = [
         f"point        a={p.a:g} b={p.b:g} c={p.c:g} d={p.d:g} k={p.k:g} v={p.v:g} tau={p.tau:g}",
         f"orbit        period {o.period:.10g}, amplitude {o.amplitude:.6g} (peak-to-peak m_y), "
-        f"{maxima_words(o.maxima_per_period)} per period",
+        f"{maxima_words(o.maxima_per_period)} per period"
+        + (f" (the equally spaced {o.slips}-slip orbit)" if o.slips > 1 else ""),
         f"stability    {'stable' if o.stable else 'unstable'} "
-        f"({m.unstable_count} multipliers outside the unit circle)",
+        f"({m.unstable_count} multipliers outside the unit circle"
+        + (f"; marginal: |mu| {float(np.abs(m.nontrivial).max()):.6f}, within "
+           f"{STABLE_MARGIN:g} of it)" if marginal(o) else ")"),
         f"checks       flow multiplier {abs(m.flow - 1):.1e} from 1, translation multiplier "
         f"{m.translation:.15g}",
         f"newton       {o.newton_steps} steps, residual {o.residual:.1e}, RK4 at dt = {o.grid.dt:g}; "
@@ -106,8 +125,44 @@ def render(o: Orbit, runtime_s: float) -> str:
     return "\n".join(lines)
 
 
+def slips_of(text: str | None) -> int | None:
+    """--slips as a count, None when not given; ParameterError naming it otherwise."""
+    if text is None:
+        return None
+    if not (text.isascii() and text.isdigit() and 1 <= int(text) <= MAX_SLIPS):
+        raise ParameterError("slips", text, f"an integer from 1 to {MAX_SLIPS}")
+    return int(text)
+
+
+def run_start(args: argparse.Namespace) -> tuple[argparse.Namespace, CarriedState | None]:
+    """--from-run ID: the run's parameters under the flags given, and its final state
+    (recomputed, slopetui.sweeps.carried); ParameterError naming the field."""
+    if args.from_run is None:
+        return args, None
+    from slopetui.cli.options import open_db
+    from slopetui.sweeps.carried import MAX_RUN_ID, final_state_of
+    from slopetui.sweeps.recompute import load_run
+    text = args.from_run
+    if not (text.isascii() and text.isdigit() and 1 <= int(text) <= MAX_RUN_ID):
+        raise ParameterError("from-run", text, f"a run id from 1 to {MAX_RUN_ID}")
+    db = open_db(args)
+    run = load_run(db, int(text))
+    if run is None:
+        raise ParameterError("from-run", text, "the id of a run in this store")
+    params, _ = run.inputs()
+    given = {n: getattr(args, n) for n in PARAM_NAMES if getattr(args, n) is not None}
+    merged = argparse.Namespace(**{**vars(args), **{n: repr(getattr(params, n)) for n in PARAM_NAMES},
+                                   **given})
+    if float(merged.tau) != params.tau:
+        raise ParameterError("tau", merged.tau, f"the run's, {params.tau:g} (its state spans "
+                                                "one delay)")
+    return merged, final_state_of(db, int(text))
+
+
 def handle(args: argparse.Namespace) -> int:
     try:
+        slips = slips_of(args.slips)
+        args, carried = run_start(args)
         params, dt = point_of(args)
         t_seed = seed_length(args.t_seed, params, dt)
     except ParameterError as exc:
@@ -116,7 +171,8 @@ def handle(args: argparse.Namespace) -> int:
     say_if_compiling("orbit")
     t0 = time.process_time()
     try:
-        orbit = find_orbit(params, dt, t_seed)
+        start = None if carried is None else state_from_carried(carried, Grid.of(params, dt))
+        orbit = find_orbit(params, dt, t_seed, slips=slips, start=start)
     except OrbitError as exc:
         print(f"slopetui orbit: no orbit: {exc}", file=sys.stderr)
         return 1

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from core.history import CarriedState
-from core.orbit import OrbitError
+from core.orbit import Grid
 from core.orbit_seed import state_from_carried
 from core.params import Params
 from core.periodic_orbit import Orbit, find_orbit
@@ -97,7 +97,6 @@ def test_a_run_state_seeds_the_orbit(three_slip):
     """A run's final state (Euler dt 1e-3, the paper's scheme) seeds the simulation."""
     p = Params(k=18.0, tau=10.0, delta=1e-6)
     tr = simulate(p, SolverSettings(method="euler", dt=1e-3, t_end=300.0, lyap=False))
-    from core.orbit import Grid
     z = state_from_carried(tr.final, Grid.of(p, 0.01))
     o = find_orbit(p, start=z)
     assert o.slips in (2, 3)
