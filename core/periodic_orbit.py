@@ -126,4 +126,5 @@ def find_orbit(p: Params, dt: float = ORBIT_DT, t_seed: float = SEED_T_END,
                          f"orbit of period {sol.period:.6g}, not T / {slips} = {target:.6g} "
                          f"(T = {period:.6g}, the simulation's return): no {slips}-slip orbit "
                          "near the seed")
-    return orbit_from(p, g, sol, count, slips)
+    # the 2 (n - 1) near-circle multipliers, the flow's, and the next few
+    return orbit_from(p, g, sol, max(count, 2 * slips + 4), slips)

@@ -73,7 +73,7 @@ def check_seed_steps(params: Params, dt: float, t_seed: float) -> None:
 def record(o: Orbit, runtime_s: float) -> dict[str, object]:
     """The --json object: the orbit, its multipliers and how it was found."""
     m = o.multipliers
-    values = m.values[:SHOWN]
+    values = m.values[:max(SHOWN, m.flow_index + 1)]
     return {
         "period": o.period,
         "amplitude": o.amplitude,
@@ -119,7 +119,7 @@ def render(o: Orbit, runtime_s: float) -> str:
         f"{runtime_s:.2f} s",
         "multipliers  (leading, by modulus; * the flow's)",
     ]
-    for i, v in enumerate(m.values[:SHOWN]):
+    for i, v in enumerate(m.values[:max(SHOWN, m.flow_index + 1)]):
         mark = "*" if i == m.flow_index else " "
         lines.append(f"  {mark} {v.real:+.8f} {v.imag:+.8f}i   |mu| = {abs(v):.8f}")
     return "\n".join(lines)
