@@ -64,6 +64,18 @@ class Multipliers:
         others = self.nontrivial
         return bool(others.size == 0 or np.abs(others).max() < 1.0)
 
+    def verdict(self, tol: float = UNIT_TOL) -> str:
+        """"unstable" with a nontrivial multiplier outside the circle by more than tol,
+        "marginal" with one within tol of it (on the circle to the accuracy: the 2-slip
+        orbit at k = 20, tau = 10 has -1.00000000, at dt = 0.01 and 0.005 alike, where the
+        flow multiplier is 4e-7 and 5e-8 from 1), "stable" otherwise."""
+        moduli = np.abs(self.nontrivial)
+        if np.any(moduli > 1.0 + tol):
+            return "unstable"
+        if np.any(moduli >= 1.0 - tol):
+            return "marginal"
+        return "stable"
+
     @property
     def unstable_count(self) -> int:
         return int(np.sum(np.abs(self.nontrivial) > 1.0))

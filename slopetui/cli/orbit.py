@@ -8,10 +8,8 @@ import sys
 import time
 from typing import TYPE_CHECKING
 
-import numpy as np
-
-from core.certify import STABLE_MARGIN
 from core.classify import maxima_words
+from core.floquet import UNIT_TOL
 from core.orbit import Grid
 from core.orbit_seed import state_from_carried
 from core.params import PARAM_NAMES, ParameterError, Params
@@ -79,8 +77,8 @@ def record(o: Orbit, runtime_s: float) -> dict[str, object]:
         "amplitude": o.amplitude,
         "maxima_per_period": o.maxima_per_period,
         "slips": o.slips,
-        "stable": o.stable,
-        "marginal": marginal(o),
+        "stable": m.verdict() == "stable",
+        "stability": m.verdict(),
         "multipliers": [[float(v.real), float(v.imag)] for v in values],
         "moduli": [float(abs(v)) for v in values],
         "flow_multiplier": [m.flow.real, m.flow.imag],
@@ -93,14 +91,6 @@ def record(o: Orbit, runtime_s: float) -> dict[str, object]:
     }
 
 
-def marginal(o: Orbit) -> bool:
-    """A nontrivial multiplier within core.certify.STABLE_MARGIN of the unit circle: the
-    n-slip orbits' 2 (n - 1) near-neutral ones (0.999991 at k = 18, tau = 10, n = 3) are
-    resolved (the flow multiplier is 2e-7 from 1 there) but the stability is weak."""
-    others = o.multipliers.nontrivial
-    return bool(others.size and abs(float(np.abs(others).max()) - 1.0) < STABLE_MARGIN)
-
-
 def render(o: Orbit, runtime_s: float) -> str:
     m = o.multipliers
     p = o.params
@@ -109,10 +99,9 @@ def render(o: Orbit, runtime_s: float) -> str:
         f"orbit        period {o.period:.10g}, amplitude {o.amplitude:.6g} (peak-to-peak m_y), "
         f"{maxima_words(o.maxima_per_period)} per period"
         + (f" (the equally spaced {o.slips}-slip orbit)" if o.slips > 1 else ""),
-        f"stability    {'stable' if o.stable else 'unstable'} "
-        f"({m.unstable_count} multipliers outside the unit circle"
-        + (f"; marginal: |mu| {float(np.abs(m.nontrivial).max()):.6f}, within "
-           f"{STABLE_MARGIN:g} of it)" if marginal(o) else ")"),
+        f"stability    {m.verdict()} ({m.unstable_count} multipliers outside the unit circle"
+        + (f"; one within {UNIT_TOL:g} of it: undecided at this accuracy)"
+           if m.verdict() == "marginal" else ")"),
         f"checks       flow multiplier {abs(m.flow - 1):.1e} from 1, translation multiplier "
         f"{m.translation:.15g}",
         f"newton       {o.newton_steps} steps, residual {o.residual:.1e}, RK4 at dt = {o.grid.dt:g}; "

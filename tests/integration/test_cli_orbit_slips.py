@@ -15,7 +15,9 @@ def test_the_three_slip_target(capsys):
     assert main(["orbit", "--k", "18", "--tau", "10", "--delta", "1e-6", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert abs(out["period"] - 3.4608) < 1e-4 and out["slips"] == 3
-    assert out["stable"] and out["marginal"]    # |mu| 0.999991: within 1e-5 of the circle
+    # |mu| 0.999991 (0.9999913 at dt = 0.005 too), 9e-6 inside: 40 times the flow
+    # multiplier's error (2e-7)
+    assert out["stable"] and out["stability"] == "stable"
     assert sum(abs(m - 1) < 1e-3 for m in out["moduli"]) == 5  # the flow's and 2 (3 - 1)
 
 
@@ -23,6 +25,14 @@ def test_slips_from_the_single_slip_orbit(capsys):
     assert main(["orbit", "--k", "18", "--tau", "10", "--delta", "1", "--slips", "2"]) == 0
     text = capsys.readouterr().out
     assert "period 5.19088" in text and "equally spaced 2-slip orbit" in text
+
+
+def test_a_multiplier_on_the_circle_is_marginal(capsys):
+    """The 2-slip orbit at k = 20 has the multiplier -1.00000000 (the old output said
+    "stable", 0 outside the circle)."""
+    assert main(["orbit", "--k", "20", "--tau", "10", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["slips"] == 2 and out["stability"] == "marginal" and not out["stable"]
 
 
 def test_bad_slips_names_the_field(capsys):
