@@ -205,13 +205,13 @@ def state_from_carried(c: CarriedState, g: Grid) -> np.ndarray:
     """The reduced state of a run's final state (core.history.CarriedState: the five
     variables at t_end and m_x over the delay before, on the run's own step) on the
     orbit's grid. The carried state holds no m_y history: it is m_x's slope (eq. 6a),
-    by central differences on the run's grid (second order; a seed only)."""
+    by second-order differences on the run's grid (a seed only)."""
     if not math.isclose(c.tau, g.n_delay * g.dt, rel_tol=1e-9):
         raise OrbitError(f"the run's state spans tau = {c.tau:g}, the orbit's delay is "
                          f"{g.n_delay * g.dt:g}: a state seeds an orbit at its own tau")
     t = np.append(-c.tau + c.dt * np.arange(c.m_x.size), 0.0)
     x = np.append(c.m_x, c.now[0])
-    y = np.gradient(x, t)
+    y = np.gradient(x, t, edge_order=2)
     y[-1] = c.now[1]
     back = -g.dt * np.arange(1, g.n_delay + 1)
     return np.concatenate((c.now[1:], np.interp(back, t, x) - c.now[0], np.interp(back, t, y)))
