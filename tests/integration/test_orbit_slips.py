@@ -4,12 +4,15 @@ from the orbit's state, and by a finer step."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
 from core.history import CarriedState
 from core.orbit import Grid
-from core.orbit_seed import state_from_carried
+from core.orbit_seed import simulate as simulate_orbit_scheme
+from core.orbit_seed import simulate_from, slip_onsets, state_at, state_from_carried
 from core.params import Params
 from core.periodic_orbit import Orbit, find_orbit
 from core.solve import SolverSettings, simulate
@@ -101,3 +104,41 @@ def test_a_run_state_seeds_the_orbit(three_slip):
     o = find_orbit(p, start=z)
     assert o.slips in (2, 3)
     assert abs(o.period * o.slips / (three_slip.period * 3) - 1) < 2e-3
+
+
+def test_the_run_approaches_it_at_the_leading_multipliers_rate(three_slip):
+    """The referee's long run, with the orbit's own scheme (RK4, dt 0.01) from eq. 19 to
+    t = 2e6 (13 s): the largest distance of the run's state at its last 30 slip onsets
+    from the orbit's at its onset falls from 0.107 (t = 1e6) to 0.0093 (2e6), a rate of
+    -2.44e-6/t, against ln|mu| / T = ln 0.9999913 / 3.46086 = -2.51e-6/t from Arnoldi: an
+    independent check of the leading multiplier. (At t = 1e5, the plane's t_end, the
+    distance is 1.25 and was still growing from 0.80 at 5e4.)"""
+    o = three_slip
+    p, g = o.params, o.grid
+    w = g.weights
+    ring = simulate_from(p, g, o.z, 3 * o.period + 1)
+    z_orbit, _ = state_at(ring, g, float(slip_onsets(ring, g, 2 * o.period)[-1]))
+
+    def distance(traj: np.ndarray, end: float) -> float:
+        """The largest distance from the orbit at the last 30 slip onsets before end."""
+        on = slip_onsets(traj, g, 300.0)
+        far = 0.0
+        for t in on[on < end][-30:]:
+            d = state_at(traj, g, float(t))[0] - z_orbit
+            far = max(far, math.sqrt(float(np.dot(d * w, d))))
+        return far
+
+    chunk = 100000.0                       # 20 chunks, each from the last one's state
+    traj = simulate_orbit_scheme(p, g, chunk)
+    at = {}
+    for i in range(1, 21):
+        if i in (10, 20):
+            at[i] = distance(traj, chunk - 1.0)
+        if i < 20:
+            end, _ = state_at(traj, g, chunk - 1.0)
+            traj = simulate_from(p, g, end, chunk)
+    elapsed = 10 * (chunk - 1.0)           # model time between the two measurements
+    lead = max(abs(v) for v in o.multipliers.nontrivial)
+    predicted = math.log(lead) / o.period
+    assert at[20] < 0.02
+    assert abs(math.log(at[20] / at[10]) / elapsed / predicted - 1) < 0.1
