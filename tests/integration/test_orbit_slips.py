@@ -33,7 +33,7 @@ def onsets(t: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def three_slip():
-    """The issue's target: k = 18, tau = 10, delta = 1e-6 (the run from eq. 19 reaches
+    """The target: k = 18, tau = 10, delta = 1e-6 (the run from eq. 19 reaches
     three unequally spaced slips per T_1 = 10.38; the old code's Newton did not converge)."""
     return find_orbit(Params(k=18.0, tau=10.0, delta=1e-6))
 
