@@ -10,8 +10,11 @@ multiplier): one type per key, a number or null, which jq compares as IEEE compa
 (``null > 0`` is false; the strings ``"nan"`` or ``"-inf"`` would sort above every
 number). What a null stands for is said by the other keys: a run's ``status`` and
 ``inferred`` tell "never measured" from "measured, and the value does not exist" (the
-period of a chaotic run). The formats that have NaN and ±inf keep them apart: the CSV
-(``nan``, ``inf``, ``-inf``), Parquet and the notebook's DataFrames.
+period of a chaotic run). ±inf is null too, not ``"inf"`` (a string would give the key
+two types) nor ``1e999`` (which readers take as inf, as the largest double or as an
+error): its sign is lost here, and kept by the formats that have NaN and ±inf: the CSV
+(``nan``, ``inf``, ``-inf``; an empty cell is a value that does not exist), Parquet and
+the notebook's DataFrames. docs/outputs.md states the rule for users, with a table.
 
 numpy's scalars and arrays are written as the Python values they hold (a ``numpy.bool_``
 as true or false, an array as a list). They are recognised by the module of their type,

@@ -12,6 +12,7 @@ from slopetui.cli.options import UsageError, int_arg, open_db
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
 from slopetui.plots.branch_plot import render_branch
+from slopetui.provenance import computed_at
 from slopetui.sweeps.branches import branch_of, listing
 
 if TYPE_CHECKING:
@@ -52,7 +53,12 @@ def _one(args: argparse.Namespace) -> int:
     param = terminal_safe(branch.param)  # stored text, as every other text printed below
     if args.json:
         print(json_text({**branch.summary(), "branch": branch.points,
-                         "bifurcations": branch.bifurcations}))
+                         "bifurcations": branch.bifurcations,
+                         # as `continue --json` says it; the engine it was computed with
+                         **computed_at(row, {"method": "rk4", "dt": row.dt,
+                                             "from_hopf": row.start == "hopf",
+                                             "points": row.max_points, "max_step": row.max_step},
+                                       row.engine)}))
         return 0
     if args.plot:
         size = shutil.get_terminal_size((100, 30))

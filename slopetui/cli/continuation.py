@@ -16,6 +16,7 @@ from slopetui.cli.branch_lines import print_bifurcations, print_point
 from slopetui.cli.options import int_arg, open_db, say_queued
 from slopetui.cli.orbit import point_of
 from slopetui.json_text import json_text
+from slopetui.provenance import computed_at
 from slopetui.queue.warm_up import say_if_compiling
 from slopetui.store.queries import run_by_id
 from slopetui.sweeps.branch_records import bifurcation_record, point_record
@@ -91,6 +92,10 @@ def handle(args: argparse.Namespace) -> int:
         "end": branch.end,
         "dt": branch.g0.dt,
         "runtime_s": took,
+        # the branch's start (``param`` varies along it); RK4 is the orbits' map
+        # (core.period_map); points and max_step: how far and in what steps it was followed
+        **computed_at(params, {"method": "rk4", "dt": branch.g0.dt, "from_hopf": spec.from_hopf,
+                               "points": spec.max_points, "max_step": spec.max_step}),
     }
     critical = criticality(branch.points) if hopf is not None else None
     if hopf is not None:

@@ -10,7 +10,9 @@ Agg, PDF and SVG canvases), so it works over SSH.
 Everything the user typed is checked before anything is computed or written: the output
 path (extension, folder), the sweep or the runs (they exist), so a recomputation of
 minutes never ends in "cannot write". The files appear whole or not at all
-(slopetui.figures.output.write).
+(slopetui.figures.output.write). Each names what it was computed at (parameters, solver,
+engine): the figure in its metadata, each CSV in a comment line before its header, and,
+with --caption, a line under the figure (slopetui.figures.figure_facts).
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from slopetui.cli.show import fold_curve_of
 from slopetui.display_text import terminal_safe
 from slopetui.figures.figure_files import DEFAULT_FORMAT, runs_figure, runs_stem, sweep_figure, sweep_stem
 from slopetui.figures.output import FigureError, check_output, write
+from slopetui.store.queries import sweep_engines
 from slopetui.sweeps.diagram import load_diagram
 from slopetui.sweeps.recompute import load_run
 
@@ -60,7 +63,7 @@ def handle(args: argparse.Namespace) -> int:
     else:
         drawing = _runs_drawing(db, run_ids)
     try:
-        written = write(drawing, path)
+        written = write(drawing, path, caption=args.caption)
     except FigureError as exc:  # the folder changed since the check: still nothing partial
         raise UsageError(str(exc)) from None
     _say_written(written)
@@ -69,7 +72,8 @@ def handle(args: argparse.Namespace) -> int:
 
 def _sweep_drawing(db: Database, sweep: int, *, hopf: bool, fold: bool) -> Drawing:
     diagram = load_diagram(db, sweep)  # UnknownSweep: exit 2, nothing written
-    return sweep_figure(diagram, hopf=hopf, fold=fold_curve_of(diagram.spec) if fold else None)
+    return sweep_figure(diagram, hopf=hopf, fold=fold_curve_of(diagram.spec) if fold else None,
+                        engines=sweep_engines(db, sweep))
 
 
 def _runs_drawing(db: Database, run_ids: list[int]) -> Drawing:

@@ -18,6 +18,7 @@ from slopetui.cli.options import UsageError, int_arg, open_db, say_queued
 from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
 from slopetui.plots.hysteresis_plot import render_hysteresis
+from slopetui.provenance import computed_at, params_of
 from slopetui.queue.hysteresis_jobs import transition_fields
 from slopetui.queue.warm_up import say_if_compiling
 from slopetui.sweeps.hysteresis_request import hysteresis_spec
@@ -101,7 +102,12 @@ def _show(args: argparse.Namespace) -> int:
     row, param = sweep.row, terminal_safe(sweep.param)  # stored text, escaped as the rest
     if args.json:
         print(json_text({**sweep.summary(), "up": [record(p) for p in sweep.up],
-                         "down": [record(p) for p in sweep.down]}))
+                         "down": [record(p) for p in sweep.down],
+                         # as a sweep computed now says it (args.param's value at --from);
+                         # the engine it was computed with
+                         **computed_at({**params_of(row), row.param: row.start},
+                                       {"method": "rk4", "dt": row.dt, "t_settle": row.t_settle,
+                                        "window": row.window, "tol": row.tol}, row.engine)}))
         return 0
     print(f"hysteresis sweep {sweep.id} in {param} from {row.start:g} to {row.stop:g}, "
           f"{row.n_points} points each way: {terminal_safe(row.status)}, {row.n_done} points, "
@@ -170,7 +176,12 @@ def _compute_or_submit(args: argparse.Namespace) -> int:
         print(json_text({"param": args.param, "up": [record(p) for p in up],
                          "down": [record(p) for p in down], **found,
                          "dt": dt, "t_settle": t_settle, "window": window, "tol": tol,
-                         "runtime_s": took}))
+                         "runtime_s": took,
+                         # RK4 is the sweep's map (core.period_map); params: the other seven
+                         # as given, args.param's at --from
+                         **computed_at(params.with_(**{args.param: start}),
+                                       {"method": "rk4", "dt": dt, "t_settle": t_settle,
+                                        "window": window, "tol": tol})}))
         return 0
     _changes(args.param, up, down, found, tol, abs(stop - start) / (points - 1))
     print(f"{len(up) + len(down)} points, {took:.1f} s")

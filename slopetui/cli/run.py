@@ -18,6 +18,7 @@ from core.solve import SolverSettings, validate_run
 from core.spectrum import check_count, check_spectrum
 from slopetui.cli.options import open_db
 from slopetui.json_text import json_text as strict_json
+from slopetui.provenance import computed_at
 from slopetui.sweeps.carried import final_state_of, parse_history
 
 if TYPE_CHECKING:  # core.point loads numba and the kernels: only `run` itself needs them;
@@ -69,10 +70,23 @@ def carried_of(args: argparse.Namespace, settings: SolverSettings
     return replace(settings, history=end.name), end
 
 
-def json_text(record: dict[str, object], history: str = "constant") -> str:
+def json_text(record: dict[str, object], history: str = "constant",
+              inputs: tuple[Params, SolverSettings] | None = None) -> str:
     """The record of ``--json``: one JSON object, its keys in JSON_KEYS order, then the
-    history the run started from (NaN, ±inf as null: slopetui.json_text)."""
-    return strict_json({**{k: record[k] for k in JSON_KEYS}, "history": history})
+    history the run started from as given, then what the run was computed at (``params``,
+    ``solver``, ``engine``: slopetui.provenance) when its ``inputs`` are given (NaN, ±inf
+    as null: slopetui.json_text)."""
+    facts = {} if inputs is None else computed_at(inputs[0], solver_of(inputs[1], record))
+    return strict_json({**{k: record[k] for k in JSON_KEYS}, "history": history, **facts})
+
+
+def solver_of(s: SolverSettings, record: dict[str, object]) -> dict[str, object]:
+    """The solver settings the run was asked for, as the store keeps them among a run's
+    inputs: the method asked (a stiff fallback is the flag "stiff-fallback"), the step and
+    end time as the record resolved them, a carried history by its state's name
+    ("state:<digest>")."""
+    return {"method": s.method, "dt": record["dt"], "t_end": record["t_end"],
+            "window": s.window, "lyap": s.lyap, "history": s.history, "stop": record["stop"]}
 
 
 def render_text(r: PointResult) -> str:
@@ -162,7 +176,7 @@ def handle(args: argparse.Namespace) -> int:
         print(f"slopetui run: error: {exc}", file=sys.stderr)
         return 2
     if args.json:
-        print(json_text(result.as_record(), args.history))
+        print(json_text(result.as_record(), args.history, (params, settings)))
     else:
         print(render_text(result))
         print(f"history    {args.history}" + (f" ({settings.history})" if carried else ""))

@@ -11,9 +11,11 @@ from __future__ import annotations
 
 import glob
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from slopetui.figures.figure_facts import runs_facts, sweep_facts
 from slopetui.figures.output import Drawing
 from slopetui.figures.run_figure import run_drawing
 from slopetui.figures.sweep_figure import sweep_drawing
@@ -24,7 +26,7 @@ from slopetui.whole_files import first_free
 if TYPE_CHECKING:
     from slopetui.sweeps.diagram import SweepDiagram
     from slopetui.sweeps.hopf_plane import Curve
-    from slopetui.sweeps.recompute import StoredRun
+    from slopetui.sweeps.recompute import StoredRun, Traces
 
 #: The format of a figure written without a name (a paper's: vector, fonts embedded).
 DEFAULT_FORMAT = "pdf"
@@ -54,11 +56,15 @@ def _figure_taken(path: Path) -> bool:
             or any(path.parent.glob(f"{glob.escape(name)}.*.csv")))
 
 
-def sweep_figure(diagram: SweepDiagram, *, hopf: bool = True, fold: Curve | None = None) -> Drawing:
+def sweep_figure(diagram: SweepDiagram, *, hopf: bool = True, fold: Curve | None = None,
+                 engines: Sequence[str] = ()) -> Drawing:
     """The sweep's phase diagram (with the exact Hopf curve of its plane, unless ``hopf``
-    is False, and the fold of cycles if given) or its bifurcation diagram (1-D)."""
+    is False, and the fold of cycles if given) or its bifurcation diagram (1-D), naming
+    what it was computed at (``engines``: its done runs' digests, store.queries
+    .sweep_engines)."""
     curve = plane_hopf(diagram.spec) if hopf and diagram.spec.y is not None else None
-    return sweep_drawing(diagram, hopf=curve, fold=fold)
+    return replace(sweep_drawing(diagram, hopf=curve, fold=fold),
+                   facts=sweep_facts(diagram, engines))
 
 
 def runs_figure(runs: Sequence[StoredRun], progress: Callable[[StoredRun], None] | None = None
@@ -71,4 +77,9 @@ def runs_figure(runs: Sequence[StoredRun], progress: Callable[[StoredRun], None]
         if progress is not None:
             progress(run)
         pairs.append((run, recompute(run)))
-    return run_drawing(pairs)
+    return traced_runs_figure(pairs)
+
+
+def traced_runs_figure(pairs: Sequence[tuple[StoredRun, Traces]]) -> Drawing:
+    """The figure of runs already recomputed, naming what they were computed at."""
+    return replace(run_drawing(pairs), facts=runs_facts([run for run, _ in pairs]))

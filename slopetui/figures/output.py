@@ -31,6 +31,14 @@ Decisions:
 * **CSV cells** as ``slopetui export --csv`` writes them, by its own function
   (slopetui.sweeps.export.cell): NaN and infinities as nan, inf, -inf; None (a value that
   does not exist) as an empty cell; lists as JSON; numpy values as the numbers they hold.
+* **What it was computed at** (a drawing's ``facts``: slopetui.figures.figure_facts)
+  travels with every file. The figure's metadata: the facts as one line of strict JSON
+  (``Keywords`` of a PDF or SVG, ``slopetui`` of a PNG) and as one line of text
+  (``Subject`` of a PDF, ``Description`` of an SVG or PNG). Each CSV: one comment line
+  before its header, ``# slopetui: <the JSON>``, rather than columns, which would repeat
+  the same 20 values on each of thousands of rows of traces (read it with
+  ``pandas.read_csv(path, comment="#")``). The caption (``write(caption=True)``): the text
+  line in a strip saved under the figure (add_caption; the panels keep their size).
 """
 
 from __future__ import annotations
@@ -40,7 +48,7 @@ import csv
 import os
 import secrets
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
@@ -48,10 +56,12 @@ from typing import IO, TYPE_CHECKING, Any
 
 from slopetui import __version__
 from slopetui.display_text import terminal_safe
+from slopetui.json_text import json_text
 from slopetui.sweeps.export import cell
 
 if TYPE_CHECKING:  # matplotlib is imported when a figure is drawn or saved, not before
     from matplotlib.figure import Figure
+    from matplotlib.transforms import Bbox
 
 __all__ = ["CREATOR", "FORMATS", "PNG_DPI", "RASTER_DPI", "Drawing", "FigureError", "Table",
            "check_output", "data_paths", "write"]
@@ -68,6 +78,8 @@ CREATOR = f"slopetui {__version__}"
 SVG_HASH_SALT = "slopetui"
 #: Fonts in PDF (and PostScript) files: 42, TrueType embedded (module docstring).
 FONTTYPE = 42
+#: The comment line that opens each CSV beside a figure: this, then the facts as JSON.
+FACTS_PREFIX = "# slopetui: "
 #: Temporary names keep at most this many bytes of the target's name, so that
 #: ".<name>.<8 hex>.tmp" stays within the usual 255-byte limit of a file name.
 TEMP_NAME_KEEP = 200
@@ -95,10 +107,12 @@ class Table:
 
 @dataclass(frozen=True)
 class Drawing:
-    """A figure and its data tables (the first one is the figure's main data)."""
+    """A figure and its data tables (the first one is the figure's main data), and what
+    it was computed at (``facts``, slopetui.figures.figure_facts; None: not known)."""
 
     figure: Figure
     tables: tuple[Table, ...]
+    facts: Mapping[str, Any] | None = None
 
 
 def _allowed() -> str:
@@ -149,23 +163,59 @@ def data_paths(path: Path, drawing: Drawing) -> list[Path]:
             for i, table in enumerate(drawing.tables)]
 
 
-def _save_options(fmt: str) -> dict[str, Any]:
+def _save_options(fmt: str, facts: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    described: dict[str, str] = {}
+    if facts is not None:  # the module docstring: "What it was computed at"
+        from slopetui.figures.figure_facts import figure_caption
+
+        text, machine = figure_caption(dict(facts)), json_text(facts)
+        described = ({"Description": text, "slopetui": machine} if fmt == "png" else
+                     {"Subject" if fmt == "pdf" else "Description": text, "Keywords": machine})
     if fmt == "png":
-        return {"dpi": PNG_DPI, "metadata": {"Software": CREATOR}}
+        return {"dpi": PNG_DPI, "metadata": {"Software": CREATOR, **described}}
     date_key = "CreationDate" if fmt == "pdf" else "Date"
-    return {"dpi": RASTER_DPI, "metadata": {"Creator": CREATOR, date_key: None}}
+    return {"dpi": RASTER_DPI, "metadata": {"Creator": CREATOR, date_key: None, **described}}
 
 
-def _save_figure(figure: Figure, fmt: str, out: IO[bytes]) -> None:
+#: The caption's font size (points) and the strip it takes under the figure (inches).
+CAPTION_PT = 6.5
+CAPTION_STRIP_IN = 0.22
+
+
+def add_caption(figure: Figure, text: str) -> Bbox:
+    """``text`` in a strip under the figure, and the area to save with it (savefig's
+    bbox_inches): the figure's own area and the strip below it. The layout is made at the
+    figure's own size and then kept (the panels keep their size and place), and the
+    figure's "outside" legends, which hang from the edge of the area saved, stay on the
+    figure's own edge, above the strip. A line too long for the width at CAPTION_PT is
+    set smaller (DejaVu Sans averages about 0.55 em a character; at the 6.4 in width of a
+    diagram, 6.5 pt holds about 130 characters)."""
+    from matplotlib.transforms import Bbox
+
+    figure.draw_without_rendering()  # the constrained layout, at the figure's own size
+    figure.set_layout_engine("none")
+    for legend in figure.legends:
+        legend.set_bbox_to_anchor((0.0, 0.0, 1.0, 1.0), transform=figure.transFigure)
+    width, height = figure.get_size_inches()
+    size = min(CAPTION_PT, 0.97 * width * 72 / (0.55 * max(len(text), 1)))
+    figure.text(0.5, -CAPTION_STRIP_IN / 2 / height, text, ha="center", va="center",
+                fontsize=size, color="0.25")
+    return Bbox([[0.0, -CAPTION_STRIP_IN], [width, height]])
+
+
+def _save_figure(figure: Figure, fmt: str, facts: Mapping[str, Any] | None, area: Bbox | None,
+                 out: IO[bytes]) -> None:
     import matplotlib
 
     # the rc settings of the save (module docstring), for its duration only
     with _SAVE_LOCK, matplotlib.rc_context({"pdf.fonttype": FONTTYPE, "ps.fonttype": FONTTYPE,
                                             "svg.hashsalt": SVG_HASH_SALT}):
-        figure.savefig(out, format=fmt, **_save_options(fmt))
+        figure.savefig(out, format=fmt, bbox_inches=area, **_save_options(fmt, facts))
 
 
-def _write_table(table: Table, out: IO[str]) -> None:
+def _write_table(table: Table, facts: Mapping[str, Any] | None, out: IO[str]) -> None:
+    if facts is not None:  # one comment line before the header (module docstring)
+        out.write(f"{FACTS_PREFIX}{json_text(facts)}\n")
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(table.header)
     width = len(table.header)
@@ -198,9 +248,10 @@ def _stage(target: Path, binary: bool, fill: Callable[[IO[Any]], None], temps: l
         os.fsync(out.fileno())  # whole on disk before the rename makes it the target
 
 
-def write(drawing: Drawing, path: str | os.PathLike[str]) -> list[Path]:
+def write(drawing: Drawing, path: str | os.PathLike[str], *, caption: bool = False) -> list[Path]:
     """Save the figure (its format from the extension of ``path``) and each table as CSV
-    beside it (data_paths); returns the paths written, the figure first.
+    beside it (data_paths), each naming the drawing's facts; with ``caption``, the facts'
+    line under the figure too. Returns the paths written, the figure first.
 
     Atomic per file (module docstring): on any failure no partial or temporary file is
     left. Raises FigureError for an unknown extension, and for an OSError (naming the
@@ -211,11 +262,17 @@ def write(drawing: Drawing, path: str | os.PathLike[str]) -> list[Path]:
     targets = [target, *data_paths(target, drawing)]
     temps: list[Path] = []
     current = target
+    area = None  # the figure's own area, unless a caption adds a strip under it
+    if caption and drawing.facts is not None:
+        from slopetui.figures.figure_facts import figure_caption
+
+        area = add_caption(drawing.figure, figure_caption(dict(drawing.facts)))
     try:
-        _stage(target, True, partial(_save_figure, drawing.figure, fmt), temps)
+        _stage(target, True, partial(_save_figure, drawing.figure, fmt, drawing.facts, area),
+               temps)
         for table, csv_path in zip(drawing.tables, targets[1:], strict=True):
             current = csv_path
-            _stage(csv_path, False, partial(_write_table, table), temps)
+            _stage(csv_path, False, partial(_write_table, table, drawing.facts), temps)
         for temp, final in zip(list(temps), targets, strict=True):
             current = final
             os.replace(temp, final)

@@ -28,10 +28,12 @@ from __future__ import annotations
 
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, replace
+from functools import lru_cache
 from typing import TYPE_CHECKING, Any
 
 from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.queue import stored_inputs
+from slopetui.queue.cache import cache_key
 from slopetui.queue.defaults import MAX_ATTEMPTS
 from slopetui.store.database import Database
 from slopetui.store.runs import cached_results, claims, initial_states
@@ -148,8 +150,28 @@ def begin(db: Database, batch: list[Job], worker_id: str) -> list[Job]:
 
 def complete(db: Database, job: Job, worker_id: str, record: dict[str, Any],
              cached_from: int | None = None) -> bool:
-    """Write the result; False if the lease was lost meanwhile (nothing is written)."""
-    return claims.complete(db, job.run_id, worker_id, record, cached_from)
+    """Write the result; False if the lease was lost meanwhile (nothing is written). A
+    computed result names this process's engine (engine_digest), which need not be the
+    one that queued the run (a worker started from other code), and its cache key
+    follows; a result from the cache keeps the run's (the hit's key is the run's)."""
+    engine = None
+    if cached_from is None:
+        digest = engine_digest()
+        inputs = {**{n: getattr(job.params, n) for n in PARAM_NAMES}, "method": job.settings.method,
+                  "dt": job.settings.dt, "t_end": job.settings.t_end, "window": job.settings.window,
+                  "lyap": job.settings.lyap, "history": job.settings.history,
+                  "stop": job.settings.stop, "engine": digest}
+        engine = (digest, cache_key(inputs))
+    return claims.complete(db, job.run_id, worker_id, record, cached_from, engine)
+
+
+@lru_cache(maxsize=1)
+def engine_digest() -> str:
+    """The digest of the engine this process computes with (core.jit_cache.source_digest),
+    read once, at the worker's start (worker_process): the sources on disk may change
+    under a running worker (a git pull, an upgrade), the code it loaded does not."""
+    from core.jit_cache import source_digest
+    return source_digest()
 
 
 def cached_result(db: Database, job: Job) -> tuple[int, dict[str, Any]] | None:

@@ -50,7 +50,7 @@ from pathlib import Path
 from typing import Any
 
 from slopetui.ops.connection_slots import DEFAULT_CONNECTIONS, ConnectionSlots
-from slopetui.queue import defaults, registry
+from slopetui.queue import defaults, jobs, registry
 from slopetui.queue.idle_exit import IdleExit, Owner
 from slopetui.queue.kinds import Computing
 from slopetui.queue.local_pool import open_private_log, process_state
@@ -316,6 +316,7 @@ def worker_main(opts: WorkerOptions, stop: Any, abort: Any, pool_pid: int) -> No
     control = Control(signals, stop, abort, pool_pid)
     configure_logging(opts.log_path)
     wid = worker_id_for(os.getpid(), opts.host)
+    jobs.engine_digest()  # the engine's sources as this worker loads them (jobs.complete)
     # Every kernel now, not lazily at a claim's first call: a lazy load saves little CPU
     # (0.2-0.3 s) once the worker claims, and counts in its first runs' stored runtime_s
     # (measured: slopetui.queue.warm_up's docstring).

@@ -21,7 +21,7 @@ from slopetui.store.models import Run, Sweep
 from slopetui.store.sweeps.annotations import tagged
 
 __all__ = ["Engine", "database_now", "newest_sweep_id", "run_by_id", "runs_matching", "runs_of",
-           "runtime_total", "sweep_exists", "sweep_status", "unfinished_runs"]
+           "runtime_total", "sweep_engines", "sweep_exists", "sweep_status", "unfinished_runs"]
 
 # ``Engine`` is named here for the faces' annotations (the SQL console's read-only engine),
 # so that they need not import SQLAlchemy to spell it.
@@ -50,6 +50,16 @@ def run_by_id(db: Database, run_id: int) -> Run | None:
     has no such run. The run detail's copy of a run (``slopetui.sweeps.recompute``)."""
     with db.sessions() as s:
         return s.get(Run, run_id)
+
+
+def sweep_engines(db: Database, sweep_id: int) -> tuple[str, ...]:
+    """The engine digests the sweep's done runs were computed with, sorted (one, unless
+    the engine changed while the sweep was computed; none before a run is done). What a
+    sweep's figure names as its engine (``slopetui.figures.figure_facts``)."""
+    with db.sessions() as s:
+        return tuple(s.scalars(select(Run.engine).distinct()
+                               .where(Run.sweep_id == sweep_id, Run.status == "done")
+                               .order_by(Run.engine)))
 
 
 def sweep_exists(db: Database, sweep_id: int) -> bool:

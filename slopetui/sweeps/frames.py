@@ -61,7 +61,7 @@ from slopetui.store.database import Database
 from slopetui.store.runs.frames import run_rows, sweep_specs
 from slopetui.store.statuses import RUN_STATUSES
 from slopetui.sweeps.control import UnknownSweep
-from slopetui.sweeps.export import COLUMNS
+from slopetui.sweeps.export import COLUMNS, DERIVED, STORED, derived
 from slopetui.sweeps.progress import sweep_progress
 
 __all__ = ["COLUMNS", "SWEEP_COLUMNS", "json_rows", "measured_mask", "runs_frame",
@@ -87,6 +87,7 @@ KINDS: dict[str, Kind] = {
     **{name: _RESULT_KINDS[BY_NAME[name].kind] for name in RESULT_NAMES},
     "attempts": "int", "worker_id": "text", "cached_from": "int?", "started_at": "time",
     "finished_at": "time", "error": "text", "inferred": "bool", "level": "int?",
+    "engine_version": "text", "engine_digest": "text",
 }
 assert set(KINDS) == set(COLUMNS), "every exported column needs a kind"
 
@@ -185,12 +186,14 @@ def runs_frame(db: Database, sweep: int | None = None, *, regime: str | None = N
     _check_filters(regime, status)
     if sweep is not None:
         sweep = operator.index(sweep)  # a numpy integer of a frame's id column binds as int
-    rows = run_rows(db, COLUMNS, sweep=sweep, regime=regime, status=status, tag=tag)
+    rows = run_rows(db, STORED, sweep=sweep, regime=regime, status=status, tag=tag)
     if rows is None:
         assert sweep is not None
         raise UnknownSweep(sweep)
-    values: dict[str, Sequence[Any]] = dict(zip(COLUMNS, zip(*rows, strict=True), strict=True)
-                                            if rows else ((c, ()) for c in COLUMNS))
+    values: dict[str, Sequence[Any]] = dict(zip(STORED, zip(*rows, strict=True), strict=True)
+                                            if rows else ((c, ()) for c in STORED))
+    for name in DERIVED:  # the engine's columns, from the digest stored with each run
+        values[name] = [derived(name, digest) for digest in values["engine"]]
     done, measured = measured_mask(values["status"], values["inferred"])
     for name in RESULT_NAMES:  # not done (or inferred): no result yet, whatever is stored
         shown = done if name == "regime" else measured

@@ -40,6 +40,7 @@ from core.params import Params
 from slopetui.display_text import terminal_safe_lines
 from slopetui.store.database import Database
 from slopetui.store.open import open_store
+from slopetui.store.queries import sweep_engines
 from slopetui.store.runs.marks import clear_marks, marked_runs, set_mark
 from slopetui.sweeps import control, export_files
 from slopetui.sweeps.fold_overlay import Curve
@@ -390,8 +391,9 @@ class SlopeApp(App[None], inherit_bindings=False):
 
     def write_sweep_figure(self, diagram: SweepDiagram) -> None:
         """Write the sweep's figure (its diagram, with the fold curve if computed)."""
-        fold, folder = self.fold_curves.get(diagram.id), self.figure_folder
-        self._write_figure(lambda: figure_writing.write_sweep_figure(diagram, fold, folder))
+        fold, folder, db = self.fold_curves.get(diagram.id), self.figure_folder, self.db
+        self._write_figure(lambda: figure_writing.write_sweep_figure(
+            diagram, fold, folder, () if db is None else sweep_engines(db, diagram.id)))
 
     def write_runs_figure(self, runs: Sequence[tuple[StoredRun, Traces]]) -> None:
         """Write the figure of runs already recomputed: one run's four panels, or the

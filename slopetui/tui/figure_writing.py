@@ -55,24 +55,25 @@ def ready_folder(folder: Path) -> Path:
     return folder
 
 
-def write_sweep_figure(diagram: SweepDiagram, fold: Curve | None, folder: Path) -> list[Path]:
+def write_sweep_figure(diagram: SweepDiagram, fold: Curve | None, folder: Path,
+                       engines: Sequence[str] = ()) -> list[Path]:
     """The sweep's figure (its diagram, with the fold curve if given) written in
-    ``folder``: the files written, the figure first."""
+    ``folder``: the files written, the figure first. ``engines``: the digests its done
+    runs were computed with (store.queries.sweep_engines), which the figure names."""
     from slopetui.figures.figure_files import sweep_figure, sweep_stem, unused_path
     from slopetui.figures.output import write
 
-    return write(sweep_figure(diagram, fold=fold),
+    return write(sweep_figure(diagram, fold=fold, engines=engines),
                  unused_path(ready_folder(folder), sweep_stem(diagram.id)))
 
 
 def write_runs_figure(runs: Sequence[tuple[StoredRun, Traces]], folder: Path) -> list[Path]:
     """The figure of runs already recomputed (one run's four panels, or the comparison of
     several) written in ``folder``: the files written, the figure first."""
-    from slopetui.figures.figure_files import runs_stem, unused_path
+    from slopetui.figures.figure_files import runs_stem, traced_runs_figure, unused_path
     from slopetui.figures.output import write
-    from slopetui.figures.run_figure import run_drawing
 
-    return write(run_drawing(runs),
+    return write(traced_runs_figure(runs),
                  unused_path(ready_folder(folder), runs_stem([run.id for run, _ in runs])))
 
 

@@ -11,6 +11,7 @@ import pytest
 
 from slopetui.cli import main
 from slopetui.figures import DIAGRAM_SIZE, PNG_DPI
+from slopetui.figures.output import FACTS_PREFIX
 from slopetui.store.database import Database
 from slopetui.sweeps.spec import parse_spec
 from slopetui.sweeps.submit import submit
@@ -24,6 +25,13 @@ def plane(db: Database) -> int:
     sweep = submit(db, spec).sweep_id
     finish_all(db)
     return sweep
+
+
+def data_rows(path: Path) -> list[dict[str, str]]:
+    """The rows of a figure's CSV, after the comment line naming what it was computed at."""
+    with path.open() as f:
+        assert f.readline().startswith(FACTS_PREFIX + "{")
+        return list(csv.DictReader(f))
 
 
 def run_ids(db: Database, sweep: int) -> list[int]:
@@ -42,12 +50,10 @@ def test_a_phase_diagram_is_written_with_its_data(db, db_url, tmp_path, capsys):
     assert f"figure written to {out}" in said and "plane.csv" in said and "plane.curves.csv" in said
     image = matplotlib.image.imread(out)
     assert image.shape[:2] == (round(DIAGRAM_SIZE[1] * PNG_DPI), round(DIAGRAM_SIZE[0] * PNG_DPI))
-    with (tmp_path / "plane.csv").open() as f:
-        rows = list(csv.DictReader(f))
+    rows = data_rows(tmp_path / "plane.csv")
     assert len(rows) == 12 and {"k", "tau", "regime"} <= set(rows[0])
     assert "sliding" in {r["regime"] for r in rows} and len({r["regime"] for r in rows}) >= 2
-    with (tmp_path / "plane.curves.csv").open() as f:
-        curve = list(csv.DictReader(f))
+    curve = data_rows(tmp_path / "plane.curves.csv")
     assert curve and {r["curve"] for r in curve} == {"hopf"}
     assert all(2 <= float(r["k"]) <= 20 and 0.5 <= float(r["tau"]) <= 10 for r in curve)
 
@@ -75,8 +81,7 @@ def test_runs_are_recomputed_and_compared(db, db_url, tmp_path, capsys):
     assert f"recomputing run {a}" in captured.err and f"recomputing run {b}" in captured.err
     svg = out.read_text()
     assert svg.lstrip().startswith("<?xml") and "<svg" in svg
-    with (tmp_path / "cmp.csv").open() as f:
-        rows = list(csv.DictReader(f))
+    rows = data_rows(tmp_path / "cmp.csv")
     assert {int(r["run_id"]) for r in rows} == {a, b}
     assert all(math.isfinite(float(r["y"])) for r in rows[:100])
 

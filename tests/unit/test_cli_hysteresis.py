@@ -57,7 +57,7 @@ def test_the_foreground_and_the_stored_sweep_print_the_same_points(db, db_url, c
     stored = json.loads(capsys.readouterr().out)
     for key in ("up", "down", "onset_up", "offset_down", "param", "dt", "t_settle", "window",
                 "tol", "onset_up_before", "onset_up_after", "offset_down_before",
-                "offset_down_after"):
+                "offset_down_after", "params", "solver", "engine"):
         assert stored[key] == here[key], key
     # and the lines: the foreground's point lines are the stored sweep's
     assert main(SWEEP) == 0

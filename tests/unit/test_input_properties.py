@@ -66,7 +66,8 @@ def test_run_json_is_strict(capsys, k, tau, d, delta, a, method, t_end, lyap, hi
             "--method", method, "--t-end", t_end, "--history", history, "--json"]
     assert main(argv + ([] if lyap else ["--no-lyap"])) == 0
     rec = strict_json(capsys.readouterr().out)
-    assert isinstance(rec, dict) and list(rec) == [*JSON_KEYS, "history"]
+    assert isinstance(rec, dict) and list(rec) == [*JSON_KEYS, "history", "params", "solver",
+                                                   "engine"]
     assert rec["settled"] in (True, False) and isinstance(rec["peaks"], list)
 
 

@@ -84,5 +84,10 @@ def test_a_run_has_the_same_json_values_from_run_and_from_export(db, db_url, cap
     assert main(["export", "1", "--json", "--db", db_url]) == 0
     stored = next(r for r in strict(capsys.readouterr().out) if r["k"] == 4)
     same = [key for key in alone if key in stored and key != "runtime_s"]
-    assert len(same) == len(alone) - 1  # all but runtime_s (history is a column too)
+    # all but runtime_s (history is a column too) and what the run was computed at, which
+    # the export's flat rows hold as columns (slopetui.provenance)
+    assert len(same) == len(alone) - 4
     assert {key: stored[key] for key in same} == {key: alone[key] for key in same}
+    flat = {**alone["params"], **alone["solver"],
+            **{f"engine_{key}": value for key, value in alone["engine"].items()}}
+    assert {key: stored[key] for key in flat} == flat

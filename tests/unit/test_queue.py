@@ -288,3 +288,27 @@ def test_runs_computed_one_by_one_are_claimed_one_at_a_time(store):
     second = jobs.claim_batch(store, "w2", 32, batched={"euler"})
     assert len(first) == len(second) == 1 and first[0].run_id != second[0].run_id
     assert len(jobs.claim_batch(store, "w3", 32, batched={"rk4"})) == 3  # batched: the rest
+
+
+def test_a_computed_run_names_the_engine_that_computed_it(store):
+    """A run queued by other code (its engine column another digest) and computed here is
+    stored with this process's engine, and its cache key follows: a second sweep queued
+    here then takes it from the cache. A result served from the cache keeps the run's."""
+    from slopetui.queue.cache import cache_key
+    first = submit_quick(store, 2)
+    with store.sessions() as s, s.begin():
+        for run in s.scalars(select(Run).where(Run.sweep_id == first.sweep_id)):
+            run.engine = "0123456789abcdef"  # queued by an older engine
+            run.cache_key = cache_key({c: getattr(run, c) for c in (
+                "a", "b", "c", "d", "k", "v", "tau", "delta", "method", "dt", "t_end", "window",
+                "lyap", "history", "stop", "engine")})
+    finish_all(store)
+    with store.sessions() as s:
+        runs = list(s.scalars(select(Run).where(Run.sweep_id == first.sweep_id)))
+    assert {r.engine for r in runs} == {jobs.engine_digest()}
+    again = submit_quick(store, 2)
+    assert again.n_cached == 2
+    with store.sessions() as s:
+        served = list(s.scalars(select(Run).where(Run.sweep_id == again.sweep_id)))
+    assert {r.engine for r in served} == {jobs.engine_digest()}
+    assert {r.cache_key for r in served} == {r.cache_key for r in runs}

@@ -64,5 +64,7 @@ def test_the_table_the_exporters_the_detail_view_and_the_engine_agree(db, capsys
                  "--window", "100", "--json"]) == 0
     keys = list(json.loads(capsys.readouterr().out))
     assert keys[:len(JSON_CONTRACT)] == JSON_CONTRACT
-    # ... and last the history the run started from (an input, not a result)
-    assert keys[-1] == "history" and sorted(keys[:-1]) == sorted(RECORD_KEYS)
+    # ... then the history the run started from (an input, not a result), and what the
+    # run was computed at (slopetui.provenance)
+    assert keys[-4:] == ["history", "params", "solver", "engine"]
+    assert sorted(keys[:-4]) == sorted(RECORD_KEYS)

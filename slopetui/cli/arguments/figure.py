@@ -35,4 +35,8 @@ def declare(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--fold", action="store_true",
                    help="also draw the fold of cycles over a (k, tau), (a, tau), (b, tau) or "
                         "(c, tau) plane (continuation at each tau: seconds to minutes)")
+    p.add_argument("--caption", action="store_true",
+                   help="add one line under the figure naming what it was computed at "
+                        "(parameters, solver, engine); the file's metadata and the CSV "
+                        "name them always")
     add_db_option(p)

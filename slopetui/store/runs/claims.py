@@ -81,6 +81,8 @@ _COMPLETE = (update(Run).where(lease.holding)
                      started_at=func.coalesce(Run.started_at, db_now()),
                      cached_from=bindparam("from_id"),
                      **{name: bindparam(f"r_{name}") for name in RESULT_NAMES}))
+# A computed run names the engine that computed it, and its key follows (queue.jobs.complete)
+_COMPLETE_BY = _COMPLETE.values(engine=bindparam("engine"), cache_key=bindparam("key"))
 _WORKER_DONE = (update(Worker).where(Worker.id == bindparam("wid"))
                 .values(run_id=None, heartbeat_at=db_now(),
                         jobs_done=Worker.jobs_done + bindparam("n_done")))
@@ -184,13 +186,17 @@ def begin(db: Database, worker_id: str, run_ids: list[int], current: int | None)
 
 
 def complete(db: Database, run_id: int, worker_id: str, record: Mapping[str, Any],
-             cached_from: int | None = None) -> bool:
+             cached_from: int | None = None, engine: tuple[str, str] | None = None) -> bool:
     """Write the result fields of ``record`` (core.result_fields) if the worker still holds
     the run, and count the job on the worker; False if the lease was lost meanwhile
-    (nothing is written)."""
+    (nothing is written). ``engine``: (the digest of the engine that computed it, the
+    run's cache key with that digest), written with the result."""
     values = {f"r_{name}": record[name] for name in RESULT_NAMES}
+    statement, named = _COMPLETE, {}
+    if engine is not None:
+        statement, named = _COMPLETE_BY, {"engine": engine[0], "key": engine[1]}
     with db.connection() as conn:
-        done = conn.execute(_COMPLETE, {"jid": run_id, "wid": worker_id,
-                                        "from_id": cached_from, **values}).rowcount == 1
+        done = conn.execute(statement, {"jid": run_id, "wid": worker_id,
+                                        "from_id": cached_from, **values, **named}).rowcount == 1
         conn.execute(_WORKER_DONE, {"wid": worker_id, "n_done": int(done)})
     return done

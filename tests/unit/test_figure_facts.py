@@ -1,0 +1,152 @@
+"""A figure names what it was computed at, as every output does (slopetui.provenance): in
+its PDF, SVG or PNG metadata, in the comment line that opens each CSV beside it, and with
+`--caption` in a line under it; the same facts in all three."""
+
+from __future__ import annotations
+
+import json
+import re
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+import slopetui
+from core.jit_cache import source_digest
+from slopetui.cli import main
+from slopetui.figures import DIAGRAM_SIZE, PNG_DPI
+from slopetui.figures.figure_facts import figure_caption
+from slopetui.figures.output import CAPTION_STRIP_IN, FACTS_PREFIX
+from tests.support import finish_all, submit_quick
+
+DC = "{http://purl.org/dc/elements/1.1/}"
+RDF = "{http://www.w3.org/1999/02/22-rdf-syntax-ns#}"
+
+
+def _svg_metadata(path: Path) -> tuple[str, dict]:
+    """The SVG's Dublin Core description (the caption's line) and keywords (the JSON)."""
+    root = ET.parse(path).getroot()
+    description = root.find(f".//{DC}description")
+    keywords = root.find(f".//{DC}subject/{RDF}Bag/{RDF}li")
+    assert description is not None and keywords is not None
+    return description.text or "", json.loads(keywords.text or "")
+
+
+def _csv_facts(path: Path) -> dict:
+    first = path.read_text(encoding="utf-8").splitlines()[0]
+    assert first.startswith(FACTS_PREFIX)
+    return json.loads(first.removeprefix(FACTS_PREFIX))
+
+
+@pytest.fixture
+def sweep(db) -> int:
+    sweep = submit_quick(db, 2, tau=2.0, lyap=False).sweep_id
+    finish_all(db)
+    return sweep
+
+
+def test_a_sweeps_figure_names_its_params_solver_and_engine_in_the_svg_and_csv(
+        sweep, db_url, tmp_path, capsys):
+    out = tmp_path / "fig.svg"
+    assert main(["figure", str(sweep), "-o", str(out), "--db", db_url]) == 0
+    line, facts = _svg_metadata(out)
+    assert facts["sweep"] == sweep and facts["varied"] == ["k"]
+    assert facts["params"]["tau"] == 2.0 and facts["params"]["delta"] == 0.1
+    assert facts["params"]["k"] is None  # varied: no one value
+    assert facts["solver"] == {"method": "rk4", "dt": 0.01, "t_end": 200.0, "window": 100.0,
+                               "lyap": False, "history": "constant", "stop": "t_end"}
+    assert facts["engine"] == {"version": slopetui.__version__, "digest": source_digest()}
+    assert _csv_facts(tmp_path / "fig.csv") == facts
+    assert line == figure_caption(facts)
+    assert line.startswith(f"sweep {sweep}: a=3.2 b=7.2 c=4.8 d=0.0001 k varied v=0.1 tau=2 ")
+    assert "rk4, dt=0.01, t_end=200, window=100, lyap=False, history=constant, stop=t_end;" in line
+
+
+def test_a_pdf_names_them_in_its_subject_and_keywords(sweep, db_url, tmp_path, capsys):
+    out = tmp_path / "fig.pdf"
+    assert main(["figure", str(sweep), "-o", str(out), "--db", db_url]) == 0
+    data = out.read_bytes()  # matplotlib writes the info dictionary uncompressed
+    subject = re.search(rb"/Subject \((.*?)\)\s*(?:/|>>)", data, re.DOTALL)
+    assert subject is not None and subject.group(1).startswith(f"sweep {sweep}: a=3.2".encode())
+    keywords = re.search(rb"/Keywords \((.*?)\)\s*(?:/|>>)", data, re.DOTALL)
+    assert keywords is not None
+    assert json.loads(keywords.group(1).decode()) == _csv_facts(tmp_path / "fig.csv")
+
+
+def test_caption_adds_the_line_under_the_figure(sweep, db_url, tmp_path, capsys):
+    import matplotlib.image
+
+    plain, captioned = tmp_path / "plain.png", tmp_path / "captioned.png"
+    assert main(["figure", str(sweep), "-o", str(plain), "--db", db_url]) == 0
+    assert main(["figure", str(sweep), "-o", str(captioned), "--caption", "--db", db_url]) == 0
+    width, height = DIAGRAM_SIZE
+    assert matplotlib.image.imread(plain).shape[:2] == (round(height * PNG_DPI),
+                                                        round(width * PNG_DPI))
+    assert matplotlib.image.imread(captioned).shape[:2] == (
+        round((height + CAPTION_STRIP_IN) * PNG_DPI), round(width * PNG_DPI))
+    from PIL import Image
+
+    with Image.open(captioned) as image:
+        facts = json.loads(image.text["slopetui"])
+        assert image.text["Description"] == figure_caption(facts)
+    assert facts == _csv_facts(tmp_path / "captioned.csv")
+
+
+def test_the_caption_is_drawn_from_the_same_facts(sweep, db):
+    from slopetui.figures.figure_files import sweep_figure
+    from slopetui.figures.output import write
+    from slopetui.store.queries import sweep_engines
+    from slopetui.sweeps.diagram import load_diagram
+
+    drawing = sweep_figure(load_diagram(db, sweep), hopf=False, engines=sweep_engines(db, sweep))
+    assert drawing.facts is not None
+    texts_before = len(drawing.figure.texts)
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as folder:
+        write(drawing, Path(folder) / "a.svg", caption=True)
+    added = drawing.figure.texts[texts_before:]
+    assert [t.get_text() for t in added] == [figure_caption(dict(drawing.facts))]
+    assert added[0].get_fontsize() <= 6.5
+
+
+@pytest.mark.slow  # recomputes two runs (~1 s): out of the fast loop
+def test_runs_figure_names_each_run_and_what_they_share(db, db_url, sweep, tmp_path, capsys):
+    from slopetui.store.queries import runs_of
+
+    a, b = (r.id for r in runs_of(db, sweep))
+    out = tmp_path / "cmp.svg"
+    assert main(["figure", "--run", str(a), "--run", str(b), "-o", str(out), "--db", db_url]) == 0
+    line, facts = _svg_metadata(out)
+    assert [f["run"] for f in facts["runs"]] == [a, b] and facts["varied"] == ["k"]
+    assert facts["params"]["k"] is None and [f["params"]["k"] for f in facts["runs"]] == [4.0, 12.0]
+    # redrawn now by this engine; the stored result by the engine stored with the run
+    assert all(f["engine"]["digest"] == f["stored_engine"] == source_digest()
+               for f in facts["runs"])
+    assert line.startswith(f"runs {a}, {b}: a=3.2 b=7.2 c=4.8 d=0.0001 k varied")
+    assert _csv_facts(tmp_path / "cmp.csv") == facts
+
+
+@pytest.mark.slow  # recomputes two runs (~1 s): out of the fast loop
+def test_the_caption_sits_under_the_legends_and_panels(db, sweep, tmp_path):
+    """Before: a line inside the figure overprinted the comparison's legend, which the
+    constrained layout hangs from the figure's lower edge."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from slopetui.figures.figure_files import runs_figure
+    from slopetui.figures.output import write
+    from slopetui.store.queries import runs_of
+    from slopetui.sweeps.recompute import load_run
+
+    runs = [load_run(db, r.id) for r in runs_of(db, sweep)]
+    drawing = runs_figure(runs)
+    height = drawing.figure.get_size_inches()[1]
+    write(drawing, tmp_path / "cmp.png", caption=True)
+    figure = drawing.figure
+    assert figure.get_size_inches()[1] == height  # the panels keep their size
+    renderer = FigureCanvasAgg(figure).get_renderer()
+    caption = figure.texts[-1].get_window_extent(renderer)
+    above = [*(legend.get_window_extent(renderer) for legend in figure.legends),
+             *(ax.get_tightbbox(renderer) for ax in figure.axes)]
+    assert figure.legends and all(box.y0 >= caption.y1 for box in above)
+    assert caption.y1 <= 0  # in the strip under the figure's own area
