@@ -6,6 +6,7 @@ ctrl+q on a filled form asks first."""
 
 from __future__ import annotations
 
+import pytest
 from textual.widgets import Input, Static
 
 from slopetui.store.queries import runs_matching
@@ -221,5 +222,68 @@ def test_the_orbit_form_computes_in_the_background_and_shows_the_multipliers(db)
             shown = text_of(form, "result")
             assert "period " in shown and "multipliers outside the unit circle" in shown
             assert app.screen is form  # it stays open on the result
+
+    run(scenario)
+
+
+def test_the_orbit_form_opens_at_the_diagram_cursors_point(db):
+    from slopetui.tui.widgets.phase_grid import PhaseGrid
+    from tests.tui.test_tui_app import plane
+    plane(db)
+
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            grid = app.query_one(PhaseGrid)
+            await wait_until(pilot, lambda: grid.data is not None and bool(grid.data.runs))
+            await pilot.press("d")  # into the diagram
+            await wait_until(pilot, lambda: grid.has_focus)
+            for key in ("right", "right", "down"):
+                await pilot.press(key)
+            await pilot.pause()
+            at = grid.cursor_run()
+            assert at is not None
+            _run, k, tau, _label = at
+            (entry,) = [c for c in commands(app, app.screen) if "orbit at the cursor" in c.name]
+            entry.run()
+            await wait_until(pilot, lambda: isinstance(app.screen, AnalysisFormScreen)
+                             and bool(app.screen.query("#form-buttons")))
+            form = app.screen
+            assert float(form.query_one("#f-k", Input).value) == pytest.approx(k, rel=1e-5)
+            assert float(form.query_one("#f-tau", Input).value) == pytest.approx(tau, rel=1e-5)
+            assert (k, tau) != (2.0, 0.5)  # the cursor moved off the first run
+
+    run(scenario)
+
+
+def test_an_orbit_form_closed_while_computing_says_the_result_in_a_notification(db, monkeypatch):
+    import threading
+
+    from core.orbit import OrbitError
+    from slopetui.sweeps import orbit_point
+    release = threading.Event()
+
+    def held(*_args):  # the computation ends only once the form is closed
+        release.wait(30)
+        raise OrbitError("none here (held by the test)")
+
+    monkeypatch.setattr(orbit_point, "compute_orbit", held)
+
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await wait_until(pilot, lambda: app.db is not None)
+            app.open_analysis("orbit")
+            await wait_until(pilot, lambda: isinstance(app.screen, AnalysisFormScreen)
+                             and bool(app.screen.query("#form-buttons")))
+            form = app.screen
+            await pilot.press("ctrl+s")
+            assert form.busy and "computing" in text_of(form, "result")
+            app.pop_screen()
+            await wait_until(pilot, lambda: form not in app.screen_stack)
+            release.set()
+            await wait_until(pilot, lambda: any("no orbit: none here" in str(n.message)
+                                                for n in app._notifications))
+            assert app.return_code is None  # no traceback quit the application
 
     run(scenario)

@@ -200,6 +200,9 @@ class AnalysisFormScreen(SlopeScreen[None]):
                                   done=self._started, failed=self._failed)
 
     def _started(self, text: str) -> None:
+        if self not in self.app.screen_stack:  # closed meanwhile: say it where it shows
+            self.app.notify_text(text, timeout=15)
+            return
         self.busy = False
         self.query_one("#submit", Button).disabled = False
         if self.analysis.closes:
@@ -211,9 +214,12 @@ class AnalysisFormScreen(SlopeScreen[None]):
             self.opened = self.values()  # what it computed is shown: nothing to lose
 
     def _failed(self, exc: Exception) -> None:
+        cause = f"{type(exc).__name__}: {exc}"
+        if self not in self.app.screen_stack:
+            self.app.notify_text(f"{self.analysis.title}: {cause}", severity="error", timeout=15)
+            return
         self.busy = False
         self.query_one("#submit", Button).disabled = False
-        cause = f"{type(exc).__name__}: {exc}"
         if self.analysis.closes:
             self.query_one("#form-error", Static).update(Text(f"✗ could not start: {cause}"))
         else:
