@@ -287,3 +287,24 @@ def test_an_orbit_form_closed_while_computing_says_the_result_in_a_notification(
             assert app.return_code is None  # no traceback quit the application
 
     run(scenario)
+
+
+def test_a_form_opened_on_branches_starts_at_the_highlighted_jobs_point(db):
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            form = await form_from_branches(app, pilot, "c")
+            set_field(form, "k", "12.5")
+            set_field(form, "tau", "7")
+            await pilot.pause()
+            await pilot.press("ctrl+s")
+            await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen)
+                             and app.screen.analysis_point() is not None)
+            await pilot.press("h")
+            await wait_until(pilot, lambda: isinstance(app.screen, AnalysisFormScreen)
+                             and bool(app.screen.query("#form-buttons")))
+            values = app.screen.values()
+            assert (values["k"], values["tau"], values["from"], values["to"]) == \
+                ("12.5", "7", "10", "15")
+
+    run(scenario)

@@ -16,6 +16,7 @@ from textual.binding import Binding
 from textual.message import Message
 from textual.widgets import DataTable, Header, Static
 
+from core.params import PARAM_NAMES, Params
 from slopetui.display_text import terminal_safe
 from slopetui.plots.branch_plot import render_branch
 from slopetui.plots.canvas import axis_label
@@ -207,6 +208,8 @@ class BranchesScreen(SlopeScreen[None]):
         #: Bifurcations of finished continuations by id: written once, with the status
         #: "done", so read once (listing() gives rows without them).
         self._found: dict[int, list[BifurcationRecord]] = {}
+        #: The highlighted continuation or hysteresis sweep, as last read.
+        self._chosen: StoredBranch | StoredHysteresis | None = None
         #: (kind, id, points, status) of what is drawn: redraw only when it changed.
         self._drawn: tuple[str, int, int, str] | None = None
 
@@ -329,7 +332,21 @@ class BranchesScreen(SlopeScreen[None]):
                               key=str(h.id))
             self._place_cursor(table, "hysteresis", [h.id for h in sweeps], keep)
 
+    def analysis_point(self) -> tuple[Params, str] | None:
+        """Where an analysis opened from here starts (SlopeApp.analysis_point): the point
+        the highlighted continuation or hysteresis sweep started from; None with none."""
+        chosen = self._chosen
+        if chosen is None:
+            return None
+        kind = "continuation" if isinstance(chosen, StoredBranch) else "hysteresis sweep"
+        try:
+            at = Params(**{n: getattr(chosen.row, n) for n in PARAM_NAMES})
+        except ValueError:  # a hand-edited row: the form opens at the defaults instead
+            return None
+        return at, f"{kind} {chosen.id}'s point"
+
     def _show(self, chosen: StoredBranch | StoredHysteresis | None) -> None:
+        self._chosen = chosen
         if chosen is None:
             self._drawn = None
             self.query_one(PlotView).show(None)
