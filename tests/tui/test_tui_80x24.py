@@ -143,6 +143,18 @@ def test_every_screen_shows_its_essential_text_whole(db, size):
                          "window 1000", "tol 0.001", "Queue (ctrl+s)")
             await pilot.press("escape")
             await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen))
+            app.open_analysis("orbit")
+            await wait_until(pilot, lambda: "≈ a seed simulation" in drawn(app))
+            missing.check(app, "Periodic orbit at a point", "dt 0.01", "t-seed 3000",
+                         "Compute (ctrl+s)", "^s Start")
+            await pilot.press("escape")
+            app.certified_rerun(cycling.id)
+            await wait_until(pilot, lambda: "it stops where its attractor is certified"
+                             in drawn(app))
+            missing.check(app, "Certified re-run of a run", f"run {cycling.id}",
+                         "Queue (ctrl+s)", "esc Cancel")
+            await pilot.press("escape")
+            await wait_until(pilot, lambda: isinstance(app.screen, BranchesScreen))
 
             # the comparison of two runs, and the help
             await pilot.press("1")
