@@ -185,7 +185,7 @@ def main() -> None:
     n = args.num
     print(f"lattice {n} x {n} = {n * n} points, levels {args.levels}; {args.method} dt "
           f"{args.dt:g} to t = {args.t_end:g}, window {args.window:g}, lambda_max "
-          f"{'on' if args.lyap else 'off'}; {args.workers or 'in-process'} worker(s)")
+          f"{'on' if args.lyap else 'off'}, stop {args.stop}; {args.workers or 'in-process'} worker(s)")
     if args.keep:
         Path(args.keep).mkdir(parents=True, exist_ok=True)
         for plane in planes:
@@ -203,7 +203,7 @@ def add_row(args: argparse.Namespace, row: str) -> None:
     if not args.markdown.exists():
         args.markdown.write_text(
             f"| lattice ({args.method} dt {args.dt:g} to t = {args.t_end:g}, window "
-            f"{args.window:g}, λmax {'on' if args.lyap else 'off'}, {args.workers or 1} "
+            f"{args.window:g}, λmax {'on' if args.lyap else 'off'}, stop {args.stop}, {args.workers or 1} "
             f"worker(s)) | runs computed | wall time | points agreeing with brute force |\n"
             "|---|---:|---:|---:|\n")
     with args.markdown.open("a") as f:

@@ -18,6 +18,7 @@ core.stability.leading_exponent itself.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -68,6 +69,47 @@ def _carry(lam: complex, j0: np.ndarray, jt: np.ndarray, tau: float) -> complex 
 #: Memoised: the classifier's linear-theory check and the certificate both ask it of a
 #: run at rest, and past the gate it carries every root by Newton.
 @lru_cache(maxsize=64)
+@dataclass(frozen=True, slots=True)
+class RestRoot:
+    """A root of the rest state's characteristic function (Im >= 0): ``factor`` "delay"
+    for a root of h (eq. 20's delay factor, core.stability) or of its continuation to the
+    noisy state, "variance" for the variance block's (eqs. 6c-6e)."""
+
+    value: complex
+    factor: str
+
+
+def rest_roots(p: Params, count: int = 6) -> list[RestRoot]:
+    """The rest state's rightmost roots, best first, the m_x shift's zero root left out:
+    h's ``count`` rightmost (core.stability.roots) and the variance block's three, each
+    carried to the noisy rest state when d > 0 (as rest_exponent carries them, with no
+    gate). Raises ArithmeticError when a root cannot be carried."""
+    delay = [RestRoot(complex(r), "delay") for r in _nonzero(roots(p.F1, p.k, p.tau, count + 1))]
+    variance = [RestRoot(complex(r), "variance") for r in _nonzero(variance_roots(p))
+                if r.imag >= 0.0]
+    found = delay[:count] + variance
+    if p.d > 0.0:
+        from core.hopf_start import jacobians, steady_state  # the orbit kernels: as below
+        from core.orbit import OrbitError
+        try:
+            ss = steady_state(p)
+        except OrbitError as exc:
+            raise ArithmeticError(str(exc)) from None
+        j0, jt = jacobians(p, ss)
+        carried = []
+        for r in found:
+            lam = r.value if abs(r.value.imag) >= 1e-12 else complex(r.value.real, 1e-9)
+            moved = _carry(lam, j0, jt, p.tau)
+            if moved is None:
+                raise ArithmeticError(f"the root {r.value:.6g} of the noise-free state could not "
+                                      f"be carried to the noisy one (d = {p.d:g})")
+            if abs(moved.imag) < 1e-7:  # the nudge off the real axis, undone
+                moved = complex(moved.real, 0.0)
+            carried.append(RestRoot(complex(moved.real, abs(moved.imag)), r.factor))
+        found = carried
+    return sorted(found, key=lambda r: -r.value.real)
+
+
 def rest_exponent(p: Params) -> float:
     """The real part of the leading nonzero root at the rest state of p (with its noise d):
     its growth rate of small perturbations. Negative: stable; positive: a window that sits

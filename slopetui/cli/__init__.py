@@ -27,7 +27,7 @@ from slopetui.store.url_text import holds_password
 #: The modules of slopetui.cli.arguments that declare the commands' arguments, in the
 #: order ``slopetui --help`` lists the commands (imported by name: bound here, `run` or
 #: `sql` would hide the handlers' modules of the same names).
-ARGUMENTS = ("run", "orbit", "continuation", "branch", "hysteresis", "submit", "example",
+ARGUMENTS = ("run", "orbit", "roots", "continuation", "branch", "hysteresis", "submit", "example",
              "status", "show", "figure", "runs", "control", "delete", "sql", "worker",
              "workers", "db", "cluster", "nblock", "reproduce", "completion", "annotate",
              "compare")
@@ -36,6 +36,7 @@ ARGUMENTS = ("run", "orbit", "continuation", "branch", "hysteresis", "submit", "
 HANDLERS = {
     "run": "slopetui.cli.run:handle",
     "orbit": "slopetui.cli.orbit:handle",
+    "roots": "slopetui.cli.roots:handle",
     "continue": "slopetui.cli.continuation:handle",
     "branch": "slopetui.cli.branch:handle",
     "hysteresis": "slopetui.cli.hysteresis:handle",
