@@ -162,6 +162,23 @@ def test_compare_sets_two_specs_side_by_side(store: Database,
     assert code == 2 and "no sweep with id 99" in err
 
 
+def test_compare_decides_on_the_stored_values_not_their_text(
+        store: Database, capsys: pytest.CaptureFixture[str]) -> None:
+    url = store.url.render_as_string(hide_password=False)
+    a = submit_quick(store, 3, tau=10.000001).sweep_id
+    b = submit_quick(store, 3, tau=10.000004).sweep_id
+    c = submit_quick(store, 3, tau=2).sweep_id
+    d = submit_quick(store, 3, tau=2.0).sweep_id
+    differs = {s.key: (s.a, s.b) for s in compare_specs(store, a, b).differences}
+    assert differs == {"fixed.tau": ("10.000001", "10.000004")}
+    assert compare_specs(store, c, d).differences == ()  # 2 and 2.0: one number
+    code, out, _ = cli(capsys, "compare", str(a), str(b), "--json", "--db", url)
+    tau = next(s for s in json.loads(out)["settings"] if s["key"] == "fixed.tau")
+    assert code == 0 and tau == {"key": "fixed.tau", "a": 10.000001, "b": 10.000004,
+                                 "differs": True}
+    assert "(1 of " in cli(capsys, "compare", str(a), str(b), "--db", url)[1]
+
+
 def test_0014_keeps_the_rows_and_its_downgrade_names_what_goes(new_store_url, backend) -> None:
     db = Database(new_store_url)
     upgrade(db)
