@@ -7,12 +7,15 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
+from slopetui import whole_files
 from slopetui.cli import main
-from slopetui.sql_files import file_format, save_rows
+from slopetui.sql_files import file_format, save_new_results, save_rows
 from slopetui.store.database import Database
 from tests.support import SLOW
 
@@ -94,6 +97,26 @@ def test_out_and_a_stdout_format_exclude_each_other(db_url: str,
     with pytest.raises(SystemExit):
         main(["sql", "SELECT 1", "--csv", "--out", "r.csv", "--db", db_url])
     assert "not allowed with argument" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("links", [True, False], ids=["hard links", "no hard links"])
+def test_a_new_results_file_never_replaces_one_written_meanwhile(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, links: bool) -> None:
+    class Rows(list):  # another save takes sql-results.csv while these rows are written
+        def __iter__(self) -> Iterator[tuple[object, ...]]:
+            (tmp_path / "sql-results.csv").write_text("the other save's\n")
+            return super().__iter__()
+
+    if not links:  # a file system without hard links (FAT, some network mounts)
+        def no_link(*args: object) -> None:
+            raise PermissionError(1, "Operation not permitted")
+        monkeypatch.setattr(os, "link", no_link)
+    path, n = save_new_results(tmp_path, "csv", ["n"], Rows([(1,), (2,)]))
+    assert (path.name, n) == ("sql-results-2.csv", 2)
+    assert path.read_text() == "n\n1\n2\n"
+    assert path.stat().st_mode & 0o777 == 0o666 & ~whole_files._umask()  # not mkstemp's 0o600
+    assert (tmp_path / "sql-results.csv").read_text() == "the other save's\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sql-results-2.csv", "sql-results.csv"]
 
 
 def test_save_rows_writes_what_the_console_holds(tmp_path: Path) -> None:
