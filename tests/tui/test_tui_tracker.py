@@ -4,10 +4,14 @@ side by side from the palette."""
 
 from __future__ import annotations
 
+import time
+
+import pytest
 from textual.widgets import Button, DataTable, Input, Static, TextArea
 
+import slopetui.tui.app as app_module
 from slopetui.store.database import Database
-from slopetui.store.runs.marks import marked_runs
+from slopetui.store.runs.marks import marked_runs, set_mark
 from slopetui.sweeps import annotations
 from slopetui.tui.screens.spec_compare import SpecCompareScreen
 from slopetui.tui.screens.sweep_labels import SweepLabelsScreen
@@ -45,6 +49,42 @@ def test_marks_survive_a_restart(db: Database) -> None:
 
     run(first_session)
     run(second_session)
+
+
+def test_marks_reach_the_store_in_the_order_pressed(db: Database,
+                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+    """m then m on one run leaves it unmarked in the store even when the first write is the
+    slower (a busy store); the list the last write returns is the one shown, another
+    application's mark with it."""
+    plane(db, nx=4, ny=2)
+    finish_all(db)
+    calls: list[bool] = []
+
+    def slow_first(db_: Database, run_id: int, marked: bool) -> tuple[int, ...]:
+        calls.append(marked)
+        if marked:
+            time.sleep(0.5)
+        return set_mark(db_, run_id, marked)
+
+    monkeypatch.setattr(app_module, "set_mark", slow_first)
+
+    async def scenario() -> None:
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            grid = app.query_one(PhaseGrid)
+            await wait_until(pilot, lambda: grid.data is not None)
+            await pilot.press("d", "m", "m")  # mark, then unmark the same run
+            await wait_until(pilot, lambda: len(calls) == 2)
+            await pilot.pause(1.0)  # both writes done: the slow one takes 0.5 s
+            assert (app.marked, marked_runs(db)) == ([], ())
+            other = grid.cursor_run()[0] + 1
+            set_mark(db, other, True)  # another application marks a run
+            await pilot.press("m")
+            mine = grid.cursor_run()[0]
+            await wait_until(pilot, lambda: app.marked == [other, mine])
+            assert marked_runs(db) == (other, mine)
+
+    run(scenario)
 
 
 def test_e_renames_tags_and_annotates_the_selected_sweep(db: Database) -> None:
