@@ -40,7 +40,9 @@ def handle(args: argparse.Namespace) -> int:
         print(json_text({"a": {"id": a, "name": found.a.name}, "b": {"id": b, "name": found.b.name},
                          "settings": [_json_setting(s) for s in settings]}))
         return 0
-    rows = [(s.key, _cut(terminal_safe(s.a)), _cut(terminal_safe(s.b)), s.differs)
+    # a spec's keys are stored text too (another tool may have written them): escaped
+    # before the widths are measured
+    rows = [(terminal_safe(s.key), _cut(terminal_safe(s.a)), _cut(terminal_safe(s.b)), s.differs)
             for s in settings]
     titles = (f"sweep {a}", f"sweep {b}")
     wk = max([len("setting"), *(len(r[0]) for r in rows)])

@@ -13,13 +13,14 @@ import slopetui.tui.app as app_module
 from slopetui.store.database import Database
 from slopetui.store.runs.marks import marked_runs, set_mark
 from slopetui.sweeps import annotations
-from slopetui.tui.screens.spec_compare import SpecCompareScreen
+from slopetui.tui.screens.spec_compare import SpecCompareScreen, compare_sweeps
 from slopetui.tui.screens.sweep_labels import SweepLabelsScreen
 from slopetui.tui.widgets.phase_grid import PhaseGrid
 from tests.support import finish_all, submit_quick
 from tests.tui.support import run, wait_until
 from tests.tui.test_tui_app import app_for, plane
 from tests.tui.test_tui_keyboard import open_palette_and_choose
+from tests.unit.test_annotations import hostile_key
 
 
 def test_marks_survive_a_restart(db: Database) -> None:
@@ -150,5 +151,23 @@ def test_the_palette_compares_two_sweeps_specs(db: Database) -> None:
                                           f"Compare the specs of sweeps {first} and 99")
             await wait_until(pilot, lambda: any("no sweep with id 99" in n.message
                                                 for n in app._notifications))
+
+    run(scenario)
+
+
+def test_a_spec_key_is_drawn_escaped(db: Database) -> None:
+    first, second = submit_quick(db, 3).sweep_id, submit_quick(db, 4).sweep_id
+    hostile_key(db, first)
+
+    async def scenario() -> None:
+        app = app_for(db)
+        async with app.run_test(size=(120, 40)) as pilot:
+            await wait_until(pilot, lambda: app.db is not None)
+            compare_sweeps(app, first, second)
+            await wait_until(pilot, lambda: isinstance(app.screen, SpecCompareScreen))
+            await pilot.pause()
+            screen = app.export_screenshot()
+            assert not any(ch in screen for ch in ("\x1b", "\x07", "\u202e"))
+            assert "fixed.\\x1b]0;owned\\x07" in screen
 
     run(scenario)

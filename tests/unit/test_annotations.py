@@ -10,7 +10,7 @@ import json
 
 import pytest
 from alembic import command
-from sqlalchemy import inspect
+from sqlalchemy import inspect, text
 
 import slopetui
 from slopetui.cli import main
@@ -177,6 +177,30 @@ def test_compare_decides_on_the_stored_values_not_their_text(
     assert code == 0 and tau == {"key": "fixed.tau", "a": 10.000001, "b": 10.000004,
                                  "differs": True}
     assert "(1 of " in cli(capsys, "compare", str(a), str(b), "--db", url)[1]
+
+
+def hostile_key(db: Database, sweep: int) -> None:
+    """A spec key with a terminal's control sequences, as another tool could write it."""
+    with db.engine.begin() as conn:
+        spec = conn.execute(text("SELECT spec FROM sweeps WHERE id = :i"), {"i": sweep}).scalar()
+        spec = spec if isinstance(spec, dict) else json.loads(spec)
+        spec.setdefault("fixed", {})["\x1b]0;owned\x07\u202etau"] = 1
+        conn.execute(text("UPDATE sweeps SET spec = :s WHERE id = :i"),
+                     {"s": json.dumps(spec), "i": sweep})
+
+
+def test_compare_escapes_a_spec_key_and_measures_it_escaped(
+        store: Database, capsys: pytest.CaptureFixture[str]) -> None:
+    url = store.url.render_as_string(hide_password=False)
+    a, b = submit_quick(store, 3).sweep_id, submit_quick(store, 4).sweep_id
+    hostile_key(store, a)
+    code, out, _ = cli(capsys, "compare", str(a), str(b), "--db", url)
+    assert code == 0 and not any(ch in out for ch in ("\x1b", "\x07", "\u202e"))
+    lines = out.splitlines()
+    column = lines[0].index("sweep")  # every row's first value starts under its title
+    assert all(line[column - 2:column] == "  " and line[column] != " " for line in lines[1:-1])
+    key = json.loads(cli(capsys, "compare", str(a), str(b), "--json", "--db", url)[1])
+    assert "fixed.\x1b]0;owned\x07\u202etau" in {s["key"] for s in key["settings"]}
 
 
 def test_0014_keeps_the_rows_and_its_downgrade_names_what_goes(new_store_url, backend) -> None:
