@@ -45,6 +45,20 @@ def test_out_csv_and_json_hold_the_rows_as_stored(db: Database, db_url: str, tmp
     assert code == 0 and json.loads((tmp_path / "e.json").read_text()) == []
 
 
+def test_out_writes_the_header_of_a_select_without_rows(store_url: str, tmp_path: Path,
+                                                        capsys: pytest.CaptureFixture[str]) -> None:
+    """No row is still a result: its columns (PostgreSQL's stream forgets them once it
+    ends before a first row)."""
+    empty = "SELECT id, status AS state FROM runs WHERE id < 0"
+    code, out, err = sql(capsys, empty, "--out", str(tmp_path / "e.csv"), "--db", store_url)
+    assert (code, err) == (0, "") and out.startswith("0 rows written to ")
+    assert (tmp_path / "e.csv").read_text() == "id,state\n"
+    code, _, err = sql(capsys, empty, "--out", str(tmp_path / "e.json"), "--db", store_url)
+    assert (code, err) == (0, "") and json.loads((tmp_path / "e.json").read_text()) == []
+    code, out, _ = sql(capsys, empty, "--csv", "--db", store_url)
+    assert (code, out) == (0, "id,state\n")
+
+
 def test_out_keeps_to_the_limit_and_says_so(db: Database, db_url: str, tmp_path: Path,
                                             capsys: pytest.CaptureFixture[str]) -> None:
     many = ("WITH RECURSIVE c(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM c WHERE x < 50) "
