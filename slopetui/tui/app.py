@@ -292,9 +292,9 @@ class SlopeApp(App[None], inherit_bindings=False):
     # -- screens pushed on top --
 
     async def action_quit(self) -> None:
-        """Quit; on a screen that holds unsaved input (the new-sweep form, ``unsaved``)
-        ask first, naming what would be lost: ctrl+q threw a filled form away at once. A
-        second ctrl+q, on the question, quits."""
+        """Quit; on a screen that holds unsaved input (the new-sweep form, a sweep's
+        labels: ``unsaved``) ask first, naming what would be lost: ctrl+q threw a filled
+        form away at once. A second ctrl+q, on the question, quits."""
         unsaved = getattr(self.screen, "unsaved", None)
         lost = unsaved() if callable(unsaved) else None
         if lost is None:

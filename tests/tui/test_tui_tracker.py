@@ -13,6 +13,7 @@ import slopetui.tui.app as app_module
 from slopetui.store.database import Database
 from slopetui.store.runs.marks import marked_runs, set_mark
 from slopetui.sweeps import annotations
+from slopetui.tui.screens.confirm import ConfirmScreen
 from slopetui.tui.screens.spec_compare import SpecCompareScreen, compare_sweeps
 from slopetui.tui.screens.sweep_labels import SweepLabelsScreen
 from slopetui.tui.widgets.phase_grid import PhaseGrid
@@ -169,5 +170,30 @@ def test_a_spec_key_is_drawn_escaped(db: Database) -> None:
             screen = app.export_screenshot()
             assert not any(ch in screen for ch in ("\x1b", "\x07", "\u202e"))
             assert "fixed.\\x1b]0;owned\\x07" in screen
+
+    run(scenario)
+
+
+def test_ctrl_q_in_the_labels_modal_asks_before_losing_what_was_typed(db: Database) -> None:
+    plane(db, nx=3, ny=2)
+
+    async def scenario() -> None:
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await wait_until(pilot, lambda: app.db is not None
+                             and app.query_one(PhaseGrid).data is not None)
+            await pilot.press("e")
+            await wait_until(pilot, lambda: isinstance(app.screen, SweepLabelsScreen))
+            labels = app.screen
+            assert labels.unsaved() is None  # as opened: ctrl+q would quit at once
+            labels.query_one("#labels-note", TextArea).text = "two paragraphs of findings"
+            await pilot.pause()
+            await pilot.press("ctrl+q")
+            await wait_until(pilot, lambda: isinstance(app.screen, ConfirmScreen))
+            assert app.return_code is None
+            assert "'s note is not saved" in app.screen.question
+            await pilot.press("escape")  # keep editing: the modal and the note are there
+            await wait_until(pilot, lambda: app.screen is labels)
+            assert labels.query_one("#labels-note", TextArea).text == "two paragraphs of findings"
 
     run(scenario)
