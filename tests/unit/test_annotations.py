@@ -7,15 +7,19 @@ migration 0014 (up with the rows kept, down naming what it drops)."""
 from __future__ import annotations
 
 import json
+import threading
+import time
 
 import pytest
 from alembic import command
-from sqlalchemy import inspect, text
+from sqlalchemy import insert, inspect, text
 
 import slopetui
 from slopetui.cli import main
 from slopetui.store.database import Database
 from slopetui.store.migrate import alembic_config, downgrade, plan_downgrade, upgrade
+from slopetui.store.models import Mark
+from slopetui.store.open import open_store
 from slopetui.store.runs.marks import clear_marks, marked_runs, set_mark
 from slopetui.store.sweeps.annotations import sweep_list
 from slopetui.sweeps import annotations, control, spec
@@ -201,6 +205,40 @@ def test_compare_escapes_a_spec_key_and_measures_it_escaped(
     assert all(line[column - 2:column] == "  " and line[column] != " " for line in lines[1:-1])
     key = json.loads(cli(capsys, "compare", str(a), str(b), "--json", "--db", url)[1])
     assert "fixed.\x1b]0;owned\x07\u202etau" in {s["key"] for s in key["settings"]}
+
+
+def test_two_applications_marking_one_run_at_once_on_postgresql(pg_server) -> None:
+    """The second mark of a run waits on the first's unique index entry, then finds it
+    taken: the run is marked, and nothing is raised (it raised the unique violation)."""
+    db = open_store(pg_server.emptied_shared())
+    run = run_ids(db, submit_quick(db, 2).sweep_id)[0]
+    got: list[object] = []
+    try:
+        with db.engine.connect() as other:  # another application's mark, not yet committed
+            other.begin()
+            other.execute(insert(Mark).values(run_id=run))
+
+            def mark() -> None:
+                try:
+                    got.append(set_mark(db, run, True))
+                except Exception as exc:
+                    got.append(exc)
+
+            thread = threading.Thread(target=mark)
+            thread.start()
+            for _ in range(400):  # until set_mark's insert waits on the other's row lock
+                with db.engine.connect() as probe:
+                    if probe.exec_driver_sql("SELECT count(*) FROM pg_locks "
+                                             "WHERE NOT granted").scalar():
+                        break
+                time.sleep(0.025)
+            else:
+                raise AssertionError("set_mark never waited on the other mark")
+            other.commit()
+            thread.join(10)
+        assert got == [(run,)] and marked_runs(db) == (run,)
+    finally:
+        db.dispose()
 
 
 def test_0014_keeps_the_rows_and_its_downgrade_names_what_goes(new_store_url, backend) -> None:
