@@ -88,8 +88,17 @@ class CsvStream(RowStream):
         self.csv.writerow(columns)
 
     def write(self, rows: list[Row]) -> None:
-        self.csv.writerows(rows)
+        self.csv.writerows([tuple(map(_csv_cell, row)) for row in rows])
         self.out.flush()  # a reader downstream sees rows as they arrive
+
+
+def _csv_cell(value: object) -> object:
+    """A JSON column's value as JSON text: PostgreSQL's driver gives it as a dict or a list,
+    which the csv module would write as Python's repr ({'x': None}); SQLite gives the text
+    as stored."""
+    if isinstance(value, (dict, list)):
+        return json_text(value, ensure_ascii=False, default=str)
+    return value
 
 
 class JsonLinesStream(RowStream):

@@ -80,11 +80,12 @@ def value_text(value: Any) -> str:
 
 def compare_specs(db: Database, a: int, b: int) -> SpecComparison:
     """The specs of sweeps a and b, setting by setting in key order, the name left out.
-    UnknownSweep for an id the store does not hold."""
+    UnknownSweep for an id the store does not hold, naming its argument (SWEEP_A or
+    SWEEP_B, as ``slopetui compare`` calls them)."""
     found = specs_of(db, [a, b])
-    for sweep_id in (a, b):
+    for sweep_id, field in ((a, "SWEEP_A"), (b, "SWEEP_B")):
         if sweep_id not in found:
-            raise UnknownSweep(sweep_id)
+            raise UnknownSweep(sweep_id, field)
     left, right = (flat({k: v for k, v in found[i].spec.items() if k != "name"}) for i in (a, b))
     settings = []
     for key in sorted(left.keys() | right.keys()):

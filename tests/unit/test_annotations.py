@@ -163,7 +163,9 @@ def test_compare_sets_two_specs_side_by_side(store: Database,
     assert lines[2].split() == ["*", "fixed.tau", "2", "3"] and lines[3].split() == ["*", "x.num", "3", "4"]
     assert lines[-1] == f"(2 of {len(found.settings)} settings differ)"
     code, _, err = cli(capsys, "compare", str(a), "99", "--db", url)
-    assert code == 2 and "no sweep with id 99" in err
+    assert code == 2 and err.endswith("error: SWEEP_B: no sweep with id 99\n")
+    code, _, err = cli(capsys, "compare", "98", str(b), "--db", url)
+    assert code == 2 and err.endswith("error: SWEEP_A: no sweep with id 98\n")
 
 
 def test_compare_decides_on_the_stored_values_not_their_text(

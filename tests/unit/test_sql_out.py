@@ -5,6 +5,7 @@ bad extension, a folder or a failed query write nothing."""
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 import os
@@ -17,7 +18,7 @@ from slopetui import whole_files
 from slopetui.cli import main
 from slopetui.sql_files import file_format, save_new_results, save_rows
 from slopetui.store.database import Database
-from tests.support import SLOW
+from tests.support import SLOW, submit_quick
 
 ROWS = ("SELECT 1 AS n, 'a,b \"q\"' AS label, 0.5 AS x UNION ALL "
         "SELECT 2, char(27) || '[31mred', NULL")
@@ -59,6 +60,22 @@ def test_out_writes_the_header_of_a_select_without_rows(store_url: str, tmp_path
     assert (code, out) == (0, "id,state\n")
 
 
+def test_a_json_column_is_written_to_csv_as_json(store: Database, store_url: str,
+                                                 tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    """A sweep's spec is JSON in a CSV cell on both backends (PostgreSQL's driver gives a
+    dict, which was written as Python's repr)."""
+    sweep = submit_quick(store, 2).sweep_id
+    query = f"SELECT spec FROM sweeps WHERE id = {sweep}"
+    code, _, err = sql(capsys, query, "--out", str(tmp_path / "s.csv"), "--db", store_url)
+    assert (code, err) == (0, "")
+    with (tmp_path / "s.csv").open(newline="") as f:
+        cell = list(csv.reader(f))[1][0]
+    assert json.loads(cell)["x"]["num"] == 2 and json.loads(cell)["fixed"] == {"tau": 2}
+    code, out, _ = sql(capsys, query, "--csv", "--db", store_url)
+    assert code == 0 and json.loads(list(csv.reader(io.StringIO(out)))[1][0]) == json.loads(cell)
+
+
 def test_out_keeps_to_the_limit_and_says_so(db: Database, db_url: str, tmp_path: Path,
                                             capsys: pytest.CaptureFixture[str]) -> None:
     many = ("WITH RECURSIVE c(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM c WHERE x < 50) "
@@ -70,6 +87,12 @@ def test_out_keeps_to_the_limit_and_says_so(db: Database, db_url: str, tmp_path:
     code, out, _ = sql(capsys, many, "--out", str(tmp_path / "r.csv"), "--limit", "0",
                        "--db", db_url)
     assert code == 0 and out.startswith("50 rows written") and "more" not in out
+    code, out, _ = sql(capsys, many.replace("< 50", "< 1500"), "--out", str(tmp_path / "r.csv"),
+                       "--db", db_url)  # a file gets every row: no printed table's 1000
+    assert code == 0 and out.startswith("1500 rows written") and "more" not in out
+    assert len((tmp_path / "r.csv").read_text().splitlines()) == 1501
+    code, out, _ = sql(capsys, many.replace("< 50", "< 1500"), "--csv", "--db", db_url)
+    assert code == 0 and len(out.splitlines()) == 1001  # printed: 1000 unless --limit
 
 
 @pytest.mark.parametrize("name", ["r.txt", "r", "r.csv.gz", ".csv"])

@@ -423,7 +423,7 @@ class SqlScreen(SlopeScreen[None]):
         def saved(written: tuple[Path, int]) -> None:
             path, n = written
             part = (f" (the first {n} of {done.total}, as shown; slopetui sql --out FILE "
-                    "--limit 0 saves all)" if done.total > n else "")
+                    "saves all)" if done.total > n else "")
             self.app.notify_text(f"{n} row{'s' if n != 1 else ''} saved to {path}{part}",
                                  timeout=10)
 
