@@ -25,7 +25,7 @@ from typing import IO, TypeVar
 from slopetui.display_text import TextOut
 from slopetui.json_text import json_text
 from slopetui.store.read_query import Row
-from slopetui.whole_files import as_text, first_free, write_whole
+from slopetui.whole_files import as_text, write_new, write_whole
 
 #: A file's format by its extension (case ignored).
 FILE_FORMATS = ("csv", "json")
@@ -88,8 +88,17 @@ class CsvStream(RowStream):
         self.csv.writerow(columns)
 
     def write(self, rows: list[Row]) -> None:
-        self.csv.writerows(rows)
+        self.csv.writerows([tuple(map(_csv_cell, row)) for row in rows])
         self.out.flush()  # a reader downstream sees rows as they arrive
+
+
+def _csv_cell(value: object) -> object:
+    """A JSON column's value as JSON text: PostgreSQL's driver gives it as a dict or a list,
+    which the csv module would write as Python's repr ({'x': None}); SQLite gives the text
+    as stored."""
+    if isinstance(value, (dict, list)):
+        return json_text(value, ensure_ascii=False, default=str)
+    return value
 
 
 class JsonLinesStream(RowStream):
@@ -124,13 +133,10 @@ class JsonListStream(RowStream):
 FILE_STREAMS: dict[str, type[RowStream]] = {"csv": CsvStream, "json": JsonListStream}
 
 
-def save(path: Path, fmt: str, fill: Callable[[RowStream], ResultT]) -> ResultT:
-    """Write ``path`` whole or not at all as ``fmt`` (one of FILE_FORMATS): ``fill(stream)``
-    starts the stream and writes its rows (it may raise: then no file is left, and an older
-    one stays as it was); the stream is finished after it. Returns what ``fill`` returned.
-    Raises NothingToSave when ``fill`` never started the stream, OSError as the file system
-    raised it."""
-    result: list[ResultT] = []
+def _filled(fmt: str, fill: Callable[[RowStream], ResultT],
+            result: list[ResultT]) -> Callable[[IO[bytes]], int]:
+    """What writes a file of ``fmt``: ``fill``'s stream started, filled and finished, what
+    ``fill`` returned appended to ``result``."""
 
     def text(out: IO[str]) -> int:
         stream = FILE_STREAMS[fmt](out)
@@ -140,23 +146,44 @@ def save(path: Path, fmt: str, fill: Callable[[RowStream], ResultT]) -> ResultT:
         stream.finish()
         return 0
 
-    write_whole(path, lambda out: as_text(out, text))
+    return lambda out: as_text(out, text)
+
+
+def save(path: Path, fmt: str, fill: Callable[[RowStream], ResultT]) -> ResultT:
+    """Write ``path`` whole or not at all as ``fmt`` (one of FILE_FORMATS): ``fill(stream)``
+    starts the stream and writes its rows (it may raise: then no file is left, and an older
+    one stays as it was); the stream is finished after it. Returns what ``fill`` returned.
+    Raises NothingToSave when ``fill`` never started the stream, OSError as the file system
+    raised it."""
+    result: list[ResultT] = []
+    write_whole(path, _filled(fmt, fill, result))
     return result[0]
 
 
-def save_rows(path: Path, columns: list[str], rows: Sequence[Row]) -> int:
-    """Rows already read (the console's) written to ``path`` as its extension says:
-    the number of rows written."""
+def _rows_read(columns: list[str], rows: Sequence[Row]) -> Callable[[RowStream], int]:
+    """A fill (see save) that writes rows already read: the number of rows written."""
 
     def fill(stream: RowStream) -> int:
         stream.start(columns)
         stream.write(list(rows))
         return len(rows)
 
-    return save(path, file_format(path), fill)
+    return fill
 
 
-def unused_results_path(folder: Path, fmt: str) -> Path:
-    """folder/sql-results.fmt, or -2, -3... the first that does not exist: a key press
-    never replaces an earlier file."""
-    return first_free(folder, "sql-results", fmt)
+def save_rows(path: Path, columns: list[str], rows: Sequence[Row]) -> int:
+    """Rows already read (the console's) written to ``path`` as its extension says:
+    the number of rows written."""
+    return save(path, file_format(path), _rows_read(columns, rows))
+
+
+def save_new_results(folder: Path, fmt: str, columns: list[str],
+                     rows: Sequence[Row]) -> tuple[Path, int]:
+    """Rows already read (the console's) written whole to folder/sql-results.fmt, or -2,
+    -3... the first that does not exist when the file is complete, claimed atomically
+    (whole_files.write_new): a key press never replaces an earlier file, not even one a
+    second press is writing at the same time. The path and the number of rows written."""
+
+    result: list[int] = []
+    path, _ = write_new(folder, "sql-results", fmt, _filled(fmt, _rows_read(columns, rows), result))
+    return path, result[0]

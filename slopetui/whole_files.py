@@ -26,19 +26,60 @@ def write_whole(target: Path, write: Callable[[IO[bytes]], int]) -> int:
     over ``target``; returns what ``write`` returned. Raises what the write or the file
     system raised (OSError), leaving no temporary file behind."""
     mode = stat.S_IMODE(target.stat().st_mode) if target.is_file() else 0o666 & ~_umask()
+    temp, n = _staged(target.parent, target.name, mode, write)
+    try:
+        os.replace(temp, target)
+    except BaseException:
+        temp.unlink(missing_ok=True)
+        raise
+    return n
+
+
+def write_new(folder: Path, stem: str, ext: str,
+              write: Callable[[IO[bytes]], int]) -> tuple[Path, int]:
+    """write_whole into the first free name of first_free(folder, stem, ext), the name
+    claimed only once the file is whole and claimed atomically: two writers at once (two
+    key presses, two applications) get two names, and neither replaces the other's file.
+    Returns the path written and what ``write`` returned."""
+    temp, n = _staged(folder, f"{stem}.{ext}", 0o666 & ~_umask(), write)
+    try:
+        while True:
+            path = first_free(folder, stem, ext)
+            try:
+                # a hard link fails with EEXIST where the name was taken since first_free
+                # looked, where os.replace would overwrite it
+                os.link(temp, path)
+                return path, n
+            except FileExistsError:
+                continue
+            except OSError:  # a file system without hard links: reserve the name, then fill it
+                try:
+                    os.close(os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o600))
+                except FileExistsError:
+                    continue
+                os.replace(temp, path)
+                return path, n
+    finally:
+        temp.unlink(missing_ok=True)
+
+
+def _staged(folder: Path, name: str, mode: int,
+            write: Callable[[IO[bytes]], int]) -> tuple[Path, int]:
+    """``write(out)`` into a new hidden file in ``folder`` (named after ``name``), synced and
+    given ``mode``: the temporary file's path and what ``write`` returned. Leaves no file
+    behind when it raises."""
     # the name cut short: a name near the limit of 255 bytes must still fit
-    fd, temp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name[:64]}.", suffix=".part")
+    fd, temp = tempfile.mkstemp(dir=folder, prefix=f".{name[:64]}.", suffix=".part")
     try:
         with os.fdopen(fd, "wb") as out:
             n = write(out)
             out.flush()
             os.fsync(out.fileno())
         os.chmod(temp, mode)
-        os.replace(temp, target)
     except BaseException:
         Path(temp).unlink(missing_ok=True)
         raise
-    return n
+    return Path(temp), n
 
 
 def first_free(folder: Path, stem: str, ext: str,

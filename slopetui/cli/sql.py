@@ -129,7 +129,14 @@ def cancel_on_sigint(query: ReadQuery) -> Iterator[None]:
 
 # -- the command --------------------------------------------------------------------------
 
+#: How many rows are printed without --limit: a screenful of tables, not a file's worth.
+#: A file (--out) gets every row: a file cut at 1000 rows passed for the whole result.
+DEFAULT_LIMIT = 1000
+
+
 def handle(args: argparse.Namespace) -> int:
+    if args.limit is None:
+        args.limit = 0 if args.out is not None else DEFAULT_LIMIT
     if args.limit < 0:
         raise UsageError(f"--limit must be >= 0, got {args.limit}")
     try:

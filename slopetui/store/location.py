@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from urllib.parse import quote
 
 from platformdirs import user_data_path
 
@@ -26,7 +27,15 @@ def default_url() -> str:
     env = os.environ.get(DB_ENV)
     if env:
         return env
-    return f"sqlite:///{user_data_path('slopetui') / 'slopetui.db'}"
+    return sqlite_url(user_data_path("slopetui") / "slopetui.db")
+
+
+def sqlite_url(path: Path) -> str:
+    """The URL of the SQLite file at ``path`` (absolute): its characters that a URL reads
+    as syntax (``?`` a query, ``#`` a fragment, ``%`` an escape, ``@`` and ``:``) escaped, so
+    that the URL names that file and no other. (What SQLAlchemy's URL.create renders, here
+    without importing SQLAlchemy.)"""
+    return f"sqlite:///{quote(str(path), safe='/~')}"
 
 
 def checked_url(url: str) -> str:
@@ -60,5 +69,5 @@ def url_of(target: str | os.PathLike[str]) -> str:
         if not os.fspath(target).strip():
             raise StoreError(f"store = {os.fspath(target)!r} is empty: a path to a SQLite "
                              f"file (runs/x.db) or {ALLOWED_URLS.removeprefix('allowed ')}")
-        return f"sqlite:///{Path(os.fspath(target)).expanduser().absolute()}"
+        return sqlite_url(Path(os.fspath(target)).expanduser().absolute())
     return target

@@ -71,6 +71,8 @@ PG_CANCEL_POLL_S = 0.05
 
 #: SQLSTATE of "canceling statement" (statement_timeout and cancel() alike).
 PG_QUERY_CANCELED = "57014"
+#: libpq's PGRES_COMMAND_OK: a statement prepared, or described.
+PG_COMMAND_OK = 1
 
 
 class QueryStopped(Exception):
@@ -243,8 +245,13 @@ class ReadQuery:
         stream = cursor.stream(self.sql)
         try:
             first = self._call(next, stream, None)
-            columns = ([d.name for d in cursor.description]
-                       if cursor.description is not None else None)
+            if cursor.description is not None:
+                columns: list[str] | None = [d.name for d in cursor.description]
+            else:
+                # a stream that ended before its first row leaves no description behind
+                # (psycopg drops the closing result): the statement's columns, described
+                # by the server without running it again
+                columns = self._call(_described_columns, raw, self.sql)
             pending: list[Row] = [] if first is None else [first]
 
             def fetch(n: int) -> list[Row]:  # Rows.fetch times and translates it
@@ -279,6 +286,22 @@ class ReadQuery:
                                and "statement timeout" in message):
             return QueryTimedOut(self.timeout_s)
         return QueryError(message, is_refusal(message))
+
+
+def _described_columns(raw: Any, sql: str) -> list[str] | None:
+    """The column names of ``sql`` as PostgreSQL describes it (prepared as the unnamed
+    statement, not run); None for a statement that returns no rows at all."""
+    pgconn = raw.pgconn
+    for step in (lambda: pgconn.prepare(b"", sql.encode(raw.info.encoding)),
+                 lambda: pgconn.describe_prepared(b"")):
+        result = step()
+        if result.status != PG_COMMAND_OK:
+            raise QueryError(pgconn.error_message.decode(raw.info.encoding, "replace").strip()
+                             or "PostgreSQL could not describe the statement's columns",
+                             refused=False)
+    if result.nfields == 0:
+        return None
+    return [result.fname(i).decode(raw.info.encoding) for i in range(result.nfields)]
 
 
 class Rows:

@@ -31,8 +31,8 @@ __all__ = ["ACTIONS", "Deletion", "Resumed", "SweepBusy", "UnknownSweep", "apply
 
 
 class UnknownSweep(LookupError):
-    def __init__(self, sweep_id: int) -> None:
-        super().__init__(f"SWEEP: no sweep with id {sweep_id}")
+    def __init__(self, sweep_id: int, field: str = "SWEEP") -> None:
+        super().__init__(f"{field}: no sweep with id {sweep_id}")
 
 
 class SweepBusy(RuntimeError):

@@ -22,6 +22,7 @@ application showing only stored results never needs.
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Callable, Iterable, Sequence
 from functools import partial
 from pathlib import Path
@@ -130,6 +131,10 @@ class SlopeApp(App[None], inherit_bindings=False):
         #: Runs marked with m for the compare screen (v), in the order marked: the store's
         #: (store.runs.marks), read once it is open, so that they survive a restart.
         self.marked: list[int] = []
+        #: The marks' writes asked for and not yet done, the first under way
+        #: (``_write_marks``): the store gets them in the order pressed.
+        self._mark_writes: deque[tuple[Callable[[], object], Callable[[Exception], None]]] = \
+            deque()
         #: Where the figure key (f) and the palette's exports write: $SLOPETUI_FIGURES,
         #: else the user data folder's figures/ (figure_writing.default_folder).
         self.figure_folder = figure_writing.default_folder()
@@ -290,10 +295,10 @@ class SlopeApp(App[None], inherit_bindings=False):
     # -- screens pushed on top --
 
     async def action_quit(self) -> None:
-        """Quit; on a screen that holds unsaved input (the new-sweep form, ``unsaved``)
-        ask first, naming what would be lost: ctrl+q threw a filled form away at once. A
-        second ctrl+q, on the question, quits."""
-        unsaved = getattr(self.screen, "unsaved", None)  # the new-sweep and analysis forms
+        """Quit; on a screen that holds unsaved input (the new-sweep and analysis forms, a
+        sweep's labels: ``unsaved``) ask first, naming what would be lost: ctrl+q threw a
+        filled form away at once. A second ctrl+q, on the question, quits."""
+        unsaved = getattr(self.screen, "unsaved", None)
         lost = unsaved() if callable(unsaved) else None
         if lost is None:
             self.exit()
@@ -365,9 +370,9 @@ class SlopeApp(App[None], inherit_bindings=False):
         self.notify(f"run {run_id} {verb} (marked: {listed}){hint}")
         if self.db is not None:
             db, wanted = self.db, run_id in self.marked
-            self.background.start(
-                partial(set_mark, db, run_id, wanted), group="marks", done=lambda _m: None,
-                failed=lambda exc: self.notify_text(
+            self._write_marks(
+                partial(set_mark, db, run_id, wanted),
+                lambda exc: self.notify_text(
                     f"run {run_id} {verb} for this session only: the store did not keep it "
                     f"({exc})", severity="warning", timeout=8))
 
@@ -376,10 +381,38 @@ class SlopeApp(App[None], inherit_bindings=False):
         self.marked = []
         self.notify("no run is marked now")
         if self.db is not None:
-            self.background.start(partial(clear_marks, self.db), group="marks",
-                                  done=lambda _n: None,
-                                  failed=lambda exc: self.notify_text(
-                                      f"could not clear the marks: {exc}", severity="error"))
+            self._write_marks(partial(clear_marks, self.db),
+                              lambda exc: self.notify_text(f"could not clear the marks: {exc}",
+                                                           severity="error"))
+
+    def _write_marks(self, write: Callable[[], object],
+                     failed: Callable[[Exception], None]) -> None:
+        """Write the marks off the UI thread, one write after another in the order asked:
+        m then m again must reach the store as mark then unmark, never the other way round
+        (two threads at once commit in either order)."""
+        self._mark_writes.append((write, failed))
+        if len(self._mark_writes) == 1:  # none under way: this one starts now
+            self._next_mark_write()
+
+    def _next_mark_write(self) -> None:
+        write, failed = self._mark_writes[0]
+
+        def ended() -> None:
+            self._mark_writes.popleft()
+            if self._mark_writes:
+                self._next_mark_write()
+
+        def done(result: object) -> None:
+            ended()
+            if not self._mark_writes and isinstance(result, tuple):
+                # the last write's list is the store's (another application's marks too)
+                self.marked = list(result)
+
+        def not_written(exc: Exception) -> None:
+            ended()
+            failed(exc)
+
+        self.background.start(write, group="marks", done=done, failed=not_written)
 
     def action_compare(self) -> None:
         if len(self.marked) < 2:

@@ -8,8 +8,9 @@ import logging
 import math
 import sqlite3
 import stat
+import threading
 import time
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Iterator
 from pathlib import Path
 
 import pytest
@@ -18,6 +19,7 @@ from textual.screen import Screen
 from textual.widgets import DataTable, OptionList, Static, TextArea, Tree
 
 from slopetui.sql_history import read_history
+from slopetui.sql_results import QueryDone
 from slopetui.store.open import open_store
 from slopetui.tui.app import SlopeApp
 from slopetui.tui.screens import sql as sql_screen
@@ -445,5 +447,39 @@ def test_ctrl_s_saves_the_rows_shown_and_names_the_file(store: str, tmp_path: Pa
         await settle(pilot)
         assert (folder / "sql-results-2.csv").is_file()
         assert (folder / "sql-results.csv").read_text().startswith("id,k,raw\n")
+
+    in_console(store, scenario)
+
+
+def test_two_saves_at_once_take_two_names(store: str, tmp_path: Path,
+                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    """A second ctrl+s while the first is still writing (a long result) takes its own
+    name: the first file, finished after the second, does not replace it."""
+    folder = tmp_path / "figures"
+    monkeypatch.setenv("SLOPETUI_FIGURES", str(folder))
+    writing, release = threading.Event(), threading.Event()
+
+    class HeldRows(list):  # the first save's rows: held while they are written
+        def __iter__(self) -> Iterator[tuple[object, ...]]:
+            writing.set()
+            release.wait(10)
+            return super().__iter__()
+
+    async def scenario(pilot: Pilot, app: SlopeApp) -> None:
+        screen = app.screen
+        assert isinstance(screen, SqlScreen)
+        screen.results = QueryDone(["who"], HeldRows([("first",)]), 1, 0.0)
+        screen.action_save_results()
+        assert await asyncio.to_thread(writing.wait, 10)
+        screen.results = QueryDone(["who"], [("second",)], 1, 0.0)
+        screen.action_save_results()
+        for _ in range(200):  # the second save ends while the first is still writing
+            if (folder / "sql-results.csv").exists():
+                break
+            await asyncio.sleep(0.05)
+        release.set()
+        await settle(pilot)
+        saved = {p.name: p.read_text() for p in folder.iterdir()}
+        assert saved == {"sql-results.csv": "who\nsecond\n", "sql-results-2.csv": "who\nfirst\n"}
 
     in_console(store, scenario)

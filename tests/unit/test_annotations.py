@@ -7,15 +7,19 @@ migration 0014 (up with the rows kept, down naming what it drops)."""
 from __future__ import annotations
 
 import json
+import threading
+import time
 
 import pytest
 from alembic import command
-from sqlalchemy import inspect
+from sqlalchemy import insert, inspect, text
 
 import slopetui
 from slopetui.cli import main
 from slopetui.store.database import Database
 from slopetui.store.migrate import alembic_config, downgrade, plan_downgrade, upgrade
+from slopetui.store.models import Mark
+from slopetui.store.open import open_store
 from slopetui.store.runs.marks import clear_marks, marked_runs, set_mark
 from slopetui.store.sweeps.annotations import sweep_list
 from slopetui.sweeps import annotations, control, spec
@@ -159,7 +163,84 @@ def test_compare_sets_two_specs_side_by_side(store: Database,
     assert lines[2].split() == ["*", "fixed.tau", "2", "3"] and lines[3].split() == ["*", "x.num", "3", "4"]
     assert lines[-1] == f"(2 of {len(found.settings)} settings differ)"
     code, _, err = cli(capsys, "compare", str(a), "99", "--db", url)
-    assert code == 2 and "no sweep with id 99" in err
+    assert code == 2 and err.endswith("error: SWEEP_B: no sweep with id 99\n")
+    code, _, err = cli(capsys, "compare", "98", str(b), "--db", url)
+    assert code == 2 and err.endswith("error: SWEEP_A: no sweep with id 98\n")
+
+
+def test_compare_decides_on_the_stored_values_not_their_text(
+        store: Database, capsys: pytest.CaptureFixture[str]) -> None:
+    url = store.url.render_as_string(hide_password=False)
+    a = submit_quick(store, 3, tau=10.000001).sweep_id
+    b = submit_quick(store, 3, tau=10.000004).sweep_id
+    c = submit_quick(store, 3, tau=2).sweep_id
+    d = submit_quick(store, 3, tau=2.0).sweep_id
+    differs = {s.key: (s.a, s.b) for s in compare_specs(store, a, b).differences}
+    assert differs == {"fixed.tau": ("10.000001", "10.000004")}
+    assert compare_specs(store, c, d).differences == ()  # 2 and 2.0: one number
+    code, out, _ = cli(capsys, "compare", str(a), str(b), "--json", "--db", url)
+    tau = next(s for s in json.loads(out)["settings"] if s["key"] == "fixed.tau")
+    assert code == 0 and tau == {"key": "fixed.tau", "a": 10.000001, "b": 10.000004,
+                                 "differs": True}
+    assert "(1 of " in cli(capsys, "compare", str(a), str(b), "--db", url)[1]
+
+
+def hostile_key(db: Database, sweep: int) -> None:
+    """A spec key with a terminal's control sequences, as another tool could write it."""
+    with db.engine.begin() as conn:
+        spec = conn.execute(text("SELECT spec FROM sweeps WHERE id = :i"), {"i": sweep}).scalar()
+        spec = spec if isinstance(spec, dict) else json.loads(spec)
+        spec.setdefault("fixed", {})["\x1b]0;owned\x07\u202etau"] = 1
+        conn.execute(text("UPDATE sweeps SET spec = :s WHERE id = :i"),
+                     {"s": json.dumps(spec), "i": sweep})
+
+
+def test_compare_escapes_a_spec_key_and_measures_it_escaped(
+        store: Database, capsys: pytest.CaptureFixture[str]) -> None:
+    url = store.url.render_as_string(hide_password=False)
+    a, b = submit_quick(store, 3).sweep_id, submit_quick(store, 4).sweep_id
+    hostile_key(store, a)
+    code, out, _ = cli(capsys, "compare", str(a), str(b), "--db", url)
+    assert code == 0 and not any(ch in out for ch in ("\x1b", "\x07", "\u202e"))
+    lines = out.splitlines()
+    column = lines[0].index("sweep")  # every row's first value starts under its title
+    assert all(line[column - 2:column] == "  " and line[column] != " " for line in lines[1:-1])
+    key = json.loads(cli(capsys, "compare", str(a), str(b), "--json", "--db", url)[1])
+    assert "fixed.\x1b]0;owned\x07\u202etau" in {s["key"] for s in key["settings"]}
+
+
+def test_two_applications_marking_one_run_at_once_on_postgresql(pg_server) -> None:
+    """The second mark of a run waits on the first's unique index entry, then finds it
+    taken: the run is marked, and nothing is raised (it raised the unique violation)."""
+    db = open_store(pg_server.emptied_shared())
+    run = run_ids(db, submit_quick(db, 2).sweep_id)[0]
+    got: list[object] = []
+    try:
+        with db.engine.connect() as other:  # another application's mark, not yet committed
+            other.begin()
+            other.execute(insert(Mark).values(run_id=run))
+
+            def mark() -> None:
+                try:
+                    got.append(set_mark(db, run, True))
+                except Exception as exc:
+                    got.append(exc)
+
+            thread = threading.Thread(target=mark)
+            thread.start()
+            for _ in range(400):  # until set_mark's insert waits on the other's row lock
+                with db.engine.connect() as probe:
+                    if probe.exec_driver_sql("SELECT count(*) FROM pg_locks "
+                                             "WHERE NOT granted").scalar():
+                        break
+                time.sleep(0.025)
+            else:
+                raise AssertionError("set_mark never waited on the other mark")
+            other.commit()
+            thread.join(10)
+        assert got == [(run,)] and marked_runs(db) == (run,)
+    finally:
+        db.dispose()
 
 
 def test_0014_keeps_the_rows_and_its_downgrade_names_what_goes(new_store_url, backend) -> None:

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
-from sqlalchemy import select, update
+from sqlalchemy import URL, select, update
 
 import slopetui
 from core.result_fields import RESULT_NAMES
@@ -26,6 +26,7 @@ from slopetui.cli import export as export_cli
 from slopetui.cli import main
 from slopetui.store.database import Database
 from slopetui.store.failures import StoreError
+from slopetui.store.migrate import upgrade
 from slopetui.store.models import Run
 from slopetui.sweeps.control import UnknownSweep, cancel
 from slopetui.sweeps.export import COLUMNS, DERIVED
@@ -383,6 +384,25 @@ def test_a_plain_path_opens_that_sqlite_file(db, tmp_path, monkeypatch):
     assert not (tmp_path / "other.db").exists()
     with pytest.raises(StoreError, match="store = '' is empty"):
         slopetui.open_store("")
+
+
+def test_a_plain_path_with_url_syntax_in_it_opens_that_file(tmp_path, monkeypatch):
+    """A path holding ?, #, %, @, : or a space names that file: none of them is read as
+    the URL's query, fragment or escape."""
+    monkeypatch.setenv("SLOPETUI_DB", f"sqlite:///{tmp_path / 'other.db'}")
+    folder = tmp_path / "runs?v=1#x %41@h:2"
+    folder.mkdir()
+    target = folder / "s?mode=ro#%41.db"
+    made = Database(URL.create("sqlite", database=str(target)).render_as_string(
+        hide_password=False))
+    upgrade(made)
+    sweep = submit_quick(made).sweep_id
+    made.dispose()
+    for name in (target, str(target)):
+        with slopetui.open_store(name) as store:
+            assert list(store.sweeps()["id"]) == [sweep]
+    assert not (tmp_path / "other.db").exists()
+    assert [p.name for p in tmp_path.iterdir()] == [folder.name]
 
 
 def test_dir_lists_the_names_loaded_on_first_use():

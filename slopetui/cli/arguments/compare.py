@@ -17,5 +17,7 @@ def declare(sub: argparse._SubParsersAction) -> None:
     p.add_argument("b", metavar="SWEEP_B", help="sweep id")
     p.add_argument("--differences", "-d", action="store_true",
                    help="only the settings that differ")
-    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.add_argument("--json", action="store_true",
+                   help="machine-readable output: each side's value as stored (a side "
+                        "without the setting has no a/b key)")
     add_db_option(p)

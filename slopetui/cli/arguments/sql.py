@@ -27,8 +27,10 @@ def declare(sub: argparse._SubParsersAction) -> None:
     fmt.add_argument("--out", metavar="FILE",
                      help="write the rows to FILE, CSV or JSON by its extension (.csv, "
                           ".json: a list of objects); written whole or not at all")
-    p.add_argument("--limit", type=int, default=1000, metavar="N",
-                   help="print (or write to --out) at most N rows (default 1000; 0 for all)")
+    # None: the default of the output asked for (cli.sql.DEFAULT_LIMIT)
+    p.add_argument("--limit", type=int, default=None, metavar="N",
+                   help="print (or write to --out) at most N rows (default 1000 printed, "
+                        "all written to --out; 0 for all)")
     # A string: parse_timeout's one-line error beats argparse's usage dump.
     p.add_argument("--timeout", metavar="S", default=None,
                    help=f"stop the query after S seconds of database time (default "

@@ -4,7 +4,10 @@ order marked; a mark goes with its run (a deleted sweep takes its runs' marks)."
 
 from __future__ import annotations
 
-from sqlalchemy import delete, insert, select
+from typing import Any
+
+from sqlalchemy import delete, select
+from sqlalchemy.dialects import postgresql, sqlite
 
 from slopetui.store.database import Database, rows_changed
 from slopetui.store.models import Mark, Run
@@ -26,8 +29,18 @@ def set_mark(db: Database, run_id: int, marked: bool) -> tuple[int, ...]:
             s.execute(delete(Mark).where(Mark.run_id == run_id))
         elif (s.get(Run, run_id) is not None
               and s.scalar(select(Mark.id).where(Mark.run_id == run_id)) is None):
-            s.execute(insert(Mark).values(run_id=run_id))
+            # on PostgreSQL another application may mark the run between the read and the
+            # insert (two transactions at once): its mark stands, as this one would
+            s.execute(_insert_new_mark(s.get_bind().dialect.name).values(run_id=run_id)
+                      .on_conflict_do_nothing(index_elements=[Mark.run_id]))
         return tuple(s.scalars(select(Mark.run_id).order_by(Mark.id)))
+
+
+def _insert_new_mark(dialect: str) -> Any:
+    """The dialect's INSERT, which has ON CONFLICT DO NOTHING (both backends' do)."""
+    if dialect == "postgresql":
+        return postgresql.insert(Mark)
+    return sqlite.insert(Mark)
 
 
 def clear_marks(db: Database) -> int:

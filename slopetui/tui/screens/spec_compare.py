@@ -3,7 +3,7 @@
 ones that differ marked and first-coloured; d shows only those.
 
 ``compare_sweeps(app, a, b)`` reads both specs off the UI thread, then opens the modal.
-Names and values are stored text: escaped, and never read as markup.
+Names, keys and values are stored text: escaped, and never read as markup.
 """
 
 from __future__ import annotations
@@ -67,7 +67,7 @@ class SpecCompareScreen(ModalScreen[None]):
         shown = c.differences if self.only_differences else c.settings
         for s in shown:
             style = "bold" if s.differs else ""
-            table.add_row("*" if s.differs else "", Text(s.key, style=style),
+            table.add_row("*" if s.differs else "", Text(terminal_safe(s.key), style=style),
                           Text(terminal_safe(s.a), style=style),
                           Text(terminal_safe(s.b), style=style))
 

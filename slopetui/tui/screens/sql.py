@@ -44,7 +44,7 @@ from textual.worker import get_current_worker
 from slopetui import sql_history
 from slopetui.display_text import terminal_safe, terminal_safe_lines
 from slopetui.duration_text import duration_text
-from slopetui.sql_files import save_rows, unused_results_path
+from slopetui.sql_files import save_new_results
 from slopetui.sql_history import History
 from slopetui.sql_results import (
     QueryDone,
@@ -418,13 +418,12 @@ class SqlScreen(SlopeScreen[None]):
         folder = self.app.figure_folder
 
         def save() -> tuple[Path, int]:
-            path = unused_results_path(ready_folder(folder), fmt)
-            return path, save_rows(path, done.columns, done.rows)
+            return save_new_results(ready_folder(folder), fmt, done.columns, done.rows)
 
         def saved(written: tuple[Path, int]) -> None:
             path, n = written
             part = (f" (the first {n} of {done.total}, as shown; slopetui sql --out FILE "
-                    "--limit 0 saves all)" if done.total > n else "")
+                    "saves all)" if done.total > n else "")
             self.app.notify_text(f"{n} row{'s' if n != 1 else ''} saved to {path}{part}",
                                  timeout=10)
 

@@ -88,6 +88,27 @@ class SweepLabelsScreen(ModalScreen["LabelsEdit | None"]):
 
     def on_mount(self) -> None:
         self.query_one("#labels-name", Input).focus()
+        #: The fields' text as the modal opened, by field: what unsaved compares with.
+        self.opened = self._fields()
+
+    def _fields(self) -> dict[str, str]:
+        return {"name": self.query_one("#labels-name", Input).value,
+                "tags": self.query_one("#labels-tags", Input).value,
+                "note": self.query_one("#labels-note", TextArea).text}
+
+    def unsaved(self) -> str | None:
+        """What quitting now would lose, in a sentence, or None if every field is as it
+        opened: the app asks before a quit (ctrl+q) that would throw typed text away
+        (slopetui.tui.app)."""
+        opened = getattr(self, "opened", None)
+        if opened is None:  # not mounted yet: nothing typed
+            return None
+        changed = [field for field, text in self._fields().items() if opened[field] != text]
+        if not changed:
+            return None
+        return (f"Sweep {self.labels.id}'s {', '.join(changed)} "
+                f"{'is' if len(changed) == 1 else 'are'} not saved: what you typed would be "
+                "lost.")
 
     def edit(self) -> LabelsEdit | None:
         """The fields checked; None (and the reason shown) if one is not allowed."""
