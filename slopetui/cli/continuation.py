@@ -14,7 +14,7 @@ from core.continuation import bifurcations, criticality, walk
 from core.orbit import OrbitError
 from core.params import PARAM_NAMES, ParameterError, Params
 from core.periodic_orbit import SEED_T_END
-from slopetui.cli.arguments.continuation import MAX_STEP
+from slopetui.cli.arguments.continuation import MAX_HOPF_BRANCH, MAX_STEP
 from slopetui.cli.branch_lines import print_bifurcations, print_point
 from slopetui.cli.options import float_arg, int_arg, open_db, say_queued
 from slopetui.cli.orbit import check_seed_steps, point_of
@@ -54,8 +54,17 @@ def _not_the_start(args: argparse.Namespace, params: Params, end: float | None) 
 
 
 def _check(args: argparse.Namespace) -> None:
-    """--points, --max-step and --from-run as numbers (one line naming a bad one)."""
+    """--points, --max-step, --from-hopf and --from-run as numbers (one line naming a bad
+    one); --from-hopf N > 1 only computed here: the queue's continuations table stores the
+    start as "hopf" or "orbit", with no place for the branch index."""
     args.points = int_arg("points", args.points, 2, 5000)
+    if args.from_hopf is not None:
+        args.from_hopf = int_arg("from-hopf", args.from_hopf, 1, MAX_HOPF_BRANCH,
+                                 note=" (the Hopf branch: 1 the first root crossing)")
+        if args.from_hopf > 1 and args.submit:
+            raise ParameterError("from-hopf", args.from_hopf,
+                                 "1 with --submit (queued continuations start at the first "
+                                 "Hopf point; compute later ones without --submit)")
     args.max_step = float_arg("max-step", args.max_step, 0, MAX_STEP, above=True)
     if args.from_run is not None:
         args.from_run = int_arg("from-run", args.from_run, 1, note=" (a run id)")
@@ -96,7 +105,8 @@ def handle(args: argparse.Namespace) -> int:
     except ParameterError as exc:
         print(f"slopetui continue: error: {exc}", file=sys.stderr)
         return 2
-    spec = BranchSpec(params, args.param, dt, args.from_hopf, end, args.points, args.max_step)
+    spec = BranchSpec(params, args.param, dt, args.from_hopf is not None, end, args.points,
+                      args.max_step, args.from_hopf or 1)
     if args.submit:
         return _submit(args, spec)
     say_if_compiling("continue")
@@ -129,14 +139,15 @@ def handle(args: argparse.Namespace) -> int:
     }
     critical = criticality(branch.points) if hopf is not None else None
     if hopf is not None:
-        out["hopf"] = {"value": hopf.value, "period": hopf.period}
+        out["hopf"] = {"value": hopf.value, "period": hopf.period, "branch": hopf.branch,
+                       "omega": hopf.omega}
         out["criticality"] = critical
     if quiet:
         print(json_text(out))
         return 0
     print(f"end: {branch.end} ({len(branch.points)} points, {took:.1f} s)")
     if hopf is not None:
-        print(f"Hopf point: {args.param} = {hopf.value:.10g}, period {hopf.period:.10g}; "
-              f"{critical}")
+        print(f"Hopf point {hopf.branch}: {args.param} = {hopf.value:.10g}, omega "
+              f"{hopf.omega:.10g}, period {hopf.period:.10g}; {critical}")
     print_bifurcations(args.param, bif_records)
     return 0

@@ -11,6 +11,10 @@ from slopetui.cli.arguments.orbit import add_point_options
 #: places the seed (eq. 19), not the orbit.
 CONTINUABLE = tuple(n for n in PARAM_NAMES if n != "delta")
 
+#: The largest --from-hopf N: at tau = 10 the 30th pair of roots crosses at k ~ 680 and
+#: k_n grows like n^2 on; beyond this no branch is a request anyone makes.
+MAX_HOPF_BRANCH = 50
+
 #: The largest --max-step: a step along the branch in (parameter, period) space; a larger
 #: one is no request a continuation can honour (its steps adapt far below it).
 MAX_STEP = 1e3
@@ -27,8 +31,10 @@ def declare(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--param", required=True, choices=CONTINUABLE,
                    help="the parameter to continue in")
     start = p.add_mutually_exclusive_group()
-    start.add_argument("--from-hopf", action="store_true",
-                       help="start at the Hopf point of the steady state in --param")
+    start.add_argument("--from-hopf", dest="from_hopf", nargs="?", const="1", metavar="N",
+                       help="start at the N-th Hopf point of the steady state in --param "
+                            "(the N-th pair of roots crossing; default 1, the first; N > 1 "
+                            "in k, tau, a, b or c)")
     start.add_argument("--from-run", dest="from_run", metavar="ID",
                        help="start from the orbit at a stored run's parameters")
     p.add_argument("--to", metavar="VALUE",
