@@ -11,8 +11,9 @@ from slopetui.cli.arguments.orbit import add_point_options
 #: places the seed (eq. 19), not the orbit.
 CONTINUABLE = tuple(n for n in PARAM_NAMES if n != "delta")
 
-#: The largest --from-hopf N: at tau = 10 the 30th pair of roots crosses at k ~ 680 and
-#: k_n grows like n^2 on; beyond this no branch is a request anyone makes.
+#: The largest --from-hopf N. k_N grows like N^2 (omega_N ~ 2 pi N / tau): measured with
+#: core.stability.hopf_k, at tau = 10 the 10th pair crosses at k = 24.4 (the top of the
+#: paper's range), the 50th at k = 490; at tau = 2 the 50th at k = 12101.
 MAX_HOPF_BRANCH = 50
 
 #: The largest --max-step: a step along the branch in (parameter, period) space; a larger
