@@ -47,6 +47,7 @@ class BranchSpec:
     end: float | None = None
     max_points: int = 300
     max_step: float = 0.5
+    hopf_branch: int = 1
 
 
 def start(spec: BranchSpec) -> tuple[Branch, HopfPoint | None]:
@@ -55,7 +56,7 @@ def start(spec: BranchSpec) -> tuple[Branch, HopfPoint | None]:
     ``end`` is below the start, else up). Raises OrbitError when there is no orbit."""
     if spec.from_hopf:
         return Branch.from_hopf(spec.params, spec.name, spec.dt, HOPF_EPS, HOPF_FIRST_STEP,
-                                spec.max_step)
+                                spec.max_step, spec.hopf_branch)
     orbit = find_orbit(spec.params, spec.dt)
     shot = PeriodMap(spec.params, orbit.grid).shoot(orbit.z, orbit.period)
     value = getattr(spec.params, spec.name)

@@ -106,11 +106,12 @@ class Branch:
 
     @classmethod
     def from_hopf(cls, p: Params, name: str, dt: float, eps: float, step: float,
-                  max_step: float) -> tuple[Branch, HopfPoint]:
-        """From the Hopf point of the noisy steady state (core.hopf_start): the orbit of
-        amplitude eps along the critical eigenvector, corrected with the parameter free,
-        then onward in the direction of growing amplitude."""
-        hopf = hopf_point(p, name)
+                  max_step: float, hopf_branch: int = 1) -> tuple[Branch, HopfPoint]:
+        """From the n-th Hopf point (n = hopf_branch) of the noisy steady state
+        (core.hopf_start): the orbit of amplitude eps along the critical eigenvector,
+        corrected with the parameter free, then onward in the direction of growing
+        amplitude."""
+        hopf = hopf_point(p, name, hopf_branch)
         q = params_at(p, name, hopf.value)
         g = Grid.of(q, dt)
         z0, dz = small_orbit(hopf, g, eps)

@@ -9,7 +9,9 @@ found both here and at the end of the cycle branch by continuation). This module
 linearises eqs. 6a-6e at that state (core.model.rhs_tangent), solves
 det(i w I - J_0 - J_tau e^{-i w tau}) = 0 for the parameter and w by Newton's method from
 the noise-free point, and builds the orbit of small amplitude eps along the critical
-eigenvector: the start of a continuation from the Hopf point.
+eigenvector: the start of a continuation from the Hopf point. The n-th Hopf point (the
+n-th pair of roots on the axis, core.stability's n-th branch) starts Newton from the
+noise-free n-th point instead; its orbits are a branch of their own.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ import numpy as np
 from core.model import rhs_tangent
 from core.orbit import Grid, OrbitError
 from core.params import Params
-from core.stability import hopf_friction, hopf_k
+from core.stability import check_branch, hopf_friction, hopf_k, hopf_tau
 
 #: Newton's tolerance on |det| (scaled) for the Hopf point, and its step budget. Newton
 #: also stops once its step is below HOPF_STEP_TOL relative: in b at k = 12, tau = 10
@@ -94,26 +96,36 @@ class HopfPoint:
     omega: float
     steady: SteadyState
     vector: np.ndarray
+    #: Which root crossing: 1 the first (the stability boundary), n the n-th pair.
+    branch: int = 1
 
     @property
     def period(self) -> float:
         return 2 * math.pi / self.omega
 
 
-def hopf_point(p: Params, name: str = "k") -> HopfPoint:
-    """The Hopf point of the noisy steady state in parameter ``name``, starting from the
-    noise-free Hopf point (core.stability) when the parameter is k, a, b or c, else from p
-    itself."""
+def hopf_point(p: Params, name: str = "k", branch: int = 1) -> HopfPoint:
+    """The n-th Hopf point (n = ``branch``) of the noisy steady state in parameter
+    ``name``, starting from the noise-free n-th Hopf point (core.stability) when the
+    parameter is k, a, b or c (and tau for n > 1), else from p itself (n = 1 only)."""
+    check_branch(branch)
     if p.tau <= 0.0:
         raise OrbitError("tau must be > 0: there is no Hopf point without a delay")
     value = getattr(p, name)
     w = 2 * math.pi / (p.tau + 1)
     if name == "k" and p.F1 > 0:
-        value = hopf_k(p.tau, p.F1)
+        value = hopf_k(p.tau, p.F1, branch)
         w = math.sqrt(max(2 * value - p.F1 ** 2, 1e-6))
     elif name in ("a", "b", "c"):
         with contextlib.suppress(ValueError):  # none in reach: Newton from p itself
-            value, w = hopf_friction(p, name)
+            value, w = hopf_friction(p, name, branch)
+    elif branch > 1 and name == "tau" and 2 * p.k > p.F1 ** 2 > 0:
+        # every branch crosses at the same omega = sqrt(2k - F'^2) in tau (k fixed)
+        w = math.sqrt(2 * p.k - p.F1 ** 2)
+        value = hopf_tau(w, p.F1, p.k, branch)
+    elif branch > 1:
+        raise OrbitError(f"the Hopf point of branch {branch} is found in k, tau, a, b or c "
+                         f"(from the noise-free one), not in {name}")
     x = np.array([value, w])
     for _ in range(HOPF_STEPS):
         q = p.with_(**{name: float(x[0])})
@@ -137,7 +149,7 @@ def hopf_point(p: Params, name: str = "k") -> HopfPoint:
     _, _, vh = np.linalg.svd(a)
     v = vh[-1].conj()
     v = v / v[0]
-    return HopfPoint(name, float(x[0]), abs(float(x[1])), steady_state(q), v)
+    return HopfPoint(name, float(x[0]), abs(float(x[1])), steady_state(q), v, branch)
 
 
 def small_orbit(h: HopfPoint, g: Grid, eps: float) -> tuple[np.ndarray, np.ndarray]:

@@ -15,6 +15,12 @@ so along omega in (0, inf) the first branch is
     k_H = (omega^2 + F'^2) / 2,  tau_H = [atan2(-F' omega, F'^2 - k_H) mod 2 pi] / omega.
 tau_H falls monotonically from inf (k -> F'^2/2) to 0 (k -> pi^2 / (2 tau^2)).
 For k < F'^2/2 the sliding state is stable for every tau.
+
+The same two equations hold on every later root crossing: the n-th Hopf branch adds
+2 pi (n - 1) to omega tau,
+    tau_n(omega) = [atan2(-F' omega, F'^2 - k) mod 2 pi + 2 pi (n - 1)] / omega,
+so at one tau the n-th pair of roots crosses at k_n > k_{n-1}, with omega_n tau in
+((2n - 1) pi, 2 n pi): the n-th oscillation has a period in (tau / n, tau / (n - 1/2)).
 """
 
 from __future__ import annotations
@@ -126,12 +132,21 @@ def leading_exponent(p: Params) -> float:
     return max([leading_root(p).real, *var.real.tolist()])
 
 
-def hopf_k(tau: float, f1: float) -> float:
-    """k_H(tau): the critical stiffness on the first Hopf branch, for F' = f1 > 0.
+def check_branch(branch: int) -> int:
+    """The Hopf branch index n, checked: a whole number >= 1."""
+    if isinstance(branch, bool) or not isinstance(branch, int) or branch < 1:
+        raise ValueError(f"the Hopf branch index must be a whole number >= 1, not {branch!r}")
+    return branch
 
-    Solves tau_H(omega) = tau for omega by bisection on log(omega) (tau_H is monotone).
+
+def hopf_k(tau: float, f1: float, branch: int = 1) -> float:
+    """k_n(tau): the critical stiffness on the n-th Hopf branch (n = ``branch``; the first,
+    the stability boundary, by default), for F' = f1 > 0.
+
+    Solves tau_n(omega) = tau for omega by bisection on log(omega) (tau_n is monotone).
     Returns +inf for tau = 0 (no delay: stable for every k).
     """
+    check_branch(branch)
     if f1 <= 0.0:
         raise ValueError("the Hopf curve in k needs F'(v) > 0 (a damped sliding state)")
     if tau <= 0.0:
@@ -139,7 +154,7 @@ def hopf_k(tau: float, f1: float) -> float:
     lo, hi = 1e-9, 1e9
     for _ in range(200):
         mid = math.sqrt(lo * hi)
-        if hopf_tau(mid, f1) > tau:
+        if hopf_tau(mid, f1, branch=branch) > tau:
             lo = mid
         else:
             hi = mid
@@ -166,11 +181,20 @@ def hopf_period(tau: float, f1: float) -> float:
     return TWO_PI / math.sqrt(2.0 * k_h - f1 * f1)
 
 
-def hopf_tau(omega: float, f1: float, k: float | None = None) -> float:
-    """tau on the first Hopf branch at frequency omega (k = (omega^2 + F'^2)/2 by default)."""
+def hopf_tau(omega: float, f1: float, k: float | None = None, branch: int = 1) -> float:
+    """tau on the n-th Hopf branch (n = ``branch``) at frequency omega (k = (omega^2 +
+    F'^2)/2 by default): omega tau is the first crossing's angle plus 2 pi (n - 1)."""
     if k is None:
         k = 0.5 * (omega * omega + f1 * f1)
-    return (math.atan2(-f1 * omega, f1 * f1 - k) % TWO_PI) / omega
+    return (math.atan2(-f1 * omega, f1 * f1 - k) % TWO_PI + TWO_PI * (branch - 1)) / omega
+
+
+def hopf_omega(tau: float, f1: float, branch: int = 1) -> float:
+    """omega_n: the angular frequency of the n-th Hopf branch at this tau (the roots
+    +-i omega_n of h at k = k_n(tau)); NaN where there is none (F' <= 0 or tau = 0)."""
+    if f1 <= 0.0 or tau <= 0.0:
+        return math.nan
+    return math.sqrt(2.0 * hopf_k(tau, f1, branch) - f1 * f1)
 
 
 def hopf_curve_k_tau(p: Params, taus: np.ndarray) -> np.ndarray:
@@ -209,17 +233,19 @@ def friction_for_slope(p: Params, name: str, f1: np.ndarray | float) -> np.ndarr
     raise ValueError(f"no Hopf curve in the ({name}, tau) plane: name must be a, b or c")
 
 
-def hopf_friction(p: Params, name: str) -> tuple[float, float]:
-    """The friction parameter ``name`` (a, b or c) on the Hopf curve at p's k and tau, and
-    the angular frequency omega there: one point of hopf_curve_friction. Along that curve
+def hopf_friction(p: Params, name: str, branch: int = 1) -> tuple[float, float]:
+    """The friction parameter ``name`` (a, b or c) on the n-th Hopf curve (n = ``branch``)
+    at p's k and tau, and the angular frequency omega there: for n = 1 one point of
+    hopf_curve_friction. Along that curve
     tau falls as omega rises from 0 to sqrt(2k), so omega is found by bisection. Raises ValueError when no F' > 0 puts
     (k, tau) on the curve (k <= 0, or tau below the curve's reach pi / sqrt(2k))."""
+    check_branch(branch)
     if p.k <= 0.0 or p.tau <= 0.0:
         raise ValueError("the Hopf curve in a friction parameter needs k > 0 and tau > 0")
     top = math.sqrt(2.0 * p.k)
 
     def tau_at(w: float) -> float:
-        return hopf_tau(w, math.sqrt(max(2.0 * p.k - w * w, 0.0)), p.k)
+        return hopf_tau(w, math.sqrt(max(2.0 * p.k - w * w, 0.0)), p.k, branch)
 
     lo, hi = top * 1e-9, top * (1.0 - 1e-12)
     if not tau_at(hi) < p.tau < tau_at(lo):

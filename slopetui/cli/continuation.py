@@ -12,6 +12,7 @@ from core.branch_start import MIN_STEP, past_end, start
 from core.continuation import bifurcations, criticality, walk
 from core.orbit import OrbitError
 from core.params import PARAM_NAMES, ParameterError, Params
+from slopetui.cli.arguments.continuation import MAX_HOPF_BRANCH
 from slopetui.cli.branch_lines import print_bifurcations, print_point
 from slopetui.cli.options import int_arg, open_db, say_queued
 from slopetui.cli.orbit import point_of
@@ -29,7 +30,16 @@ if TYPE_CHECKING:
 
 
 def _check(args: argparse.Namespace) -> None:
-    """--from-run as a run id (one line naming a bad one)."""
+    """--from-hopf and --from-run as numbers (one line naming a bad one; the rest are
+    continuation_spec's); --from-hopf N > 1 only computed here: the queue's continuations
+    table stores the start as "hopf" or "orbit", with no place for the branch index."""
+    if args.from_hopf is not None:
+        args.from_hopf = int_arg("from-hopf", args.from_hopf, 1, MAX_HOPF_BRANCH,
+                                 note=" (the Hopf branch: 1 the first root crossing)")
+        if args.from_hopf > 1 and args.submit:
+            raise ParameterError("from-hopf", args.from_hopf,
+                                 "1 with --submit (queued continuations start at the first "
+                                 "Hopf point; compute later ones without --submit)")
     if args.from_run is not None:
         args.from_run = int_arg("from-run", args.from_run, 1, note=" (a run id)")
 
@@ -62,8 +72,8 @@ def handle(args: argparse.Namespace) -> int:
         _check(args)
         if args.from_run is not None:
             params = _params_of_run(args, params)
-        spec = continuation_spec(params, dt, args.param, args.from_hopf, args.to, args.points,
-                                 args.max_step)
+        spec = continuation_spec(params, dt, args.param, args.from_hopf is not None, args.to,
+                                 args.points, args.max_step, hopf_branch=args.from_hopf or 1)
     except ParameterError as exc:
         print(f"slopetui continue: error: {exc}", file=sys.stderr)
         return 2
@@ -99,14 +109,15 @@ def handle(args: argparse.Namespace) -> int:
     }
     critical = criticality(branch.points) if hopf is not None else None
     if hopf is not None:
-        out["hopf"] = {"value": hopf.value, "period": hopf.period}
+        out["hopf"] = {"value": hopf.value, "period": hopf.period, "branch": hopf.branch,
+                       "omega": hopf.omega}
         out["criticality"] = critical
     if quiet:
         print(json_text(out))
         return 0
     print(f"end: {branch.end} ({len(branch.points)} points, {took:.1f} s)")
     if hopf is not None:
-        print(f"Hopf point: {args.param} = {hopf.value:.10g}, period {hopf.period:.10g}; "
-              f"{critical}")
+        print(f"Hopf point {hopf.branch}: {args.param} = {hopf.value:.10g}, omega "
+              f"{hopf.omega:.10g}, period {hopf.period:.10g}; {critical}")
     print_bifurcations(args.param, bif_records)
     return 0

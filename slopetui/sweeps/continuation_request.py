@@ -68,9 +68,9 @@ def max_step(text: str) -> float:
 
 
 def continuation_spec(params: Params, dt: float, param: str, from_hopf: bool, to: str | None,
-                      points: str, step: str) -> BranchSpec:
-    """The continuation in ``param`` from ``params`` (the Hopf point, or the orbit a
-    simulation settles on), checked; ParameterError naming the field."""
+                      points: str, step: str, hopf_branch: int = 1) -> BranchSpec:
+    """The continuation in ``param`` from ``params`` (the ``hopf_branch``-th Hopf point, or
+    the orbit a simulation settles on), checked; ParameterError naming the field."""
     if param not in CONTINUABLE:
         raise ParameterError("param", param, f"one of {', '.join(CONTINUABLE)}")
     end = end_value(to, params, param)
@@ -82,7 +82,7 @@ def continuation_spec(params: Params, dt: float, param: str, from_hopf: bool, to
     if not from_hopf:  # a simulated orbit's seed, held in memory
         check_seed_steps(params, dt, SEED_T_END)
     from core.branch_start import BranchSpec  # numpy: module docstring
-    return BranchSpec(params, param, dt, from_hopf, end, n, largest)
+    return BranchSpec(params, param, dt, from_hopf, end, n, largest, hopf_branch)
 
 
 def estimate(spec: BranchSpec) -> str:

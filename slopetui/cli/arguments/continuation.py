@@ -7,6 +7,11 @@ import argparse
 from slopetui.cli.arguments.orbit import add_point_options
 from slopetui.sweeps.continuation_request import CONTINUABLE, MAX_STEP
 
+#: The largest --from-hopf N. k_N grows like N^2 (omega_N ~ 2 pi N / tau): measured with
+#: core.stability.hopf_k, at tau = 10 the 10th pair crosses at k = 24.4 (the top of the
+#: paper's range), the 50th at k = 490; at tau = 2 the 50th at k = 12101.
+MAX_HOPF_BRANCH = 50
+
 
 def declare(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("continue", help="continue periodic orbits in one parameter: folds, "
@@ -19,8 +24,10 @@ def declare(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--param", required=True, choices=CONTINUABLE,
                    help="the parameter to continue in")
     start = p.add_mutually_exclusive_group()
-    start.add_argument("--from-hopf", action="store_true",
-                       help="start at the Hopf point of the steady state in --param")
+    start.add_argument("--from-hopf", dest="from_hopf", nargs="?", const="1", metavar="N",
+                       help="start at the N-th Hopf point of the steady state in --param "
+                            "(the N-th pair of roots crossing; default 1, the first; N > 1 "
+                            "in k, tau, a, b or c)")
     start.add_argument("--from-run", dest="from_run", metavar="ID",
                        help="start from the orbit at a stored run's parameters")
     p.add_argument("--to", metavar="VALUE",
