@@ -6,7 +6,9 @@
   no one value), its solver the
   spec's, its engine the digests its done runs were computed with (``sweep_engines``: one,
   unless the engine changed while the sweep was computed; then their digests joined by
-  ", " and no version).
+  ", " and no version). A sweep from several initial conditions (``[[initial]]``) lists
+  them under ``initial`` (delta and history of each); a delta that differs between them is
+  ``varied`` (null among the params), and a history that differs is null in the solver.
 * **A run's figure** redraws the run from its stored inputs with this installation's
   engine (slopetui.sweeps.recompute): its ``engine`` is this one, and ``stored_engine``
   the digest of the stored result its title quotes. Several runs: one entry each under
@@ -38,11 +40,23 @@ def sweep_facts(diagram: SweepDiagram, engines: Sequence[str]) -> dict[str, Any]
     spec = diagram.spec
     varied = [spec.x.param] + ([spec.y.param] if spec.y is not None else [])
     solver = {key: getattr(spec.solver, key) for key in SOLVER_KEYS}
+    conditions = spec.conditions
+    initial: dict[str, Any] = {}
+    if len(conditions) > 1:  # several [[initial]]: no one delta or history (module docstring)
+        initial = {"initial": [{"delta": d, "history": h} for d, h in conditions]}
+        if len({d for d, _ in conditions}) > 1 and "delta" not in varied:
+            varied.append("delta")
+        if len({h for _, h in conditions}) > 1:
+            solver["history"] = None
+        else:
+            solver["history"] = conditions[0][1]
     if len(engines) == 1:
         eng: dict[str, Any] = engine(engines[0])
     else:  # none done yet, or several engines: no one version
         eng = {"version": None, "digest": ", ".join(engines) or None}
-    facts = {"sweep": diagram.id, "varied": varied, **computed_at(spec.base, solver), "engine": eng}
+    base = spec.base.with_(delta=conditions[0][0])  # the one delta, if the conditions share it
+    facts = {"sweep": diagram.id, "varied": varied, **computed_at(base, solver), **initial,
+             "engine": eng}
     return _without_varied(facts)
 
 

@@ -150,3 +150,40 @@ def test_the_caption_sits_under_the_legends_and_panels(db, sweep, tmp_path):
              *(ax.get_tightbbox(renderer) for ax in figure.axes)]
     assert figure.legends and all(box.y0 >= caption.y1 for box in above)
     assert caption.y1 <= 0  # in the strip under the figure's own area
+
+
+def _facts_of(**spec: object) -> dict:
+    from types import SimpleNamespace
+
+    from slopetui.figures.figure_facts import sweep_facts
+    from slopetui.sweeps.spec import parse_spec
+
+    data = {"x": {"param": "k", "start": 5, "stop": 10, "num": 3},
+            "fixed": {"delta": 0.1}, "solver": {"t_end": 200.0, "history": "constant"}, **spec}
+    return sweep_facts(SimpleNamespace(id=7, spec=parse_spec(data)), [source_digest()])
+
+
+def test_a_sweep_from_initial_conditions_of_different_delta_and_history_claims_neither():
+    facts = _facts_of(initial=[{"delta": 1e-6}, {"delta": 0.1, "history": "consistent"}])
+    assert facts["varied"] == ["k", "delta"]
+    assert facts["params"]["delta"] is None and facts["params"]["k"] is None
+    assert facts["solver"]["history"] is None
+    assert facts["initial"] == [{"delta": 1e-6, "history": "constant"},
+                                {"delta": 0.1, "history": "consistent"}]
+    line = figure_caption(facts)
+    assert "delta varied" in line and "history" not in line and "None" not in line
+
+
+def test_initial_conditions_that_share_a_delta_name_it_and_their_one_history():
+    facts = _facts_of(initial=[{"delta": 1e-3, "history": "consistent"}, {"delta": 1e-3}])
+    assert facts["varied"] == ["k"] and facts["params"]["delta"] == 1e-3
+    assert facts["solver"]["history"] is None
+    facts = _facts_of(initial=[{"delta": 1e-3, "history": "consistent"},
+                               {"delta": 0.2, "history": "consistent"}])
+    assert facts["solver"]["history"] == "consistent" and facts["params"]["delta"] is None
+
+
+def test_a_sweep_of_one_condition_keeps_its_delta_and_history():
+    facts = _facts_of()
+    assert "initial" not in facts and facts["params"]["delta"] == 0.1
+    assert facts["solver"]["history"] == "constant"
