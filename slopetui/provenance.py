@@ -11,9 +11,10 @@ that holds a result names them (docs/outputs.md), in one of two shapes built her
 **The engine.** Its digest is ``core.jit_cache.source_digest()``, the hash of core/*.py
 that keys the kernel cache, the result cache and the run detail's comparison: one owner,
 read here, never computed again. A run computed now carries this installation's digest and
-version. A stored run carries the digest stored with it (the ``engine`` column of
-``runs``, written when the run is queued: the worker that computes it does not rewrite
-it); the store keeps no version, so its version is this installation's only when the
+version. A stored result carries the digest stored with it (the ``engine`` column of
+``runs``, ``continuations``, ``hysteresis_sweeps``: written at queue time, then by the
+worker that computes it, with its own digest; "mixed" for a continuation or hysteresis
+sweep whose points workers of different engines saved); the store keeps no version, so its version is this installation's only when the
 digests agree, and null (an empty cell) otherwise: a version that was not recorded is
 not guessed.
 
