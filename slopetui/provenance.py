@@ -72,11 +72,18 @@ def params_of(params: Any) -> dict[str, float]:
     return {n: float(getattr(params, n)) for n in PARAM_NAMES}
 
 
-def computed_at(params: Any, solver: Mapping[str, Any],
-                digest: str | None = None) -> dict[str, Any]:
+def computed_at(params: Any, solver: Mapping[str, Any], digest: str | None = None, *,
+                start: tuple[str, float | None] | None = None) -> dict[str, Any]:
     """The three keys every JSON of one computation adds: params, solver, engine
-    (``digest`` None: computed now, by this installation)."""
-    return {"params": params_of(params), "solver": dict(solver),
+    (``digest`` None: computed now, by this installation). ``start``: (the parameter a
+    continuation follows, the value its branch starts at), which replaces the value in
+    ``params`` (a Hopf point is not where the user's value was); None there: the start is
+    not known yet (no point saved), and the parameter is null, not a value the branch
+    never had."""
+    named: dict[str, float | None] = {**params_of(params)}
+    if start is not None:
+        named[start[0]] = None if start[1] is None else float(start[1])
+    return {"params": named, "solver": dict(solver),
             "engine": this_engine() if digest is None else engine(digest)}
 
 

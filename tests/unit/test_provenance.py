@@ -14,7 +14,7 @@ from sqlalchemy import update
 
 import slopetui
 from core.jit_cache import source_digest
-from core.params import PARAM_NAMES
+from core.params import PARAM_NAMES, Params
 from slopetui.cli import main
 from slopetui.provenance import caption, computed_at
 from slopetui.store.models import Run
@@ -58,6 +58,18 @@ def test_continue_and_its_stored_branch_name_the_same_inputs(db, db_url, capsys)
     stored = _printed(capsys, ["branch", "1", "--db", db_url, "--json"])
     for key in ("params", "solver", "engine"):
         assert stored[key] == here[key], key
+    # the followed parameter is the branch's start, the Hopf point, not the value typed
+    assert here["params"]["k"] == here["hopf"]["value"] == stored["hopf_value"]
+    assert here["params"]["k"] != Params().k  # the k typed (the default: no --k)
+
+
+def test_a_stored_branch_from_hopf_with_no_point_yet_names_no_start(db, db_url, capsys):
+    from tests.unit.test_cli_branch import SUBMIT
+
+    assert main([*SUBMIT, "--db", db_url]) == 0
+    capsys.readouterr()
+    stored = _printed(capsys, ["branch", "1", "--db", db_url, "--json"])
+    assert stored["params"]["k"] is None and stored["params"]["tau"] == 2.0
 
 
 def test_hysteresis_and_its_stored_sweep_name_the_same_inputs(db, db_url, capsys):
