@@ -187,3 +187,18 @@ def test_a_sweep_of_one_condition_keeps_its_delta_and_history():
     facts = _facts_of()
     assert "initial" not in facts and facts["params"]["delta"] == 0.1
     assert facts["solver"]["history"] == "constant"
+
+
+def test_a_sweeps_engines_are_its_computed_runs_not_its_inferred_ones(sweep, db):
+    """An inferred run (never computed) keeps the digest written when it was queued: it
+    names no engine of the sweep's results."""
+    from sqlalchemy import update
+
+    from slopetui.store.models import Run
+    from slopetui.store.queries import runs_of, sweep_engines
+
+    first = next(iter(runs_of(db, sweep))).id
+    with db.sessions() as s, s.begin():
+        s.execute(update(Run).where(Run.id == first)
+                  .values(inferred=True, engine="0123456789abcdef"))
+    assert sweep_engines(db, sweep) == (source_digest(),)
