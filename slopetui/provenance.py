@@ -94,14 +94,19 @@ def _number(value: Any) -> str:
 def caption(facts: Mapping[str, Any], varied: Sequence[str] = ()) -> str:
     """One line of the facts for a figure's caption: "a=0.5 ... delta=1e-05; rk4, dt=0.01,
     t_end=1000, ...; slopetui 0.1.0, engine 1f2e...". ``varied`` names parameters that
-    the figure varies (an axis): they are written as "k varied", not as one value."""
+    the figure varies (an axis), and solver settings that differ between the runs it
+    compares: they are written as "k varied", not as one value; a setting that is None
+    (a history that differs between initial conditions, listed apart) is left out."""
     params = facts.get("params", {})
     words = [f"{n} varied" if n in varied else f"{n}={_number(params[n])}"
              for n in PARAM_NAMES if n in params or n in varied]
     solver = facts.get("solver", {})
-    settings = [str(solver.get("method", "?"))] + [f"{k}={_number(v)}" for k, v in solver.items()
-                                                   if k != "method" and v is not None]
+    settings = [f"{k} varied" if k in varied else
+                str(v) if k == "method" else f"{k}={_number(v)}"
+                for k, v in solver.items() if v is not None or k in varied]
     eng = facts.get("engine", {})
-    version = eng.get("version")
+    version, digest = eng.get("version"), eng.get("digest")
+    if digest is None:  # a sweep's figure before any of its runs is done
+        return f"{' '.join(words)}; {', '.join(settings)}; no runs done"
     made = f"slopetui {version}" if version else "slopetui version not recorded"
-    return f"{' '.join(words)}; {', '.join(settings)}; {made}, engine {eng.get('digest')}"
+    return f"{' '.join(words)}; {', '.join(settings)}; {made}, engine {digest}"

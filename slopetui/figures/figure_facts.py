@@ -12,8 +12,8 @@
 * **A run's figure** redraws the run from its stored inputs with this installation's
   engine (slopetui.sweeps.recompute): its ``engine`` is this one, and ``stored_engine``
   the digest of the stored result its title quotes. Several runs: one entry each under
-  ``runs``, and the common facts (a parameter that differs between them is ``varied``,
-  and null among the common params).
+  ``runs``, and the common facts (a parameter or a solver setting that differs between
+  them is ``varied``, and null among the common params or solver).
 
 The facts go into the figure's metadata, a comment line at the top of each CSV beside it
 and, on request, its one-line caption (slopetui.figures.output.write).
@@ -78,8 +78,10 @@ def runs_facts(runs: Sequence[StoredRun]) -> dict[str, Any]:
         return each[0]
     first = each[0]
     varied = [n for n in PARAM_NAMES if any(f["params"][n] != first["params"][n] for f in each)]
-    solver = {key: value for key, value in first["solver"].items()
-              if all(f["solver"][key] == value for f in each)}
+    differ = [key for key, value in first["solver"].items()
+              if any(f["solver"][key] != value for f in each)]
+    varied += differ  # a setting that differs has no one value either: null, as a parameter
+    solver = {key: None if key in differ else value for key, value in first["solver"].items()}
     return _without_varied({"runs": each, "varied": varied, "params": params_of(first["params"]),
                             "solver": solver, "engine": this_engine()})
 

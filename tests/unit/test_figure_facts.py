@@ -202,3 +202,26 @@ def test_a_sweeps_engines_are_its_computed_runs_not_its_inferred_ones(sweep, db)
         s.execute(update(Run).where(Run.id == first)
                   .values(inferred=True, engine="0123456789abcdef"))
     assert sweep_engines(db, sweep) == (source_digest(),)
+
+
+def test_runs_compared_at_different_steps_name_no_one_step():
+    from slopetui.figures.figure_facts import runs_facts
+    from tests.unit.test_figures import stored_run
+
+    facts = runs_facts([stored_run(1, k=4.0, dt=0.01), stored_run(2, k=12.0, dt=0.005)])
+    assert facts["varied"] == ["k", "dt"]
+    assert facts["solver"]["dt"] is None and facts["solver"]["method"] == "rk4"
+    assert [f["solver"]["dt"] for f in facts["runs"]] == [0.01, 0.005]
+    line = figure_caption(facts)
+    assert "k varied" in line and "rk4, dt varied, t_end=200" in line
+
+
+def test_a_sweep_with_no_run_done_says_so_in_its_caption():
+    from types import SimpleNamespace
+
+    from slopetui.figures.figure_facts import sweep_facts
+    from slopetui.sweeps.spec import parse_spec
+
+    spec = parse_spec({"x": {"param": "k", "start": 5, "stop": 10, "num": 3}})
+    line = figure_caption(sweep_facts(SimpleNamespace(id=3, spec=spec), []))
+    assert line.endswith("; no runs done") and "None" not in line
