@@ -16,7 +16,7 @@ from core.jit_cache import source_digest
 from slopetui.cli import main
 from slopetui.figures import DIAGRAM_SIZE, PNG_DPI
 from slopetui.figures.figure_facts import figure_caption
-from slopetui.figures.output import CAPTION_STRIP_IN, FACTS_PREFIX
+from slopetui.figures.output import FACTS_PREFIX, caption_lines, caption_strip_in
 from tests.support import finish_all, submit_quick
 
 DC = "{http://purl.org/dc/elements/1.1/}"
@@ -83,7 +83,7 @@ def test_caption_adds_the_line_under_the_figure(sweep, db_url, tmp_path, capsys)
     assert matplotlib.image.imread(plain).shape[:2] == (round(height * PNG_DPI),
                                                         round(width * PNG_DPI))
     assert matplotlib.image.imread(captioned).shape[:2] == (
-        round((height + CAPTION_STRIP_IN) * PNG_DPI), round(width * PNG_DPI))
+        round((height + caption_strip_in(2)) * PNG_DPI), round(width * PNG_DPI))
     from PIL import Image
 
     with Image.open(captioned) as image:
@@ -106,7 +106,9 @@ def test_the_caption_is_drawn_from_the_same_facts(sweep, db):
     with tempfile.TemporaryDirectory() as folder:
         write(drawing, Path(folder) / "a.svg", caption=True)
     added = drawing.figure.texts[texts_before:]
-    assert [t.get_text() for t in added] == [figure_caption(dict(drawing.facts))]
+    line = figure_caption(dict(drawing.facts))
+    assert [t.get_text() for t in added] == ["\n".join(caption_lines(line))]
+    assert added[0].get_text().replace("\n", "; ") == line  # the same line, in two
     assert added[0].get_fontsize() <= 6.5
 
 
@@ -225,3 +227,46 @@ def test_a_sweep_with_no_run_done_says_so_in_its_caption():
     spec = parse_spec({"x": {"param": "k", "start": 5, "stop": 10, "num": 3}})
     line = figure_caption(sweep_facts(SimpleNamespace(id=3, spec=spec), []))
     assert line.endswith("; no runs done") and "None" not in line
+
+
+@pytest.mark.parametrize("n_runs", [2, 12])
+def test_a_long_caption_keeps_a_readable_size_and_fits_the_figure(n_runs):
+    """Measured with the renderer, not the estimate the caption was set by: every line
+    fits in the figure's width, at 5 pt or more."""
+    import matplotlib.pyplot as plt
+
+    from slopetui.figures.output import CAPTION_MIN_PT, add_caption
+
+    shows = "runs " + ", ".join(str(1000 + i) for i in range(n_runs))
+    text = (f"{shows}: a=3.2 b=7.2 c=4.8 d=0.0001 k varied v=0.1 tau=2 delta=0.1; rk4, "
+            "dt=0.01, t_end=200, window=100, lyap=False, history=state:0123456789abcdef, "
+            "stop=t_end; slopetui 0.1.0, engine 0123456789abcdef, fedcba9876543210")
+    figure = plt.figure(figsize=DIAGRAM_SIZE)
+    try:
+        figure.add_subplot().plot([0, 1], [0, 1])
+        add_caption(figure, text)
+        drawn = figure.texts[-1]
+        assert drawn.get_fontsize() >= CAPTION_MIN_PT
+        words = drawn.get_text().replace("\n", " ").replace(";", "").split()
+        assert words == text.replace(";", "").split()  # nothing lost, wrapped between words
+        renderer = figure.canvas.get_renderer()
+        box = drawn.get_window_extent(renderer)
+        assert box.x0 >= 0 and box.x1 <= figure.bbox.width
+    finally:
+        plt.close(figure)
+
+
+def test_the_figure_csv_reads_as_its_help_says(sweep, db_url, tmp_path, capsys):
+    """The CSV's first line is the facts: `figure --help` says how to read past it, and
+    read so, its header is the table's (a plain read_csv would take the facts line)."""
+    import pandas as pd
+
+    with pytest.raises(SystemExit):
+        main(["figure", "--help"])
+    assert "pandas.read_csv(path, skiprows=1)" in " ".join(capsys.readouterr().out.split())
+    out = tmp_path / "fig.svg"
+    assert main(["figure", str(sweep), "-o", str(out), "--db", db_url]) == 0
+    path = tmp_path / "fig.csv"
+    header = path.read_text(encoding="utf-8").splitlines()[1].split(",")
+    table = pd.read_csv(path, skiprows=1)
+    assert list(table.columns) == header and len(table) == 2
