@@ -14,9 +14,9 @@ read here, never computed again. A run computed now carries this installation's 
 version. A stored result carries the digest stored with it (the ``engine`` column of
 ``runs``, ``continuations``, ``hysteresis_sweeps``: written at queue time, then by the
 worker that computes it, with its own digest; "mixed" for a continuation or hysteresis
-sweep whose points workers of different engines saved); the store keeps no version, so its version is this installation's only when the
-digests agree, and null (an empty cell) otherwise: a version that was not recorded is
-not guessed.
+sweep whose points workers of different engines saved); the store keeps no version, so
+its version is this installation's only when the digests agree, and null (an empty cell)
+otherwise: a version that was not recorded is not guessed.
 
 **A figure** names the same facts (``figure_facts``): in its PDF or SVG metadata, in a
 comment line at the top of the CSV beside it, and in its optional one-line caption.

@@ -134,8 +134,9 @@ class PointJobs(Generic[JobT, PointT, SavedT]):
                    spent_s: float, engine: str | None = None, **extra: Any) -> bool:
         """Append ``point`` (its ``idx`` must be the next) to a job the worker holds, add
         ``spent_s`` to its compute time, name the worker's ``engine`` (_engine_after; None,
-        a synthetic point of a test: the job's is kept) and set the job's columns ``extra``. False if the lease was lost or the point is not
-        the next: nothing is written."""
+        a synthetic point of a test: the job's is kept) and set the job's columns
+        ``extra``. False if the lease was lost or the point is not the next: nothing is
+        written."""
         job = self.job
         with db.transaction() as s:
             moved = rows_changed(s.execute(
