@@ -45,6 +45,15 @@ def _listing(args: argparse.Namespace) -> int:
     return 0
 
 
+def _start_value(branch: StoredBranch) -> float | None:
+    """Where the branch starts in its parameter: the Hopf point (None until its first point
+    is saved), or the first point (a simulated orbit: the stored value until then)."""
+    row = branch.row
+    if row.start == "hopf":
+        return row.hopf_value
+    return branch.points[0]["value"] if branch.points else float(getattr(row, branch.param))
+
+
 def _one(args: argparse.Namespace) -> int:
     branch = branch_of(open_db(args), args.id)
     if branch is None:
@@ -58,7 +67,7 @@ def _one(args: argparse.Namespace) -> int:
                          **computed_at(row, {"method": "rk4", "dt": row.dt,
                                              "from_hopf": row.start == "hopf",
                                              "points": row.max_points, "max_step": row.max_step},
-                                       row.engine)}))
+                                       row.engine, start=(branch.param, _start_value(branch)))}))
         return 0
     if args.plot:
         size = shutil.get_terminal_size((100, 30))

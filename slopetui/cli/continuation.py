@@ -102,10 +102,13 @@ def handle(args: argparse.Namespace) -> int:
         "end": branch.end,
         "dt": branch.g0.dt,
         "runtime_s": took,
-        # the branch's start (``param`` varies along it); RK4 is the orbits' map
-        # (core.period_map); points and max_step: how far and in what steps it was followed
+        # the branch's start (``param`` varies along it: at the Hopf point, or the first
+        # point's value); RK4 is the orbits' map (core.period_map); points and max_step: how
+        # far and in what steps it was followed
         **computed_at(params, {"method": "rk4", "dt": branch.g0.dt, "from_hopf": spec.from_hopf,
-                               "points": spec.max_points, "max_step": spec.max_step}),
+                               "points": spec.max_points, "max_step": spec.max_step},
+                      start=(args.param, hopf.value if hopf is not None
+                             else branch.points[0].value if branch.points else None)),
     }
     critical = criticality(branch.points) if hopf is not None else None
     if hopf is not None:

@@ -73,11 +73,16 @@ def carried_of(args: argparse.Namespace, settings: SolverSettings
 def json_text(record: dict[str, object], history: str = "constant",
               inputs: tuple[Params, SolverSettings] | None = None) -> str:
     """The record of ``--json``: one JSON object, its keys in JSON_KEYS order, then the
-    history the run started from as given, then what the run was computed at (``params``,
+    history the run started from, then what the run was computed at (``params``,
     ``solver``, ``engine``: slopetui.provenance) when its ``inputs`` are given (NaN, ±inf
-    as null: slopetui.json_text)."""
+    as null: slopetui.json_text). ``history`` as given (``run:ID``); a carried state is
+    named as export names it, by its state's name (``state:<digest>``, the settings'),
+    and ``history_given`` keeps what was typed."""
     facts = {} if inputs is None else computed_at(inputs[0], solver_of(inputs[1], record))
-    return strict_json({**{k: record[k] for k in JSON_KEYS}, "history": history, **facts})
+    named = history if inputs is None else inputs[1].history
+    given = {} if named == history else {"history_given": history}
+    return strict_json({**{k: record[k] for k in JSON_KEYS}, "history": named, **given,
+                        **facts})
 
 
 def solver_of(s: SolverSettings, record: dict[str, object]) -> dict[str, object]:

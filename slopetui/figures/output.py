@@ -37,8 +37,9 @@ Decisions:
   (``Subject`` of a PDF, ``Description`` of an SVG or PNG). Each CSV: one comment line
   before its header, ``# slopetui: <the JSON>``, rather than columns, which would repeat
   the same 20 values on each of thousands of rows of traces (read it with
-  ``pandas.read_csv(path, comment="#")``). The caption (``write(caption=True)``): the text
-  line in a strip saved under the figure (add_caption; the panels keep their size).
+  ``pandas.read_csv(path, skiprows=1)``). The caption (``write(caption=True)``): the text
+  line in a strip saved under the figure, in two lines (add_caption; the panels keep their
+  size).
 """
 
 from __future__ import annotations
@@ -177,19 +178,41 @@ def _save_options(fmt: str, facts: Mapping[str, Any] | None = None) -> dict[str,
     return {"dpi": RASTER_DPI, "metadata": {"Creator": CREATOR, date_key: None, **described}}
 
 
-#: The caption's font size (points) and the strip it takes under the figure (inches).
+#: The caption's font size (points): under a 6.4 in diagram it matches the tick labels'
+#: scale; never set below CAPTION_MIN_PT, about the smallest print a journal accepts (a line
+#: that does not fit at it is wrapped instead).
 CAPTION_PT = 6.5
-CAPTION_STRIP_IN = 0.22
+CAPTION_MIN_PT = 5.0
+#: The strip a caption takes under the figure (inches): a margin, and one line height
+#: (1.2 font sizes, matplotlib's line spacing, at CAPTION_PT) per line.
+CAPTION_MARGIN_IN = 0.08
+CAPTION_LINE_IN = 1.2 * CAPTION_PT / 72
+#: The share of the figure's width a caption line may take.
+CAPTION_WIDTH = 0.97
+
+
+def caption_strip_in(n_lines: int) -> float:
+    """The height (inches) of the strip a caption of ``n_lines`` lines takes."""
+    return CAPTION_MARGIN_IN + n_lines * CAPTION_LINE_IN
+
+
+def caption_lines(text: str) -> list[str]:
+    """The caption's line split in two where it is read in two parts: what the figure
+    shows and its parameters, then the solver and the engine (after the first "; ")."""
+    head, sep, tail = text.partition("; ")
+    return [head, tail] if sep else [head]
 
 
 def add_caption(figure: Figure, text: str) -> Bbox:
-    """``text`` in a strip under the figure, and the area to save with it (savefig's
-    bbox_inches): the figure's own area and the strip below it. The layout is made at the
-    figure's own size and then kept (the panels keep their size and place), and the
-    figure's "outside" legends, which hang from the edge of the area saved, stay on the
-    figure's own edge, above the strip. A line too long for the width at CAPTION_PT is
-    set smaller (DejaVu Sans averages about 0.55 em a character; at the 6.4 in width of a
-    diagram, 6.5 pt holds about 130 characters)."""
+    """``text`` in a strip under the figure, in two lines (caption_lines), and the area to
+    save with it (savefig's bbox_inches): the figure's own area and the strip below it.
+    The layout is made at the figure's own size and then kept (the panels keep their size
+    and place), and the figure's "outside" legends, which hang from the edge of the area
+    saved, stay on the figure's own edge, above the strip. The lines are measured as the
+    renderer sets them: wider than CAPTION_WIDTH of the figure at CAPTION_PT they are set smaller,
+    down to CAPTION_MIN_PT, and wrapped where they are still too wide."""
+    import textwrap
+
     from matplotlib.transforms import Bbox
 
     figure.draw_without_rendering()  # the constrained layout, at the figure's own size
@@ -197,10 +220,35 @@ def add_caption(figure: Figure, text: str) -> Bbox:
     for legend in figure.legends:
         legend.set_bbox_to_anchor((0.0, 0.0, 1.0, 1.0), transform=figure.transFigure)
     width, height = figure.get_size_inches()
-    size = min(CAPTION_PT, 0.97 * width * 72 / (0.55 * max(len(text), 1)))
-    figure.text(0.5, -CAPTION_STRIP_IN / 2 / height, text, ha="center", va="center",
-                fontsize=size, color="0.25")
-    return Bbox([[0.0, -CAPTION_STRIP_IN], [width, height]])
+    room = CAPTION_WIDTH * width * 72  # points
+    lines = caption_lines(text)
+    size = CAPTION_PT
+    widest = _widest(figure, lines, size)
+    if widest > room:
+        size = max(CAPTION_MIN_PT, size * room / widest)
+    for _ in range(4):  # wrap what does not fit at the floor (each pass narrows by 10 %)
+        widths = [_widest(figure, [line], size) for line in lines]
+        if max(widths) <= room:
+            break
+        lines = [wrapped for line, w in zip(lines, widths, strict=True)
+                 for wrapped in (textwrap.wrap(line, max(int(len(line) * room / w * 0.9), 20))
+                                 if w > room else [line])]
+    strip = caption_strip_in(len(lines))
+    figure.text(0.5, -strip / 2 / height, "\n".join(lines), ha="center", va="center",
+                fontsize=size, color="0.25", linespacing=1.2)
+    return Bbox([[0.0, -strip], [width, height]])
+
+
+def _widest(figure: Figure, lines: list[str], size: float) -> float:
+    """The width (points) of the widest of ``lines`` set at ``size`` in the figure's font,
+    as Agg lays it out at the figure's dpi (PDF and SVG set the same font's metrics;
+    matplotlib.textpath's measure differs from both by about 5 %)."""
+    from matplotlib.backends.backend_agg import RendererAgg
+    from matplotlib.font_manager import FontProperties
+
+    renderer, font = RendererAgg(1, 1, figure.dpi), FontProperties(size=size)
+    return max(renderer.get_text_width_height_descent(line, font, ismath=False)[0]
+               for line in lines) * 72 / figure.dpi
 
 
 def _save_figure(figure: Figure, fmt: str, facts: Mapping[str, Any] | None, area: Bbox | None,

@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Any
 from core.jit_cache import source_digest
 from core.params import PARAM_NAMES, ParameterError, Params, check_finite, check_positive
 from slopetui.queue import stored_inputs
+from slopetui.queue.jobs import engine_digest
 from slopetui.queue.kinds import Activity, Computing, JobKind
 from slopetui.queue.thread_steps import HeldJob, Runner, Stops
 from slopetui.store.database import Database
@@ -177,7 +178,8 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
         if point is None:
             break
         if not continuations.save_point(db, job.id, wid, point_fields(branch), spent,
-                                      hopf if len(branch.points) == 1 else None):
+                                        hopf if len(branch.points) == 1 else None,
+                                        engine=engine_digest()):
             log.warning("continuation %d: lease lost; the point is not saved", job.id)
             return
         spent = 0.0
@@ -186,7 +188,7 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
     found, took = located
     critical = criticality(branch.points) if spec.from_hopf else None
     if continuations.finish(db, job.id, wid, branch.end, critical, spent + took,
-                          [bifurcation_fields(b) for b in found]):
+                            [bifurcation_fields(b) for b in found], engine_digest()):
         log.info("continuation %d done: %d points, %s", job.id, len(branch.points),
                  ", ".join(f"{b.type} at {spec.name} = {b.value:.6g}" for b in found)
                  or "no bifurcation")

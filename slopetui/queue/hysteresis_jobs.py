@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Any
 from core.jit_cache import source_digest
 from core.params import PARAM_NAMES, ParameterError, Params, check_finite, check_positive
 from slopetui.queue import stored_inputs
+from slopetui.queue.jobs import engine_digest
 from slopetui.queue.kinds import Activity, Computing, JobKind
 from slopetui.queue.thread_steps import HeldJob, Runner, Stops
 from slopetui.store.database import Database
@@ -226,7 +227,7 @@ def _finish(db: Database, wid: str, job: HysteresisJob, held: HeldJob, g: Grid,
     if (stepped := held.step(partial(transitions, job.spec, g, rows))) is None:
         return
     found, took = stepped
-    if hysteresis_sweeps.finish(db, job.id, wid, found, spent + took):
+    if hysteresis_sweeps.finish(db, job.id, wid, found, spent + took, engine_digest()):
         log.info("hysteresis sweep %d done: %d points, up changes at %s, down at %s", job.id,
                  len(rows), found["onset_up"], found["offset_down"])
     else:
@@ -274,7 +275,7 @@ def compute(db: Database, wid: str, job: HysteresisJob, run: Runner, control: St
         direction, _ = spec.plan(idx)
         if not hysteresis_sweeps.save_point(db, job.id, wid,
                                           point_fields(idx, direction, pt, state),
-                                          spent + took):
+                                          spent + took, engine=engine_digest()):
             log.warning("hysteresis sweep %d: lease lost; the point is not saved", job.id)
             return
         spent = 0.0

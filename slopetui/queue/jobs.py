@@ -169,7 +169,11 @@ def complete(db: Database, job: Job, worker_id: str, record: dict[str, Any],
 def engine_digest() -> str:
     """The digest of the engine this process computes with (core.jit_cache.source_digest),
     read once, at the worker's start (worker_process): the sources on disk may change
-    under a running worker (a git pull, an upgrade), the code it loaded does not."""
+    under a running worker (a git pull, an upgrade), and the modules it loaded by then
+    (the kernels of its warm-up) do not. Not every module: core modules imported at their
+    first use (core.certify, core.shooting, core.continuation, ...) are read from disk
+    then, so a worker running while core/ changes can compute with a mix of both versions
+    under the old digest. Restart the workers after changing core/."""
     from core.jit_cache import source_digest
     return source_digest()
 

@@ -54,11 +54,14 @@ def run_by_id(db: Database, run_id: int) -> Run | None:
 
 def sweep_engines(db: Database, sweep_id: int) -> tuple[str, ...]:
     """The engine digests the sweep's done runs were computed with, sorted (one, unless
-    the engine changed while the sweep was computed; none before a run is done). What a
-    sweep's figure names as its engine (``slopetui.figures.figure_facts``)."""
+    the engine changed while the sweep was computed; none before a run is done). An
+    inferred run (an adaptive sweep's, never computed) names no engine: its column is the
+    queue-time digest. What a sweep's figure names as its engine
+    (``slopetui.figures.figure_facts``)."""
     with db.sessions() as s:
         return tuple(s.scalars(select(Run.engine).distinct()
-                               .where(Run.sweep_id == sweep_id, Run.status == "done")
+                               .where(Run.sweep_id == sweep_id, Run.status == "done",
+                                      Run.inferred.is_(False))
                                .order_by(Run.engine)))
 
 

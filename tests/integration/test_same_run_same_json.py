@@ -66,3 +66,31 @@ def test_run_json_and_export_json_give_the_same_values(tmp_path):
     sliding, oscillating = rows
     assert sliding["regime"] == "sliding" and sliding["period"] is None
     assert oscillating["regime"] == "oscillatory" and math.isfinite(oscillating["period"])
+
+
+#: A sweep carried on from run 2 (k = 10 of SPEC): every point starts from its final state.
+CARRIED = SPEC.replace('name = "same run, same JSON"', 'name = "carried on"').replace(
+    "start = 4", "start = 10").replace("stop = 10", "stop = 12") + '[[initial]]\nhistory = "run:2"\n'
+
+
+def test_a_carried_history_is_named_alike_by_run_json_and_export_json(tmp_path):
+    db = f"sqlite:///{tmp_path / 'store.db'}"
+    for i, text in enumerate([SPEC, CARRIED]):
+        spec = tmp_path / f"spec{i}.toml"
+        spec.write_text(text, encoding="utf-8")
+        submitted = slopetui_cli("submit", str(spec), "--db", db)
+        assert submitted.returncode == 0, submitted.stderr
+        worker = slopetui_cli("worker", "-j", "1", "--exit-when-idle", "--db", db,
+                              "--log", str(tmp_path / "worker.log"))
+        assert worker.returncode == 0, worker.stderr
+    rows = _json("export", "2", "--json", "--db", db)
+    assert isinstance(rows, list)
+    row = next(r for r in rows if r["k"] == 10.0)
+    assert row["status"] == "done" and row["history"].startswith("state:")
+    here = _json("run", "--k", "10", *SOLVER_FLAGS, "--history", "run:2", "--json", "--db", db)
+    assert isinstance(here, dict)
+    assert here["history"] == here["solver"]["history"] == row["history"]
+    assert here["history_given"] == "run:2"
+    for key in JSON_KEYS:
+        if key not in NOT_THE_RUN:
+            assert here[key] == row[key], (key, here[key], row[key])

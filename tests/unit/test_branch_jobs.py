@@ -158,3 +158,28 @@ def test_no_orbit_to_start_from_fails_at_once_with_the_reason(store):
     assert row.status == "failed" and row.attempts == 1
     assert row.error.startswith("no branch: ")
     assert continuations.points(store, cid) == []
+
+
+def test_a_computed_continuation_names_the_engine_that_computed_it(store):
+    """A continuation queued by other code (its engine column another digest) and computed
+    here is stored with this process's engine, as a run is (queue.jobs.complete); finished
+    by a worker of another engine than its points', it says "mixed"."""
+    from sqlalchemy import update
+
+    from slopetui.queue import jobs
+    from slopetui.store.jobs.point_jobs import MIXED_ENGINES
+    from slopetui.store.models import Continuation
+    cid = branch_jobs.submit(store, SPEC)
+    with store.sessions() as s, s.begin():
+        s.execute(update(Continuation).where(Continuation.id == cid)
+                  .values(engine="0123456789abcdef"))
+    job = branch_jobs.claim(store, "w1")
+    branch_jobs.compute(store, "w1", job, inline, Never(), 3)
+    row = continuations.continuation(store, cid)
+    assert row.status == "done" and row.engine == jobs.engine_digest()
+
+    other = branch_jobs.submit(store, SPEC)
+    continuations.claim(store, "w1")
+    assert continuations.save_point(store, other, "w1", _point(0), 0.1, engine="aaaaaaaaaaaaaaaa")
+    assert continuations.finish(store, other, "w1", "end", None, 0.0, [], "bbbbbbbbbbbbbbbb")
+    assert continuations.continuation(store, other).engine == MIXED_ENGINES

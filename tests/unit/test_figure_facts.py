@@ -16,7 +16,7 @@ from core.jit_cache import source_digest
 from slopetui.cli import main
 from slopetui.figures import DIAGRAM_SIZE, PNG_DPI
 from slopetui.figures.figure_facts import figure_caption
-from slopetui.figures.output import CAPTION_STRIP_IN, FACTS_PREFIX
+from slopetui.figures.output import FACTS_PREFIX, caption_lines, caption_strip_in
 from tests.support import finish_all, submit_quick
 
 DC = "{http://purl.org/dc/elements/1.1/}"
@@ -83,7 +83,7 @@ def test_caption_adds_the_line_under_the_figure(sweep, db_url, tmp_path, capsys)
     assert matplotlib.image.imread(plain).shape[:2] == (round(height * PNG_DPI),
                                                         round(width * PNG_DPI))
     assert matplotlib.image.imread(captioned).shape[:2] == (
-        round((height + CAPTION_STRIP_IN) * PNG_DPI), round(width * PNG_DPI))
+        round((height + caption_strip_in(2)) * PNG_DPI), round(width * PNG_DPI))
     from PIL import Image
 
     with Image.open(captioned) as image:
@@ -106,7 +106,9 @@ def test_the_caption_is_drawn_from_the_same_facts(sweep, db):
     with tempfile.TemporaryDirectory() as folder:
         write(drawing, Path(folder) / "a.svg", caption=True)
     added = drawing.figure.texts[texts_before:]
-    assert [t.get_text() for t in added] == [figure_caption(dict(drawing.facts))]
+    line = figure_caption(dict(drawing.facts))
+    assert [t.get_text() for t in added] == ["\n".join(caption_lines(line))]
+    assert added[0].get_text().replace("\n", "; ") == line  # the same line, in two
     assert added[0].get_fontsize() <= 6.5
 
 
@@ -150,3 +152,121 @@ def test_the_caption_sits_under_the_legends_and_panels(db, sweep, tmp_path):
              *(ax.get_tightbbox(renderer) for ax in figure.axes)]
     assert figure.legends and all(box.y0 >= caption.y1 for box in above)
     assert caption.y1 <= 0  # in the strip under the figure's own area
+
+
+def _facts_of(**spec: object) -> dict:
+    from types import SimpleNamespace
+
+    from slopetui.figures.figure_facts import sweep_facts
+    from slopetui.sweeps.spec import parse_spec
+
+    data = {"x": {"param": "k", "start": 5, "stop": 10, "num": 3},
+            "fixed": {"delta": 0.1}, "solver": {"t_end": 200.0, "history": "constant"}, **spec}
+    return sweep_facts(SimpleNamespace(id=7, spec=parse_spec(data)), [source_digest()])
+
+
+def test_a_sweep_from_initial_conditions_of_different_delta_and_history_claims_neither():
+    facts = _facts_of(initial=[{"delta": 1e-6}, {"delta": 0.1, "history": "consistent"}])
+    assert facts["varied"] == ["k", "delta"]
+    assert facts["params"]["delta"] is None and facts["params"]["k"] is None
+    assert facts["solver"]["history"] is None
+    assert facts["initial"] == [{"delta": 1e-6, "history": "constant"},
+                                {"delta": 0.1, "history": "consistent"}]
+    line = figure_caption(facts)
+    assert "delta varied" in line and "history" not in line and "None" not in line
+
+
+def test_initial_conditions_that_share_a_delta_name_it_and_their_one_history():
+    facts = _facts_of(initial=[{"delta": 1e-3, "history": "consistent"}, {"delta": 1e-3}])
+    assert facts["varied"] == ["k"] and facts["params"]["delta"] == 1e-3
+    assert facts["solver"]["history"] is None
+    facts = _facts_of(initial=[{"delta": 1e-3, "history": "consistent"},
+                               {"delta": 0.2, "history": "consistent"}])
+    assert facts["solver"]["history"] == "consistent" and facts["params"]["delta"] is None
+
+
+def test_a_sweep_of_one_condition_keeps_its_delta_and_history():
+    facts = _facts_of()
+    assert "initial" not in facts and facts["params"]["delta"] == 0.1
+    assert facts["solver"]["history"] == "constant"
+
+
+def test_a_sweeps_engines_are_its_computed_runs_not_its_inferred_ones(sweep, db):
+    """An inferred run (never computed) keeps the digest written when it was queued: it
+    names no engine of the sweep's results."""
+    from sqlalchemy import update
+
+    from slopetui.store.models import Run
+    from slopetui.store.queries import runs_of, sweep_engines
+
+    first = next(iter(runs_of(db, sweep))).id
+    with db.sessions() as s, s.begin():
+        s.execute(update(Run).where(Run.id == first)
+                  .values(inferred=True, engine="0123456789abcdef"))
+    assert sweep_engines(db, sweep) == (source_digest(),)
+
+
+def test_runs_compared_at_different_steps_name_no_one_step():
+    from slopetui.figures.figure_facts import runs_facts
+    from tests.unit.test_figures import stored_run
+
+    facts = runs_facts([stored_run(1, k=4.0, dt=0.01), stored_run(2, k=12.0, dt=0.005)])
+    assert facts["varied"] == ["k", "dt"]
+    assert facts["solver"]["dt"] is None and facts["solver"]["method"] == "rk4"
+    assert [f["solver"]["dt"] for f in facts["runs"]] == [0.01, 0.005]
+    line = figure_caption(facts)
+    assert "k varied" in line and "rk4, dt varied, t_end=200" in line
+
+
+def test_a_sweep_with_no_run_done_says_so_in_its_caption():
+    from types import SimpleNamespace
+
+    from slopetui.figures.figure_facts import sweep_facts
+    from slopetui.sweeps.spec import parse_spec
+
+    spec = parse_spec({"x": {"param": "k", "start": 5, "stop": 10, "num": 3}})
+    line = figure_caption(sweep_facts(SimpleNamespace(id=3, spec=spec), []))
+    assert line.endswith("; no runs done") and "None" not in line
+
+
+@pytest.mark.parametrize("n_runs", [2, 12])
+def test_a_long_caption_keeps_a_readable_size_and_fits_the_figure(n_runs):
+    """Measured with the renderer, not the estimate the caption was set by: every line
+    fits in the figure's width, at 5 pt or more."""
+    import matplotlib.pyplot as plt
+
+    from slopetui.figures.output import CAPTION_MIN_PT, add_caption
+
+    shows = "runs " + ", ".join(str(1000 + i) for i in range(n_runs))
+    text = (f"{shows}: a=3.2 b=7.2 c=4.8 d=0.0001 k varied v=0.1 tau=2 delta=0.1; rk4, "
+            "dt=0.01, t_end=200, window=100, lyap=False, history=state:0123456789abcdef, "
+            "stop=t_end; slopetui 0.1.0, engine 0123456789abcdef, fedcba9876543210")
+    figure = plt.figure(figsize=DIAGRAM_SIZE)
+    try:
+        figure.add_subplot().plot([0, 1], [0, 1])
+        add_caption(figure, text)
+        drawn = figure.texts[-1]
+        assert drawn.get_fontsize() >= CAPTION_MIN_PT
+        words = drawn.get_text().replace("\n", " ").replace(";", "").split()
+        assert words == text.replace(";", "").split()  # nothing lost, wrapped between words
+        renderer = figure.canvas.get_renderer()
+        box = drawn.get_window_extent(renderer)
+        assert box.x0 >= 0 and box.x1 <= figure.bbox.width
+    finally:
+        plt.close(figure)
+
+
+def test_the_figure_csv_reads_as_its_help_says(sweep, db_url, tmp_path, capsys):
+    """The CSV's first line is the facts: `figure --help` says how to read past it, and
+    read so, its header is the table's (a plain read_csv would take the facts line)."""
+    import pandas as pd
+
+    with pytest.raises(SystemExit):
+        main(["figure", "--help"])
+    assert "pandas.read_csv(path, skiprows=1)" in " ".join(capsys.readouterr().out.split())
+    out = tmp_path / "fig.svg"
+    assert main(["figure", str(sweep), "-o", str(out), "--db", db_url]) == 0
+    path = tmp_path / "fig.csv"
+    header = path.read_text(encoding="utf-8").splitlines()[1].split(",")
+    table = pd.read_csv(path, skiprows=1)
+    assert list(table.columns) == header and len(table) == 2

@@ -122,7 +122,7 @@ def test_run_from_the_final_state_of_a_stored_run(db, db_url, capsys):
                  "--t-end", "100", "--no-lyap", "--history", "run:2", "--db", db_url,
                  "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["history"] == "run:2"
+    assert out["history_given"] == "run:2" and out["history"].startswith("state:")
     p = Params(k=12.0, tau=2.0)
     whole = simulate(p, SolverSettings(method="rk4", dt=0.01, t_end=300.0, lyap=False))
     # the window of the continued run is the last 50 (t_end 100 -> window 50) of 300

@@ -19,6 +19,7 @@ from slopetui.queue import hysteresis_jobs, registry
 from slopetui.queue.hysteresis_jobs import HysteresisSpec
 from slopetui.queue.registry import backlog
 from slopetui.store.jobs import hysteresis_sweeps
+from slopetui.store.jobs.point_jobs import MIXED_ENGINES
 from slopetui.sweeps.hysteresis_runs import hysteresis_of
 from tests.unit.test_branch_jobs import Never, inline
 
@@ -204,3 +205,38 @@ def test_errors_are_retried_and_tau_fails_at_once(store, monkeypatch):
     row = hysteresis_sweeps.hysteresis_sweep(store, tau)
     assert row.status == "failed" and row.attempts == 1
     assert row.error.startswith("no sweep: ") and "tau" in row.error
+
+
+def _queued_by_older_engine(db: Any, sid: int) -> None:
+    from sqlalchemy import update
+
+    from slopetui.store.models import HysteresisSweep
+    with db.sessions() as s, s.begin():
+        s.execute(update(HysteresisSweep).where(HysteresisSweep.id == sid)
+                  .values(engine="0123456789abcdef"))
+
+
+def test_a_computed_sweep_names_the_engine_that_computed_it(store):
+    """A sweep queued by other code (its engine column another digest) and computed here
+    is stored with this process's engine, as a run is (queue.jobs.complete)."""
+    from slopetui.queue import jobs
+    sid = hysteresis_jobs.submit(store, SPEC)
+    _queued_by_older_engine(store, sid)
+    _compute(store, "w1")
+    row = hysteresis_sweeps.hysteresis_sweep(store, sid)
+    assert row.status == "done" and row.engine == jobs.engine_digest()
+
+
+def test_a_sweep_resumed_by_a_worker_of_another_engine_says_mixed(store):
+    sid = hysteresis_jobs.submit(store, SPEC)
+    hysteresis_sweeps.claim(store, "w1")
+    assert hysteresis_sweeps.save_point(store, sid, "w1", _point(0), 0.1, engine="aaaaaaaaaaaaaaaa")
+    assert hysteresis_sweeps.hysteresis_sweep(store, sid).engine == "aaaaaaaaaaaaaaaa"
+    assert hysteresis_sweeps.save_point(store, sid, "w1", _point(1), 0.1, engine="aaaaaaaaaaaaaaaa")
+    assert hysteresis_sweeps.release(store, sid, "w1")
+    hysteresis_sweeps.claim(store, "w2")
+    assert hysteresis_sweeps.save_point(store, sid, "w2", _point(2), 0.1, engine="bbbbbbbbbbbbbbbb")
+    assert hysteresis_sweeps.hysteresis_sweep(store, sid).engine == MIXED_ENGINES
+    none = dict.fromkeys(hysteresis_sweeps.TRANSITION_COLUMNS)
+    assert hysteresis_sweeps.finish(store, sid, "w2", none, 0.0, "bbbbbbbbbbbbbbbb")
+    assert hysteresis_sweeps.hysteresis_sweep(store, sid).engine == MIXED_ENGINES

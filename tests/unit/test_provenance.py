@@ -14,7 +14,7 @@ from sqlalchemy import update
 
 import slopetui
 from core.jit_cache import source_digest
-from core.params import PARAM_NAMES
+from core.params import PARAM_NAMES, Params
 from slopetui.cli import main
 from slopetui.provenance import caption, computed_at
 from slopetui.store.models import Run
@@ -58,6 +58,18 @@ def test_continue_and_its_stored_branch_name_the_same_inputs(db, db_url, capsys)
     stored = _printed(capsys, ["branch", "1", "--db", db_url, "--json"])
     for key in ("params", "solver", "engine"):
         assert stored[key] == here[key], key
+    # the followed parameter is the branch's start, the Hopf point, not the value typed
+    assert here["params"]["k"] == here["hopf"]["value"] == stored["hopf_value"]
+    assert here["params"]["k"] != Params().k  # the k typed (the default: no --k)
+
+
+def test_a_stored_branch_from_hopf_with_no_point_yet_names_no_start(db, db_url, capsys):
+    from tests.unit.test_cli_branch import SUBMIT
+
+    assert main([*SUBMIT, "--db", db_url]) == 0
+    capsys.readouterr()
+    stored = _printed(capsys, ["branch", "1", "--db", db_url, "--json"])
+    assert stored["params"]["k"] is None and stored["params"]["tau"] == 2.0
 
 
 def test_hysteresis_and_its_stored_sweep_name_the_same_inputs(db, db_url, capsys):
@@ -109,3 +121,21 @@ def test_a_caption_is_one_line_of_the_same_facts():
     assert line.startswith("a=3.2 b=7.2 c=4.8 d=0.0001 k varied v=0.1 tau=10 delta=0.1; rk4, ")
     assert "dt=0.01, t_end=200, history=constant;" in line and "window" not in line
     assert line.endswith(f"; slopetui {slopetui.__version__}, engine {source_digest()}")
+
+
+def test_run_json_names_a_carried_history_as_export_does(db, db_url, capsys):
+    """`run --history run:ID --json`: ``history`` is the carried state's name, as the
+    store keeps it and `export` writes it (and as ``solver.history``); what was typed is
+    ``history_given``."""
+    from slopetui.sweeps.carried import final_state_of
+
+    submit_quick(db, 2, tau=2.0, lyap=False)
+    finish_all(db)
+    out = _printed(capsys, ["run", "--k", "10", "--history", "run:1", *QUICK, "--no-lyap",
+                            "--json", "--db", db_url])
+    name = final_state_of(db, 1).name
+    assert name.startswith("state:")
+    assert out["history"] == out["solver"]["history"] == name
+    assert out["history_given"] == "run:1"
+    plain = _printed(capsys, ["run", "--k", "10", *QUICK, "--no-lyap", "--json"])
+    assert plain["history"] == "constant" and "history_given" not in plain

@@ -21,7 +21,9 @@ def declare(sub: argparse._SubParsersAction) -> None:
                     "or bifurcation diagram (1-D), or a run's time series, phase portrait, "
                     "spectrum and running λmax (recomputed), or several runs overlaid. Fonts are "
                     "embedded (TrueType), dense layers rasterised; the data of the figure is "
-                    "written beside it as CSV (<name>.csv, <name>.<table>.csv). No display needed.",
+                    "written beside it as CSV (<name>.csv, <name>.<table>.csv), whose first "
+                    "line is '# slopetui: {...}', what it was computed at (JSON), before the "
+                    "header: read it with pandas.read_csv(path, skiprows=1). No display needed.",
         epilog="examples: slopetui figure 3 -o fig4.pdf · slopetui figure 3 --fold -o plane.png · "
                "slopetui figure --run 120 --run 121 -o compare.svg")
     p.add_argument("sweep", metavar="SWEEP", nargs="?", help="sweep id (or give --run)")
@@ -36,7 +38,7 @@ def declare(sub: argparse._SubParsersAction) -> None:
                    help="also draw the fold of cycles over a (k, tau), (a, tau), (b, tau) or "
                         "(c, tau) plane (continuation at each tau: seconds to minutes)")
     p.add_argument("--caption", action="store_true",
-                   help="add one line under the figure naming what it was computed at "
-                        "(parameters, solver, engine); the file's metadata and the CSV "
-                        "name them always")
+                   help="add a caption under the figure naming what it was computed at "
+                        "(parameters; solver and engine); the file's metadata and the CSV's "
+                        "first line name them always")
     add_db_option(p)

@@ -112,21 +112,25 @@ continuation = _JOBS.row
 
 
 def save_point(db: Database, cid: int, worker_id: str, point: Mapping[str, Any],
-               spent_s: float, hopf: tuple[float, float] | None = None) -> bool:
+               spent_s: float, hopf: tuple[float, float] | None = None, *,
+               engine: str | None = None) -> bool:
     """Append ``point`` (its ``idx`` must be the next) to a continuation the worker holds,
-    add ``spent_s`` to its compute time, and (first point from the Hopf point) record the
-    Hopf point. False if the lease was lost or the point is not the next: nothing is
-    written."""
+    add ``spent_s`` to its compute time, name the worker's ``engine`` (the digest it
+    computes with; "mixed" once workers of different engines saved points) and (first
+    point from the Hopf point) record the Hopf point. False if the lease was lost or the
+    point is not the next: nothing is written."""
     extra = {} if hopf is None else {"hopf_value": hopf[0], "hopf_period": hopf[1]}
-    return _JOBS.save_point(db, cid, worker_id, point, spent_s, **extra)
+    return _JOBS.save_point(db, cid, worker_id, point, spent_s, engine, **extra)
 
 
 def finish(db: Database, cid: int, worker_id: str, end_reason: str, criticality: str | None,
-           spent_s: float, bifurcations: Sequence[Mapping[str, Any]]) -> bool:
+           spent_s: float, bifurcations: Sequence[Mapping[str, Any]],
+           engine: str | None = None) -> bool:
     """Mark a held continuation done, with why its branch ended and the bifurcations found
-    on it. False if the lease was lost (nothing is written)."""
+    on it by a worker of ``engine`` (save_point). False if the lease was lost (nothing is
+    written)."""
     with db.transaction() as s:
-        if not _JOBS.mark_done(s, cid, worker_id, spent_s, end_reason=end_reason,
+        if not _JOBS.mark_done(s, cid, worker_id, spent_s, engine, end_reason=end_reason,
                                criticality=criticality):
             return False
         s.execute(delete(Bifurcation).where(Bifurcation.continuation_id == cid))

@@ -87,6 +87,7 @@ claim = _JOBS.claim
 saved_points = _JOBS.saved_points
 #: The sweep's points as the faces read them (without the state they hand over), in order.
 points = _JOBS.points
+#: Append a point (PointJobs.save_point), naming the engine of the worker that computed it.
 save_point = _JOBS.save_point
 fail = _JOBS.fail
 release = _JOBS.release
@@ -103,9 +104,11 @@ TRANSITION_COLUMNS = ("onset_up", "onset_up_before", "onset_up_after", "offset_d
 
 
 def finish(db: Database, sid: int, worker_id: str, transitions: Mapping[str, float | None],
-           spent_s: float) -> bool:
+           spent_s: float, engine: str | None = None) -> bool:
     """Mark a held sweep done, with where each branch changes regime (TRANSITION_COLUMNS,
-    each given). False if the lease was lost (nothing is written)."""
+    each given), refined by a worker of ``engine`` (the digest it computes with; "mixed"
+    once workers of different engines saved its points). False if the lease was lost
+    (nothing is written)."""
     with db.transaction() as s:
-        return _JOBS.mark_done(s, sid, worker_id, spent_s,
+        return _JOBS.mark_done(s, sid, worker_id, spent_s, engine,
                                **{name: transitions[name] for name in TRANSITION_COLUMNS})

@@ -21,7 +21,7 @@ from dataclasses import fields as dataclass_fields
 from datetime import datetime
 from typing import Any, Generic, TypeVar
 
-from sqlalchemy import Row, bindparam, func, insert, select, update
+from sqlalchemy import Row, bindparam, case, func, insert, literal, select, update
 from sqlalchemy.orm import Session
 
 from slopetui.store.database import Database, rows_changed
@@ -64,6 +64,10 @@ def record_of(record: Callable[..., JobT], row: Row[Any]) -> JobT:
     return record(*row)
 
 
+#: A job's ``engine`` when workers of different engines computed its points (_engine_after).
+MIXED_ENGINES = "mixed"
+
+
 class PointJobs(Generic[JobT, PointT, SavedT]):
     """The statements and reads of one table of jobs (``job``), whose points are rows of
     ``point`` naming their job in column ``parent`` and counted, as saved, in the job's
@@ -98,6 +102,19 @@ class PointJobs(Generic[JobT, PointT, SavedT]):
                                heartbeat_at=db_now(), error=None)
                        .returning(*self._row_columns))
 
+    def _engine_after(self, digest: str) -> Any:
+        """The job's ``engine`` once a worker of engine ``digest`` has saved to it: the
+        worker's, if it is the first to save (no point yet: the digest written at queue time
+        is replaced) or every earlier point was saved by the same engine; else "mixed" (a job
+        resumed by workers of different engines: its points come from more than one, and a
+        String(16) column holds no list of them)."""
+        job: Any = self.job
+        return case((self._count == 0, literal(digest)), (job.engine == digest, job.engine),
+                    else_=literal(MIXED_ENGINES))
+
+    def _engine_column(self, digest: str | None) -> dict[str, Any]:
+        return {} if digest is None else {"engine": self._engine_after(digest)}
+
     # -- a job's life --
 
     def submit(self, db: Database, fields: Mapping[str, Any]) -> int:
@@ -114,16 +131,19 @@ class PointJobs(Generic[JobT, PointT, SavedT]):
         return None if row is None else record_of(self.row_type, row)
 
     def save_point(self, db: Database, job_id: int, worker_id: str, point: Mapping[str, Any],
-                   spent_s: float, **extra: Any) -> bool:
+                   spent_s: float, engine: str | None = None, **extra: Any) -> bool:
         """Append ``point`` (its ``idx`` must be the next) to a job the worker holds, add
-        ``spent_s`` to its compute time and set the job's columns ``extra``. False if the
-        lease was lost or the point is not the next: nothing is written."""
+        ``spent_s`` to its compute time, name the worker's ``engine`` (_engine_after; None,
+        a synthetic point of a test: the job's is kept) and set the job's columns
+        ``extra``. False if the lease was lost or the point is not the next: nothing is
+        written."""
         job = self.job
         with db.transaction() as s:
             moved = rows_changed(s.execute(
                 update(job).where(self.lease.holding, self._count == point["idx"])
                 .values({self._counter: self._count + 1, "heartbeat_at": db_now(),
-                         "runtime_s": job.runtime_s + spent_s, **extra}),
+                         "runtime_s": job.runtime_s + spent_s,
+                         **self._engine_column(engine), **extra}),
                 {"jid": job_id, "wid": worker_id}))
             if moved != 1:
                 return False
@@ -131,15 +151,16 @@ class PointJobs(Generic[JobT, PointT, SavedT]):
         return True
 
     def mark_done(self, s: Session, job_id: int, worker_id: str, spent_s: float,
-                  **results: Any) -> bool:
+                  engine: str | None = None, **results: Any) -> bool:
         """In the caller's transaction ``s``: mark a held job done with its ``results``
-        (columns), adding ``spent_s`` to its compute time. False if the lease was lost
-        (nothing is written)."""
+        (columns), computed by a worker of ``engine`` (_engine_after), adding ``spent_s`` to
+        its compute time. False if the lease was lost (nothing is written)."""
         job = self.job
         return rows_changed(s.execute(
             update(job).where(self.lease.holding)
             .values(status="done", finished_at=db_now(), error=None,
-                    runtime_s=job.runtime_s + spent_s, **results),
+                    runtime_s=job.runtime_s + spent_s, **self._engine_column(engine),
+                    **results),
             {"jid": job_id, "wid": worker_id})) == 1
 
     def fail(self, db: Database, job_id: int, worker_id: str, error: str, *,
