@@ -17,6 +17,7 @@ from sqlalchemy import func, select, text
 
 from core.jit_cache import source_digest
 from slopetui.cli import main
+from slopetui.queue import jobs
 from slopetui.store.database import Database
 from slopetui.store.migrate import (
     alembic_config,
@@ -285,6 +286,8 @@ def test_an_inferred_run_is_never_a_cache_hit(db, monkeypatch):
     # one engine for both sweeps, even if core/ changes meanwhile (the key includes it)
     for module in (submit_module, adaptive_module):
         monkeypatch.setattr(module, "source_digest", lambda: "test-engine")
+    # the worker's too: it writes its own engine with each result (queue.jobs.complete)
+    monkeypatch.setattr(jobs, "engine_digest", lambda: "test-engine")
     sweep_id = submit(db, parse_spec(PLANE)).sweep_id
     finish_adaptive(db, sweep_id)
     runs = rows(db, sweep_id)
