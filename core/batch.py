@@ -946,7 +946,8 @@ def simulate_batch_asking(points: Sequence[Params], s: SolverSettings, ends: End
     """Integrate every point with the same settings in batched numba calls, each run asked
     ``ask`` at the chunk ends of its grid (``ends``) and stopped at the first that answers
     (what answered kept beside the run); a run that never stops is the no-stop batch's run
-    to t_end, bit for bit (samples, logs, minima, state).
+    to t_end, bit for bit (samples, logs, minima, state) while it stays on the lanes, and
+    the single kernel's continuation of it where it goes on ``alone``.
 
     Unlike simulate_batch's ``finished`` (questions every CHUNK_T, lanes refilled), the
     lanes of a batch all start at step 0 and none is refilled, so that their chunk ends are

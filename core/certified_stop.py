@@ -165,9 +165,11 @@ def simulate_to_certificate(p: Params, s: SolverSettings, carried: CarriedState 
 def certified_batch(points: Sequence[Params], s: SolverSettings) -> list[Stopped]:
     """The points integrated as simulate_to_certificate integrates each, on the batched
     lanes (core.batch.simulate_batch_asking): the same chunk ends, the same question at
-    each (attempt, near_linear), a lane that is certified retiring there. Each run is
-    simulate_to_certificate's, bit for bit (tests/unit/test_certified_batch.py), its
-    runtime_s its share of the batch's kernel time plus its own tries."""
+    each (attempt, near_linear), a lane that is certified retiring there. Each run stops
+    where simulate_to_certificate's stops, with its certificate; its records are the same
+    to round-off (bit for bit where the lanes and the single kernel agree: Euler without
+    lambda_max; the tangent's norm sums in another order: tests/unit/test_certified_batch.py).
+    Its runtime_s is its share of the batch's kernel time plus its own tries."""
     from core.batch import simulate_batch_asking  # numba's: loaded where runs are integrated
 
     def ask(tr: Trajectory) -> tuple[Certificate, Summary] | None:

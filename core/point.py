@@ -188,8 +188,9 @@ def analyse(tr: Trajectory, integration_s: float, overwrite: bool = False,
     certificate: the one that stopped tr early (core.certified_stop), found on this same
     window: kept rather than tried again, and lambda_max is then its value (dropped with
     the rest if tr is re-integrated). found_on: the summary of that window the certificate
-    was tried on (classify's, with the same arguments: kept rather than computed again, a
-    fifth of a stopped run's analysis at the paper's window)."""
+    was tried on (classify's, with the same arguments: kept rather than computed again;
+    at the paper's window a classification took 31 ms at tau = 15, 175 of them 5.5 s of
+    CPU in a cProfile of a 40-point certified row)."""
     flags: tuple[str, ...] = ()
     dropped = ""
     t_blowup = tr.t_blowup  # the explicit scheme's, kept beside the flag
