@@ -36,6 +36,12 @@ ARPACK_SEED = 20261201
 #: multiplier and the one nearest 1 was 1.0007's pair, 1e-0 off). Measured distance of the
 #: flow multiplier from 1 on these orbits: 2.1e-7 at dt = 0.01 (n = 3), 2.4e-8 at 0.005.
 FLOW_TOL = 1e-4
+#: The most multipliers the search for the flow's asks for: the 6-slip orbit needs 20
+#: (ten above the flow's); past this the one nearest 1 is taken, as before the search.
+#: Unbounded, a continuation at tau = 54 (heading's, 1204 unknowns) doubled to the whole
+#: state and ARPACK refused its sizes (ncv = n - 1 = k + 1): a run of the reproduction
+#: report failed so.
+MAX_MULTIPLIERS = 80
 #: A multiplier counts as on the unit circle within this distance (the flow multiplier's
 #: own distance from 1 is ~1e-9 at dt = 0.01: RK4's accuracy over a period).
 UNIT_TOL = 1e-6
@@ -91,12 +97,13 @@ def multipliers(pm: PeriodMap, shot: Shot, count: int = N_MULTIPLIERS,
                 vectors: int = ARNOLDI_VECTORS, restarts: int = 2000) -> Multipliers:
     """The ``count`` leading Floquet multipliers of the orbit through ``shot`` (Arnoldi
     with ``vectors`` vectors, at least 3 count, restarted at most ``restarts`` times),
-    more (doubling ``count``) until the flow multiplier is among them (FLOW_TOL)."""
+    more (doubling ``count``, up to MAX_MULTIPLIERS) until the flow multiplier is among
+    them (FLOW_TOL)."""
     while True:
         m = _leading(pm, shot, count, vectors, restarts)
-        if abs(m.flow - 1.0) < FLOW_TOL or count >= pm.g.size - 2:
+        if abs(m.flow - 1.0) < FLOW_TOL or count >= min(MAX_MULTIPLIERS, pm.g.size - 3):
             return m
-        count *= 2
+        count = min(2 * count, MAX_MULTIPLIERS)
 
 
 def _leading(pm: PeriodMap, shot: Shot, count: int, vectors: int, restarts: int) -> Multipliers:
@@ -108,7 +115,7 @@ def _leading(pm: PeriodMap, shot: Shot, count: int, vectors: int, restarts: int)
         return sw * pm.tangent(shot, np.asarray(x).ravel() / sw)
 
     op = LinearOperator((n, n), matvec=mv, dtype=float)
-    k = min(count, n - 2)
+    k = min(count, n - 3)  # ARPACK's k + 1 < ncv <= n - 1
     # ARPACK starts from a random vector unless given one: a fixed start makes the
     # multipliers reproducible to the bit (a resumed branch, a rerun, the CLI and a worker)
     start = np.random.default_rng(ARPACK_SEED).standard_normal(n)

@@ -22,3 +22,17 @@ def test_the_flow_multiplier_is_found_past_the_leading_ten():
     assert abs(m.flow - 1.0) < 1e-6        # measured 1.8e-7 (2.7e-9 at dt = 0.005)
     assert m.unstable_count == 10
     assert abs(o.multipliers.flow - 1.0) < 1e-6 and not o.stable
+
+
+def test_more_multipliers_than_the_state_holds_stay_within_arpack_sizes() -> None:
+    """A request for more multipliers than the reduced state has (the search for the flow's
+    doubles its count) is cut to what ARPACK accepts (k + 1 < ncv <= n - 1), not an
+    error: a continuation at tau = 54 doubled to the whole state and failed a run with
+    "ncv must be k+1<ncv<=n"."""
+    from core.floquet import _leading
+    o = find_orbit(Params(k=37.6, tau=0.5))
+    pm = PeriodMap(o.params, o.grid)
+    n = o.grid.size
+    m = _leading(pm, pm.shoot(o.z, o.period), n + 10, 150, 2000)
+    assert len(m.values) == n - 3
+    assert abs(m.flow - 1.0) < 1e-4
