@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 
 from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.sweeps.orbit_point import check_seed_steps
+from slopetui.sweeps.request_fields import number, whole
 
 if TYPE_CHECKING:
     from core.branch_start import BranchSpec
@@ -30,32 +31,6 @@ MAX_POINTS = 5000
 SEED_T_END = 3000.0
 
 
-def end_value(text: str | None, params: Params, param: str) -> float | None:
-    """``to`` as a number inside the parameter's own range (Params names the range);
-    None: no end."""
-    if text is None:
-        return None
-    try:
-        value = float(text)
-    except ValueError:
-        raise ParameterError("to", text, "a finite number") from None
-    if not math.isfinite(value):
-        raise ParameterError("to", text, "a finite number")
-    params.with_(**{param: value})  # raises ParameterError naming the parameter
-    return value
-
-
-def max_points(text: str) -> int:
-    allowed = f"an integer from 2 to {MAX_POINTS}"
-    try:
-        value = int(text)
-    except ValueError:
-        raise ParameterError("points", text, allowed) from None
-    if not 2 <= value <= MAX_POINTS:
-        raise ParameterError("points", value, allowed)
-    return value
-
-
 def max_step(text: str) -> float:
     allowed = f"a number above 0, at most {MAX_STEP:g}"
     try:
@@ -73,8 +48,8 @@ def continuation_spec(params: Params, dt: float, param: str, from_hopf: bool, to
     the orbit a simulation settles on), checked; ParameterError naming the field."""
     if param not in CONTINUABLE:
         raise ParameterError("param", param, f"one of {', '.join(CONTINUABLE)}")
-    end = end_value(to, params, param)
-    n, largest = max_points(points), max_step(step)
+    end = None if to is None else number("to", to, params, param)
+    n, largest = whole("points", points, 2, MAX_POINTS), max_step(step)
     here = getattr(params, param)
     # before, a branch from there to there took one step past it and exited 0
     if end is not None and not from_hopf and end == here:

@@ -11,6 +11,7 @@ import math
 
 from core.params import ParameterError, Params
 from slopetui.queue.hysteresis_jobs import TOL_MAX, HysteresisSpec
+from slopetui.sweeps.request_fields import number, whole
 
 #: Bytes a step of the window takes: core.hysteresis.settle keeps the window's five rows
 #: of float64, every step.
@@ -18,31 +19,6 @@ WINDOW_STEP_BYTES = 5 * 8
 
 #: The most values each way.
 MAX_POINTS = 2000
-
-
-def number(flag: str, text: object, params: Params | None = None, name: str = "") -> float:
-    """A finite number; with ``params``, a value of the parameter ``name`` (Params names
-    its range)."""
-    try:
-        value = float(str(text))
-    except ValueError:
-        raise ParameterError(flag, text, "a finite number") from None
-    if not math.isfinite(value):
-        raise ParameterError(flag, text, "a finite number")
-    if params is not None:
-        params.with_(**{name: value})  # raises ParameterError naming the parameter's range
-    return value
-
-
-def _points(text: str) -> int:
-    allowed = f"an integer from 2 to {MAX_POINTS}"
-    try:
-        value = int(text)
-    except ValueError:
-        raise ParameterError("points", text, allowed) from None
-    if not 2 <= value <= MAX_POINTS:
-        raise ParameterError("points", value, allowed)
-    return value
 
 
 def hysteresis_spec(params: Params, dt: float, param: str, start_text: str, stop_text: str,
@@ -58,7 +34,7 @@ def hysteresis_spec(params: Params, dt: float, param: str, start_text: str, stop
     stop = number("to", stop_text, params, param)
     if start == stop:
         raise ParameterError("to", stop_text, f"a value other than from = {start:g}")
-    n = _points(points)
+    n = whole("points", points, 2, MAX_POINTS)
     t_settle = T_SETTLE if t_settle_text is None else number("t-settle", t_settle_text)
     window = min(WINDOW, t_settle) if window_text is None else number("window", window_text)
     if not (math.isfinite(t_settle) and t_settle >= 10 * params.tau and t_settle <= 1e6):
