@@ -488,16 +488,23 @@ def take_samples(n, n_a, st, li, win, trace, lane_of):
     due = NEVER
     for j in range(n_a):
         k = n - li[j, OFF]
-        if li[j, W_NEXT] == k and li[j, W_I] < li[j, W_COUNT]:
-            sample_lane(j, st, win, li[j, W_I], lane_of)
-            li[j, W_I] += 1
-            li[j, W_NEXT] = li[j, W_RESUME] if li[j, W_I] == li[j, W_JUMP] else li[j, W_NEXT] + li[j, W_STRIDE]
-        if li[j, T_NEXT] == k and li[j, T_I] < li[j, T_COUNT]:
-            sample_lane(j, st, trace, li[j, T_I], lane_of)
-            li[j, T_I] += 1
-            li[j, T_NEXT] += li[j, T_STRIDE]
+        sample_due(j, k, st, li, win, trace, lane_of)
         due = min(due, next_due(li, j))
     return due
+
+
+@njit(inline="always", **BATCH_JIT)
+def sample_due(j, k, st, li, win, trace, lane_of):
+    """Lane j's window and trace samples due at its step k, and its samplers moved on to
+    the next: take_samples' inside the chunks, settle_lane's at a chunk's end."""
+    if li[j, W_NEXT] == k and li[j, W_I] < li[j, W_COUNT]:
+        sample_lane(j, st, win, li[j, W_I], lane_of)
+        li[j, W_I] += 1
+        li[j, W_NEXT] = li[j, W_RESUME] if li[j, W_I] == li[j, W_JUMP] else li[j, W_NEXT] + li[j, W_STRIDE]
+    if li[j, T_NEXT] == k and li[j, T_I] < li[j, T_COUNT]:
+        sample_lane(j, st, trace, li[j, T_I], lane_of)
+        li[j, T_I] += 1
+        li[j, T_NEXT] += li[j, T_STRIDE]
 
 
 @njit(**BATCH_JIT)
@@ -723,14 +730,7 @@ def settle_lane(j, n, st, li, win, trace, lane_of, cross):
     for the state it stops at: the samples due there and the minima (both idempotent,
     core.methods item 3), and whether they crossed."""
     k = n - li[j, OFF]
-    if li[j, W_NEXT] == k and li[j, W_I] < li[j, W_COUNT]:
-        sample_lane(j, st, win, li[j, W_I], lane_of)
-        li[j, W_I] += 1
-        li[j, W_NEXT] = li[j, W_RESUME] if li[j, W_I] == li[j, W_JUMP] else li[j, W_NEXT] + li[j, W_STRIDE]
-    if li[j, T_NEXT] == k and li[j, T_I] < li[j, T_COUNT]:
-        sample_lane(j, st, trace, li[j, T_I], lane_of)
-        li[j, T_I] += 1
-        li[j, T_NEXT] += li[j, T_STRIDE]
+    sample_due(j, k, st, li, win, trace, lane_of)
     lowest_lane(st, j, st[S_X * LANES + j], st[S_Y * LANES + j], st[U * LANES + j])
     if cross[lane_of[j]] < 0 and (st[LO_X * LANES + j] < -REALISABLE_TOL
                                   or st[LO_Y * LANES + j] < -REALISABLE_TOL
