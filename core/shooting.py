@@ -45,9 +45,10 @@ def weighted_dot(a: np.ndarray, b: np.ndarray, w: np.ndarray) -> float:
 
 
 def solve_krylov(apply: Callable[[np.ndarray], np.ndarray], rhs: np.ndarray,
-                 rtol: float, max_products: int = KRYLOV_MAX_PRODUCTS) -> tuple[np.ndarray, int]:
-    """GMRES on a matrix-free operator; returns the solution and the products used (about
-    max_products at most)."""
+                 rtol: float, max_products: int = KRYLOV_MAX_PRODUCTS,
+                 x0: np.ndarray | None = None) -> tuple[np.ndarray, int]:
+    """GMRES on a matrix-free operator (from x0, when given: a nearby solution); returns
+    the solution and the products used (about max_products at most)."""
     count = [0]
 
     def mv(x: np.ndarray) -> np.ndarray:
@@ -57,7 +58,7 @@ def solve_krylov(apply: Callable[[np.ndarray], np.ndarray], rhs: np.ndarray,
     n = rhs.size
     op = LinearOperator((n, n), matvec=mv, dtype=float)
     restart = min(KRYLOV_RESTART, max_products, n)
-    x, info = gmres(op, rhs, rtol=rtol, atol=0.0, restart=restart,
+    x, info = gmres(op, rhs, x0=x0, rtol=rtol, atol=0.0, restart=restart,
                     maxiter=max(1, max_products // restart))
     if info < 0:
         raise OrbitError("GMRES broke down on the Newton system")

@@ -10,10 +10,12 @@ from typing import TYPE_CHECKING
 
 from core.branch_start import MIN_STEP, past_end, start
 from core.continuation import bifurcations, criticality, walk
+from core.lyapunov_coefficient import first_lyapunov
 from core.orbit import OrbitError
 from core.params import PARAM_NAMES, ParameterError, Params
 from slopetui.cli.arguments.continuation import MAX_HOPF_BRANCH
 from slopetui.cli.branch_lines import print_bifurcations, print_point
+from slopetui.cli.curve import run_curve
 from slopetui.cli.options import int_arg, open_db, say_queued
 from slopetui.cli.orbit import point_of
 from slopetui.json_text import json_text
@@ -23,6 +25,7 @@ from slopetui.store.queries import run_by_id
 from slopetui.sweeps.branch_records import bifurcation_record, point_record
 from slopetui.sweeps.branches import submit
 from slopetui.sweeps.continuation_request import continuation_spec
+from slopetui.sweeps.curve_request import curve_spec
 
 if TYPE_CHECKING:
     from core.branch_start import BranchSpec
@@ -66,10 +69,32 @@ def _submit(args: argparse.Namespace, spec: BranchSpec) -> int:
     return say_queued(args.json, "continuation", cid, f"slopetui branch {cid}")
 
 
+def _curve(args: argparse.Namespace, params: Params, dt: float) -> int:
+    """A curve in two parameters (--param2), computed here."""
+    if args.submit:
+        raise ParameterError("submit", "", "absent with --param2: two-parameter curves are "
+                             "computed here (the queue holds one-parameter branches)")
+    start = ("fold" if args.from_fold else "hopf" if args.from_hopf is not None else
+             "pd" if args.from_pd else "ns" if args.from_ns else "")
+    if args.from_hopf not in (None, 1):
+        raise ParameterError("from-hopf", args.from_hopf, "1 with --param2 (the first "
+                             "Hopf curve)")
+    if not start:
+        raise ParameterError("param2", args.param2, "given with --from-fold or --from-hopf")
+    spec = curve_spec(params, dt, args.param, args.param2, start, args.to2, args.points,
+                      args.max_step)
+    return run_curve(args, spec)
+
+
 def handle(args: argparse.Namespace) -> int:
     try:
         params, dt = point_of(args)
         _check(args)
+        if args.param2 is not None:
+            return _curve(args, params, dt)
+        if args.from_fold or args.from_pd or args.from_ns or args.to2 is not None:
+            raise ParameterError("param2", "", "a second parameter: --from-fold, --from-pd, "
+                                 "--from-ns and --to2 continue a curve in (--param, --param2)")
         if args.from_run is not None:
             params = _params_of_run(args, params)
         spec = continuation_spec(params, dt, args.param, args.from_hopf is not None, args.to,
@@ -114,6 +139,14 @@ def handle(args: argparse.Namespace) -> int:
     if hopf is not None:
         out["hopf"] = {"value": hopf.value, "period": hopf.period, "branch": hopf.branch,
                        "omega": hopf.omega}
+        ly = first_lyapunov(spec.params, args.param, spec.dt, hopf.branch)
+        out["l1"] = ly.l1
+        # the normal form decides; the branch's first orbits are the check (they differ
+        # only where l1 is within its error of 0: next to a Bautin point)
+        if ly.criticality != critical:
+            out["criticality_note"] = (f"the branch's first orbits look {critical}; l1 = "
+                                       f"{ly.l1:.3g} decides")
+        critical = ly.criticality
         out["criticality"] = critical
     if quiet:
         print(json_text(out))
@@ -121,6 +154,7 @@ def handle(args: argparse.Namespace) -> int:
     print(f"end: {branch.end} ({len(branch.points)} points, {took:.1f} s)")
     if hopf is not None:
         print(f"Hopf point {hopf.branch}: {args.param} = {hopf.value:.10g}, omega "
-              f"{hopf.omega:.10g}, period {hopf.period:.10g}; {critical}")
+              f"{hopf.omega:.10g}, period {hopf.period:.10g}; {critical} (l1 = "
+              f"{out['l1']:.6g})")
     print_bifurcations(args.param, bif_records)
     return 0

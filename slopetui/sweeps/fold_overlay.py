@@ -1,11 +1,15 @@
 """The fold-of-cycles curve over a sweep's (k, tau), (a, tau), (b, tau) or (c, tau) plane,
 for the faces to draw beside the exact Hopf curve (``render_sweep(fold=...)``).
 
-The curve comes from continuation (core.fold_curve: one branch from the Hopf point in the
-plane's x parameter per tau of the sweep's axis), 0.3-8 s a tau up to tau = 40 at the
-defaults and minutes at 60 (the report's table), so a face computes it on request, never
-on a redraw. Planes with tau across (x) are not drawn: the sweeps and the paper put tau
-up the y axis.
+The curve is continued (core.fold_continuation): the fold of the branch from the Hopf point
+at the top tau of the sweep's axis, followed as a curve down to its bottom tau, or to the
+Bautin point where it ends on the Hopf curve (below it the Hopf point is supercritical and
+no band of bistability exists). At the defaults that is 9 s CPU from tau = 10 to 2, where
+the fold found tau by tau (core.fold_curve, one branch from the Hopf point each) took
+0.3-8 s a tau; a face still computes it on request, never on a redraw. Where the curve
+cannot start (no subcritical fold at the top tau) the fold is looked for tau by tau, as
+before. Planes with tau across (x) are not drawn: the sweeps and the paper put tau up the
+y axis.
 """
 
 from __future__ import annotations
@@ -51,14 +55,47 @@ def fold_overlay(spec: SweepSpec, progress: Callable[[float, float | None], None
     if not has_fold_plane(spec):
         return None
     assert spec.y is not None
+    taus = [float(t) for t in spec.y.values()]
+    continued = _continued(spec, max(taus), min(taus), progress)
+    if continued is not None:
+        return inside(spec, *continued)
     points = []
     from core.fold_curve import fold_curve  # numba and scipy: see the TYPE_CHECKING import
 
-    for point in fold_curve(spec.base, [float(t) for t in spec.y.values()], name=spec.x.param):
+    for point in fold_curve(spec.base, taus, name=spec.x.param):
         if progress is not None:
             progress(point.second, point.fold)
         points.append(point)
     return inside(spec, *curve_of(points))
+
+
+#: The most points of the continued curve (tau = 10 to 2 takes 33 at the defaults).
+CURVE_POINTS = 400
+
+
+def _continued(spec: SweepSpec, top: float, bottom: float,
+               progress: Callable[[float, float | None], None] | None) -> Curve | None:
+    """The continued fold curve from tau = top down to bottom (or its Bautin end), as
+    (x, tau) arrays; None where it cannot start (no subcritical fold at the top)."""
+    from core.fold_continuation import start_at_fold, walk
+    from core.lyapunov_coefficient import first_lyapunov
+    from core.orbit import OrbitError
+
+    name = spec.x.param
+    base = spec.base.with_(tau=top)
+    try:
+        if first_lyapunov(base, name).l1 < 0 or top == bottom:
+            return None  # supercritical at the top: the fold there bounds no bistable band
+        curve = start_at_fold(base, (name, "tau"), bottom)
+        xs, ts = [], []
+        for point in walk(curve, bottom, CURVE_POINTS):
+            if progress is not None:
+                progress(point.second, point.first)
+            xs.append(point.first)
+            ts.append(point.second)
+    except (OrbitError, ValueError):
+        return None
+    return np.array(xs), np.array(ts)
 
 
 def curve_of(points: Iterable[FoldPoint]) -> Curve:

@@ -30,6 +30,21 @@ def declare(sub: argparse._SubParsersAction) -> None:
                             "in k, tau, a, b or c)")
     start.add_argument("--from-run", dest="from_run", metavar="ID",
                        help="start from the orbit at a stored run's parameters")
+    start.add_argument("--from-fold", dest="from_fold", action="store_true",
+                       help="with --param2: the fold of cycles of the branch in --param born "
+                            "at the first Hopf point, continued as a curve in (--param, "
+                            "--param2)")
+    for kind, what in (("pd", "period-doubling"), ("ns", "torus (Neimark-Sacker)")):
+        start.add_argument(f"--from-{kind}", dest=f"from_{kind}", action="store_true",
+                           help=f"with --param2: a {what} curve (refused: no real crossing "
+                                "of this model is known to start from)")
+    p.add_argument("--param2", choices=CONTINUABLE, metavar="Q",
+                   help="a second parameter: continue a curve in (--param, Q) from "
+                        "--from-fold (the fold of cycles, with its codimension-two points) or "
+                        "--from-hopf (the Hopf curve with its first Lyapunov coefficient l1 "
+                        "and Bautin points); needs --to2")
+    p.add_argument("--to2", metavar="VALUE",
+                   help="with --param2: where the curve ends in Q")
     p.add_argument("--to", metavar="VALUE",
                    help="stop once the parameter passes VALUE (default: the Hopf point or "
                         "--points)")

@@ -1,0 +1,81 @@
+"""A two-parameter continuation's request checked from text: ``slopetui continue --param P
+--param2 Q``'s flags, each refusal a ParameterError naming the flag and its range. No UI
+here, and no numpy: the command line imports it at start.
+
+Two curves start here: the fold of cycles (``--from-fold``: the fold of the branch in P born
+at the first Hopf point, continued in (P, Q) by core.fold_continuation's minimally augmented
+system) and the Hopf curve with its first Lyapunov coefficient (``--from-hopf``: the Hopf
+point in P at values of Q --max-step apart, core.lyapunov_coefficient, and the Bautin points
+where l1 changes sign). Period-doubling and torus curves need a crossing to start from:
+no real one is known in this model yet, so they are refused with that reason.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from core.params import ParameterError, Params
+from slopetui.sweeps.continuation_request import CONTINUABLE, MAX_POINTS, max_step
+from slopetui.sweeps.request_fields import number, whole
+
+#: The parameters a Hopf curve is traced in: those with a Hopf point to start from
+#: (core.hopf_start: k, tau and the friction parameters a, b, c). A fold curve starts in any
+#: (core.fold_continuation reaches a fold in d or v along the fold surface from one in k).
+STARTS_IN = ("k", "tau", "a", "b", "c")
+#: The curves a request may start: from a fold of cycles or from the Hopf point.
+STARTS = ("fold", "hopf")
+#: The most Hopf-curve points: each is four corrected small orbits (~0.1 to 0.3 s).
+MAX_HOPF_POINTS = 400
+
+
+def hopf_points(start: float, end: float, step: float) -> int:
+    """The Hopf curve's points from start to end at most ``step`` apart (ends included; a
+    span that is a whole number of steps up to rounding takes that number)."""
+    return max(2, math.ceil(abs(end - start) / step - 1e-9) + 1)
+
+
+@dataclass(frozen=True)
+class CurveSpec:
+    """A two-parameter continuation: the curve (``start``), its parameters, the grid's dt,
+    where the second parameter ends, the most points and the largest step (along the fold
+    curve, or between Hopf points in the second parameter)."""
+
+    params: Params
+    name: str
+    second: str
+    start: str
+    dt: float
+    to: float
+    max_points: int
+    max_step: float
+
+
+def curve_spec(params: Params, dt: float, param: str, param2: str, start: str,
+               to2: str | None, points: str, step: str) -> CurveSpec:
+    """The request, checked: ParameterError naming the flag (param2, to2, from-..., points,
+    max-step) and what it allows."""
+    if param2 not in CONTINUABLE or param2 == param:
+        raise ParameterError("param2", param2,
+                             f"one of {', '.join(n for n in CONTINUABLE if n != param)}")
+    if start not in STARTS:
+        raise ParameterError(f"from-{start}", "", "--from-fold or --from-hopf: a period-doubling "
+                             "or torus curve needs a crossing to start from, and this model has "
+                             "none known (docs/orbits.md)")
+    if start == "hopf" and param not in STARTS_IN:
+        raise ParameterError("param", param, f"one of {', '.join(STARTS_IN)} with --param2 "
+                             "--from-hopf (the curve of Hopf points in it)")
+    if to2 is None:
+        raise ParameterError("to2", "", f"a value of {param2} where the curve ends")
+    end = number("to2", to2, params, param2)
+    if end == getattr(params, param2):
+        raise ParameterError("to2", to2, f"a value other than the start, {param2} = {end:g}")
+    if param2 == "tau" and end <= 0:
+        raise ParameterError("to2", to2, "tau > 0: there is no Hopf point without a delay")
+    n = whole("points", points, 2, MAX_POINTS if start == "fold" else MAX_HOPF_POINTS)
+    largest = max_step(step)
+    if start == "hopf" and hopf_points(getattr(params, param2), end, largest) > n:
+        raise ParameterError("max-step", step, f"at least {abs(end - getattr(params, param2)) / (n - 1):.4g} "
+                             f"(the Hopf curve's {n} points, --points, span {param2} "
+                             f"from {getattr(params, param2):g} to {end:g})")
+    return CurveSpec(params, param, param2, start, dt, end, n, largest)
