@@ -21,8 +21,9 @@ import time
 
 import numpy as np
 
-from core.fold_continuation import start_at_fold, walk
+from core.fold_continuation import walk
 from core.fold_curve import fold_curve, fold_of_cycles
+from core.fold_start import start_at_fold
 from core.params import Params
 from core.stability import hopf_k
 

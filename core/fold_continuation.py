@@ -34,28 +34,18 @@ parameter); q is the second. The delay grid keeps N = tau / dt points: when tau 
 the two parameters dt follows it (core.continuation's tau-continuation), so the start
 chooses N for the larger tau the curve will reach, and dt stays at most the one asked for.
 
-Along the curve, tested between consecutive points:
-    - cusp: the fold's quadratic coefficient Dg.phi1 (k''(s)) changes sign;
-    - bautin (generalised Hopf): the amplitude vanishes: the fold meets the Hopf curve
-      where its first Lyapunov coefficient changes sign (core.lyapunov_coefficient locates
-      it there, on the Hopf curve);
-    - fold-flip: a nontrivial multiplier crosses the unit circle near -1;
-    - fold-ns: a complex pair crosses it (a torus curve ends there);
-    - resonance-1:1: a third multiplier reaches +1.
-Multiplier crossings count only when the multiplier moves through the circle by more than
-UNIT_MARGIN (the accuracy of multipliers near the circle).
+Where the curve starts is core.fold_start's; the codimension-two points along it are
+core.codim2's, from the points' quadratic coefficients and multipliers.
 """
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from core.continuation import Branch
 from core.floquet import Multipliers, multipliers
 from core.orbit import Grid, OrbitError, PeriodMap, Shot
 from core.params import ParameterError, Params
@@ -76,10 +66,8 @@ EASY, HARD, GROW = 2, 5, 1.5
 #: The curve stops at the Hopf curve: the orbit's amplitude (peak-to-peak m_y) below this
 #: fraction of the largest seen on the curve.
 BAUTIN_FRACTION = 0.02
-#: Multipliers per curve point, and the margin a crossing must clear on both sides: at a
-#: fold two multipliers sit at +1 (the flow's and the fold's); round-off moves
-#: multipliers that sit on the circle by ~1e-7 (core.floquet.FLOW_TOL's measurements).
-CURVE_MULTIPLIERS, UNIT_MARGIN = 6, 1e-5
+#: Multipliers per curve point: the two at +1 a fold has, and four to see crossings by.
+CURVE_MULTIPLIERS = 6
 
 
 @dataclass(frozen=True)
@@ -95,17 +83,6 @@ class CurvePoint:
     curvature: float
     multipliers: Multipliers
     newton_steps: int
-
-
-@dataclass(frozen=True)
-class Codim2:
-    """A codimension-two point on the curve: its type and both parameters."""
-
-    type: str
-    first: float
-    second: float
-    period: float
-    note: str = ""
 
 
 @dataclass
@@ -327,115 +304,38 @@ class FoldCurve:
         return t if t[-1] * self.direction > 0 else -t
 
 
-#: The parameters with a Hopf point to start a branch from (core.hopf_start).
-HOPF_STARTS = ("k", "tau", "a", "b", "c")
-
-
-def start_at_fold(p: Params, names: tuple[str, str], reach: float, dt: float = 0.01,
-                  step: float = 0.05, max_step: float = 0.5, hopf_branch: int = 1,
-                  n_delay: int | None = None) -> FoldCurve:
-    """The curve's start: the one-parameter branch in names[0] from the Hopf point at p,
-    walked to its first turn (core.continuation), the point before the turn corrected onto
-    the fold with names[1] fixed. ``reach`` is the other end of names[1]'s range (the grid
-    is chosen for the larger tau of the two). A fold in a parameter with no Hopf start
-    (d, v) is reached along the fold surface instead: see ``_via_k``."""
-    from core.fold_curve import step_sizes  # the one-parameter branch's own steps
-
-    name, second = names
-    if n_delay is None:
-        n_delay = Grid.of(p, dt).n_delay
-        if second == "tau":
-            n_delay = math.ceil(max(p.tau, reach) / dt - 1e-9)
-    if name not in HOPF_STARTS:
-        return _via_k(p, names, reach, dt, step, max_step, n_delay)
-    dt_start = p.tau / n_delay
-    first, largest = step_sizes(p, name)
-    branch, _ = Branch.from_hopf(p, name, dt_start, 1e-3, first, largest, hopf_branch)
-    n_delay = branch.g0.n_delay
-    branch.first()
-    for _ in range(400):
-        branch.advance(1e-9)
-        pts = branch.points
-        if pts[-2].tangent_p * pts[-1].tangent_p < 0:
-            break
-    else:
-        raise OrbitError(f"the branch in {name} from the Hopf point has no fold within "
-                         "400 points")
-    y_b, t_b = branch.states[-2]
-    n = branch.g0.size
-    q = branch.map_at(float(y_b[-1])).p
-    g = branch.g0 if name != "tau" else Grid(q.tau / n_delay, n_delay)
-    pm = PeriodMap(q, g)
-    shot = pm.shoot(y_b[:n], float(y_b[n]))
-    c = t_b[:n + 1] / math.sqrt(weighted_dot(t_b[:n + 1], t_b[:n + 1],
-                                             np.concatenate((g.weights, [1.0]))))
-    y0 = np.concatenate((y_b, [getattr(p, second)]))
-    return FoldCurve(p.with_(**{name: float(y_b[-1])}), names, n_delay, g.dt, y0, c,
-                     y_b[:n].copy(), shot.d_dT.copy(), step, max_step,
-                     direction=1.0 if reach > getattr(p, second) else -1.0)
-
-
-def crossings(a: CurvePoint, b: CurvePoint) -> list[Codim2]:
-    """Codimension-two points between two consecutive curve points (see the module doc)."""
-    found: list[Codim2] = []
-    if a.curvature * b.curvature < 0:
-        s = a.curvature / (a.curvature - b.curvature)
-        found.append(_between("cusp", a, b, s, "the fold's quadratic coefficient vanishes"))
-    ma, mb = fold_others(a.multipliers), fold_others(b.multipliers)
-    for mu_b in mb:
-        if abs(abs(mu_b) - 1.0) < UNIT_MARGIN:
-            continue
-        mu_a = ma[int(np.argmin(np.abs(ma - mu_b)))] if ma.size else None
-        if mu_a is None or abs(abs(mu_a) - 1.0) < UNIT_MARGIN:
-            continue
-        if (abs(mu_a) - 1.0) * (abs(mu_b) - 1.0) >= 0:
-            continue
-        s = (abs(mu_a) - 1.0) / ((abs(mu_a) - 1.0) - (abs(mu_b) - 1.0))
-        if abs(mu_b.imag) > 1e-4:
-            kind = "fold-ns"
-        elif mu_b.real < 0:
-            kind = "fold-flip"
-        else:
-            kind = "resonance-1:1"
-        found.append(_between(kind, a, b, s, f"multiplier {mu_a:.6g} -> {mu_b:.6g}"))
-    return found
-
-
-def fold_others(m: Multipliers) -> np.ndarray:
-    """The multipliers but the two at +1 a fold of cycles has (the flow's and the fold's)."""
-    values = m.nontrivial
-    if values.size:
-        values = np.delete(values, int(np.argmin(np.abs(values - 1.0))))
-    return values
-
-
-def _between(kind: str, a: CurvePoint, b: CurvePoint, s: float, note: str) -> Codim2:
-    return Codim2(kind, a.first + s * (b.first - a.first), a.second + s * (b.second - a.second),
-                  a.period + s * (b.period - a.period), note)
+def step(curve: FoldCurve, to: float, max_points: int, min_step: float = 1e-6
+         ) -> CurvePoint | None:
+    """The curve's next point, or None once it has ended: the first fold, then one point
+    after another until names[1] passes ``to`` (that point is corrected at ``to``
+    exactly), the amplitude vanishes (the Hopf curve: a Bautin point), max_points, or a
+    point Newton cannot reach; why it ended is left in ``curve.end``."""
+    if curve.end:
+        return None
+    if not curve.points:
+        return curve.first()
+    if len(curve.points) >= max_points:
+        curve.end = f"{max_points} points computed"
+        return None
+    try:
+        point = curve.advance(min_step)
+    except OrbitError as exc:
+        curve.end = str(exc)
+        return None
+    if (point.second - to) * curve.direction >= 0:
+        curve.points.pop()
+        point = curve._accept(*_fixed_at(curve, to))
+        curve.end = f"reached {curve.names[1]} = {to:g}"
+    elif point.amplitude < BAUTIN_FRACTION * max(q.amplitude for q in curve.points):
+        curve.end = "the amplitude vanished: the fold curve reached the Hopf curve"
+    return point
 
 
 def walk(curve: FoldCurve, to: float, max_points: int, min_step: float = 1e-6
          ) -> Iterator[CurvePoint]:
-    """The curve point by point, from its first fold until names[1] passes ``to`` (the
-    last point is then corrected at ``to`` exactly), the amplitude vanishes (the Hopf
-    curve: a Bautin point), or max_points; why it ended is left in ``curve.end``."""
-    yield curve.first()
-    while len(curve.points) < max_points:
-        try:
-            point = curve.advance(min_step)
-        except OrbitError as exc:
-            curve.end = str(exc)
-            return
-        if (point.second - to) * curve.direction >= 0:
-            curve.points.pop()
-            yield curve._accept(*_fixed_at(curve, to))
-            curve.end = f"reached {curve.names[1]} = {to:g}"
-            return
+    """The curve point by point until it ends (see ``step``)."""
+    while (point := step(curve, to, max_points, min_step)) is not None:
         yield point
-        if point.amplitude < BAUTIN_FRACTION * max(q.amplitude for q in curve.points):
-            curve.end = "the amplitude vanished: the fold curve reached the Hopf curve"
-            return
-    curve.end = f"{max_points} points computed"
 
 
 def _fixed_at(curve: FoldCurve, to: float) -> tuple[np.ndarray, int, float]:
@@ -447,55 +347,4 @@ def _fixed_at(curve: FoldCurve, to: float) -> tuple[np.ndarray, int, float]:
     return curve.correct(y, None)
 
 
-def codim2_points(curve: FoldCurve) -> list[Codim2]:
-    """The codimension-two points along a walked curve, in order."""
-    found: list[Codim2] = []
-    pts = curve.points
-    for a, b in itertools.pairwise(pts):
-        found.extend(crossings(a, b))
-    if curve.end.startswith("the amplitude vanished"):
-        a, b = pts[-2], pts[-1]
-        a2, b2 = a.amplitude ** 2, b.amplitude ** 2
-        s = a2 / (a2 - b2) if a2 != b2 else 1.0  # p and q are linear in amplitude^2 there
-        found.append(_between("bautin", a, b, s, "the fold curve's end on the Hopf curve, "
-                                                 "extrapolated to zero amplitude"))
-    return found
-
-
-__all__ = ["Codim2", "CurvePoint", "FoldCurve", "codim2_points", "crossings", "fold_others",
-           "start_at_fold", "walk"]
-
-
-def switched(curve: FoldCurve, names: tuple[str, str], towards: float, step: float = 0.05,
-             max_step: float = 0.5) -> FoldCurve:
-    """The same fold of cycles, continued from its last point in another pair of
-    parameters: the bordered system takes names[0]'s column (any parameter whose column is
-    outside F_x's range will do), and the curve starts towards names[1] = ``towards``."""
-    p = curve.params(curve.y)
-    n = curve.size
-    y = np.concatenate((curve.y[:n + 1], [getattr(p, names[0]), getattr(p, names[1])]))
-    return FoldCurve(p, names, curve.n_delay, curve.grid(p).dt, y, curve.c.copy(),
-                     curve.z_ref.copy(), curve.zdot_ref.copy(), step, max_step,
-                     direction=1.0 if towards > getattr(p, names[1]) else -1.0)
-
-
-def _via_k(p: Params, names: tuple[str, str], reach: float, dt: float, step: float,
-           max_step: float, n_delay: int) -> FoldCurve:
-    """The fold in names[0] (d or v: no Hopf start) at p: the fold in k at p's other
-    values, continued in (names[0], k) at p's tau until k = p.k, where it is a fold in
-    names[0]; from there the curve in ``names``. Raises OrbitError when that path meets
-    the Hopf curve first (a Bautin point: no fold in names[0] at this k; at tau = 10 the
-    fold in k moves from 1.214 at d = 1e-4 to the Hopf curve at d = 2.23, k = 6.41)."""
-    name = names[0]
-    in_k = start_at_fold(p, ("k", name), getattr(p, name), dt, step, max_step,
-                         n_delay=n_delay)
-    in_k.first()
-    along = switched(in_k, (name, "k"), p.k, step, max_step)
-    for _ in walk(along, p.k, 400):
-        pass
-    if not along.end.startswith("reached"):
-        raise OrbitError(f"no fold of cycles in {name} at k = {p.k:g}: from the fold in k at "
-                         f"{name} = {getattr(p, name):g} the fold surface ended at {name} = "
-                         f"{along.points[-1].first:.6g}, k = {along.points[-1].second:.6g} "
-                         f"({along.end})")
-    return switched(along, names, reach, step, max_step)
+__all__ = ["CurvePoint", "FoldCurve", "step", "walk"]

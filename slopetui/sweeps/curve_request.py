@@ -12,43 +12,23 @@ no real one is known in this model yet, so they are refused with that reason.
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from core.params import ParameterError, Params
 from slopetui.sweeps.continuation_request import CONTINUABLE, MAX_POINTS, max_step
 from slopetui.sweeps.request_fields import number, whole
 
+if TYPE_CHECKING:
+    from core.curve_start import CurveSpec
+
 #: The parameters a Hopf curve is traced in: those with a Hopf point to start from
 #: (core.hopf_start: k, tau and the friction parameters a, b, c). A fold curve starts in any
-#: (core.fold_continuation reaches a fold in d or v along the fold surface from one in k).
+#: (core.fold_start reaches a fold in d or v along the fold surface from one in k).
 STARTS_IN = ("k", "tau", "a", "b", "c")
-#: The curves a request may start: from a fold of cycles or from the Hopf point.
+#: The curves a request may start (core.curve_start.STARTS, not imported: numpy).
 STARTS = ("fold", "hopf")
 #: The most Hopf-curve points: each is four corrected small orbits (~0.1 to 0.3 s).
 MAX_HOPF_POINTS = 400
-
-
-def hopf_points(start: float, end: float, step: float) -> int:
-    """The Hopf curve's points from start to end at most ``step`` apart (ends included; a
-    span that is a whole number of steps up to rounding takes that number)."""
-    return max(2, math.ceil(abs(end - start) / step - 1e-9) + 1)
-
-
-@dataclass(frozen=True)
-class CurveSpec:
-    """A two-parameter continuation: the curve (``start``), its parameters, the grid's dt,
-    where the second parameter ends, the most points and the largest step (along the fold
-    curve, or between Hopf points in the second parameter)."""
-
-    params: Params
-    name: str
-    second: str
-    start: str
-    dt: float
-    to: float
-    max_points: int
-    max_step: float
 
 
 def curve_spec(params: Params, dt: float, param: str, param2: str, start: str,
@@ -74,7 +54,8 @@ def curve_spec(params: Params, dt: float, param: str, param2: str, start: str,
         raise ParameterError("to2", to2, "tau > 0: there is no Hopf point without a delay")
     n = whole("points", points, 2, MAX_POINTS if start == "fold" else MAX_HOPF_POINTS)
     largest = max_step(step)
-    if start == "hopf" and hopf_points(getattr(params, param2), end, largest) > n:
+    from core.curve_start import CurveSpec, hopf_count  # numpy: module docstring
+    if start == "hopf" and hopf_count(getattr(params, param2), end, largest) > n:
         raise ParameterError("max-step", step, f"at least {abs(end - getattr(params, param2)) / (n - 1):.4g} "
                              f"(the Hopf curve's {n} points, --points, span {param2} "
                              f"from {getattr(params, param2):g} to {end:g})")

@@ -77,7 +77,8 @@ def _continued(spec: SweepSpec, top: float, bottom: float,
                progress: Callable[[float, float | None], None] | None) -> Curve | None:
     """The continued fold curve from tau = top down to bottom (or its Bautin end), as
     (x, tau) arrays; None where it cannot start (no subcritical fold at the top)."""
-    from core.fold_continuation import start_at_fold, walk
+    from core.fold_continuation import walk
+    from core.fold_start import start_at_fold
     from core.lyapunov_coefficient import first_lyapunov
     from core.orbit import OrbitError
 

@@ -11,9 +11,11 @@ import json
 
 import pytest
 
+from core.codim2 import codim2_points
 from core.continuation import Branch, criticality
-from core.fold_continuation import codim2_points, start_at_fold, walk
+from core.fold_continuation import walk
 from core.fold_curve import fold_of_cycles
+from core.fold_start import start_at_fold
 from core.lyapunov_coefficient import bautin, first_lyapunov, hopf_curve
 from core.params import Params
 from core.stability import hopf_k

@@ -1,0 +1,97 @@
+"""Codimension-two points along a fold-of-cycles curve (core.fold_continuation), each
+found between two consecutive curve points:
+
+    - cusp: the fold's quadratic coefficient Dg.phi1 (k''(s)) changes sign;
+    - bautin (generalised Hopf): the amplitude vanishes: the fold curve ends on the Hopf
+      curve, where the first Lyapunov coefficient changes sign (core.lyapunov_coefficient
+      locates it there, on the Hopf curve, independently);
+    - fold-flip: a nontrivial multiplier crosses the unit circle near -1;
+    - fold-ns: a complex pair crosses it (a torus curve ends there);
+    - resonance-1:1: a third multiplier reaches +1.
+
+Multiplier crossings count only when the multiplier is off the circle by more than
+UNIT_MARGIN on both sides.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+
+from core.floquet import Multipliers
+from core.fold_continuation import CurvePoint, FoldCurve
+
+#: The margin a multiplier crossing must clear on both sides: at a fold two multipliers
+#: sit at +1 (the flow's and the fold's); round-off moves multipliers that sit on the
+#: circle by ~1e-7 (core.floquet.FLOW_TOL's measurements).
+UNIT_MARGIN = 1e-5
+
+
+@dataclass(frozen=True)
+class Codim2:
+    """A codimension-two point on the curve: its type and both parameters."""
+
+    type: str
+    first: float
+    second: float
+    period: float
+    note: str = ""
+
+
+def crossings(a: CurvePoint, b: CurvePoint) -> list[Codim2]:
+    """Codimension-two points between two consecutive curve points (see the module doc)."""
+    found: list[Codim2] = []
+    if a.curvature * b.curvature < 0:
+        s = a.curvature / (a.curvature - b.curvature)
+        found.append(_between("cusp", a, b, s, "the fold's quadratic coefficient vanishes"))
+    ma, mb = fold_others(a.multipliers), fold_others(b.multipliers)
+    for mu_b in mb:
+        if abs(abs(mu_b) - 1.0) < UNIT_MARGIN:
+            continue
+        mu_a = ma[int(np.argmin(np.abs(ma - mu_b)))] if ma.size else None
+        if mu_a is None or abs(abs(mu_a) - 1.0) < UNIT_MARGIN:
+            continue
+        if (abs(mu_a) - 1.0) * (abs(mu_b) - 1.0) >= 0:
+            continue
+        s = (abs(mu_a) - 1.0) / ((abs(mu_a) - 1.0) - (abs(mu_b) - 1.0))
+        if abs(mu_b.imag) > 1e-4:
+            kind = "fold-ns"
+        elif mu_b.real < 0:
+            kind = "fold-flip"
+        else:
+            kind = "resonance-1:1"
+        found.append(_between(kind, a, b, s, f"multiplier {mu_a:.6g} -> {mu_b:.6g}"))
+    return found
+
+
+def fold_others(m: Multipliers) -> np.ndarray:
+    """The multipliers but the two at +1 a fold of cycles has (the flow's and the fold's)."""
+    values = m.nontrivial
+    if values.size:
+        values = np.delete(values, int(np.argmin(np.abs(values - 1.0))))
+    return values
+
+
+def _between(kind: str, a: CurvePoint, b: CurvePoint, s: float, note: str) -> Codim2:
+    return Codim2(kind, a.first + s * (b.first - a.first), a.second + s * (b.second - a.second),
+                  a.period + s * (b.period - a.period), note)
+
+
+def codim2_points(curve: FoldCurve) -> list[Codim2]:
+    """The codimension-two points along a walked curve, in order."""
+    found: list[Codim2] = []
+    pts = curve.points
+    for a, b in itertools.pairwise(pts):
+        found.extend(crossings(a, b))
+    if curve.end.startswith("the amplitude vanished"):
+        a, b = pts[-2], pts[-1]
+        a2, b2 = a.amplitude ** 2, b.amplitude ** 2
+        s = a2 / (a2 - b2) if a2 != b2 else 1.0  # p and q are linear in amplitude^2 there
+        found.append(_between("bautin", a, b, s, "the fold curve's end on the Hopf curve, "
+                                                 "extrapolated to zero amplitude"))
+    return found
+
+
+__all__ = ["Codim2", "codim2_points", "crossings", "fold_others"]

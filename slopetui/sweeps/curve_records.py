@@ -1,0 +1,61 @@
+"""A two-parameter curve's point and codimension-two point as the faces show them and
+``continue --param2 --json`` and ``curve --json`` print them: one shape for a curve computed
+here and one read back from the store. Light (no numpy): the command line imports it at
+start."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from slopetui.display_text import terminal_safe
+
+
+def curve_solver(spec: Any) -> dict[str, Any]:
+    """The solver facts of a curve (a core.curve_start.CurveSpec or its stored row)."""
+    return {"method": "rk4", "dt": spec.dt, "curve": spec.start, "points": spec.max_points,
+            "max_step": spec.max_step, "to2": spec.to}
+
+
+def curve_record(name: str, second: str, point: Any) -> dict[str, Any]:
+    """One point of the curve: both parameters by name and the period; a fold's amplitude
+    (peak to peak of m_y), stability and largest multiplier but the fold's two at +1; a
+    Hopf point's l1 and criticality."""
+    out: dict[str, Any] = {name: point.first, second: point.second, "period": point.period}
+    if point.l1 is not None:
+        out["l1"] = point.l1
+        out["criticality"] = "supercritical" if point.l1 < 0 else "subcritical"
+        return out
+    lead = leading_at_fold(point.multipliers)
+    out.update({"amplitude": point.amplitude, "stable": abs(lead) < 1.0,
+                "leading_multiplier": [lead.real, lead.imag]})
+    return out
+
+
+def leading_at_fold(m: Any) -> complex:
+    """The largest multiplier but the two a fold has at +1 (the flow's and the fold's)."""
+    from core.codim2 import fold_others  # numpy: module docstring
+
+    others = fold_others(m)
+    return complex(others[0]) if others.size else 0j
+
+
+def codim2_record(name: str, second: str, c: Any) -> dict[str, Any]:
+    return {"type": c.type, name: c.first, second: c.second, "period": c.period,
+            "note": c.note}
+
+
+def print_curve_point(name: str, second: str, point: Mapping[str, Any]) -> None:
+    extra = (f"l1 {point['l1']:+.6g} ({point['criticality']})" if "l1" in point else
+             f"amplitude {point['amplitude']:.6g} "
+             f"{'stable' if point['stable'] else 'unstable'}")
+    print(f"{name} = {point[name]:<14.10g} {second} = {point[second]:<12.8g} period "
+          f"{point['period']:<12.8g} {extra}", flush=True)
+
+
+def print_codim2(name: str, second: str, found: Sequence[Mapping[str, Any]]) -> None:
+    for b in found:
+        print(f"{terminal_safe(b['type']):<14} {name} = {b[name]:.8g}, {second} = "
+              f"{b[second]:.8g}, period {b['period']:.8g}  ({terminal_safe(b['note'])})")
+    if not found:
+        print("no codimension-two point on this curve")
