@@ -205,6 +205,27 @@ def test_the_roots_tab_lists_and_draws_the_rest_states_roots(db_url, done_store)
     play(db_url, scenario)
 
 
+def test_roots_that_cannot_be_computed_say_why_on_the_tab(db_url, done_store):
+    """At tau = 200, k = 3 (d = 1e-4) the variance block's real root -3.456 is not carried
+    to the noisy rest state (core.rest_stability.rest_roots raises): said, not raised."""
+    db = open_store(db_url)
+    with db.transaction() as s:  # queued: nothing is recomputed, the roots still are
+        s.execute(update(Run).where(Run.id == done_store[0])
+                  .values(tau=200.0, k=3.0, status="queued"))
+    db.dispose()
+
+    async def scenario(app: SlopeApp, pilot: Pilot) -> None:
+        screen = await open_run(app, pilot, done_store[0])
+        await pilot.press("e")
+        await wait_until(pilot, lambda: "cannot be computed" in text_of(screen, "#roots-text"),
+                         SETTLE_S)
+        said = text_of(screen, "#roots-text")
+        assert "ArithmeticError: the root -3.456" in said and screen.roots is None
+        assert "┌" not in str(screen.query_one("#plot-roots", PlotView).content)
+
+    play(db_url, scenario)
+
+
 def test_a_result_that_differs_from_the_stored_one_is_a_warning(db_url, done_store):
     db = open_store(db_url)
     with db.transaction() as s:

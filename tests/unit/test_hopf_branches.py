@@ -19,6 +19,7 @@ from core.stability import characteristic, hopf_friction, hopf_k, hopf_omega, ho
 from slopetui.cli import main
 from slopetui.store import open_store
 from slopetui.store.jobs import continuations
+from slopetui.tui.screens.branches import start_text
 
 F1 = Params().F1
 
@@ -109,6 +110,7 @@ def test_continue_queues_a_later_branch_with_its_index(tmp_path, capsys: pytest.
     capsys.readouterr()
     row = continuations.continuation(open_store(url), 1)
     assert (row.start, row.hopf_branch, row.status) == ("hopf", 2, "queued")
+    assert start_text(row) == "hopf2 τ=10"  # the Branches screen's start column
     assert main(["branch", "--db", url]) == 0
     assert capsys.readouterr().out.splitlines()[1].split()[:5] == \
         ["1", "k", "hopf2", "tau=10", "queued"]
