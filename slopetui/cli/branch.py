@@ -13,7 +13,7 @@ from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
 from slopetui.plots.branch_plot import render_branch
 from slopetui.provenance import computed_at
-from slopetui.sweeps.branches import branch_of, listing
+from slopetui.sweeps.branches import branch_of, listing, start_name
 
 if TYPE_CHECKING:
     from slopetui.sweeps.branches import StoredBranch
@@ -38,9 +38,9 @@ def _listing(args: argparse.Namespace) -> int:
     print(f"{'id':>4}  {'param':5} {'start':14} {'status':9} {'points':>6}  found")
     for b in branches:
         row = b.row
-        start = f"{row.start} tau={row.tau:g}" if b.param != "tau" else \
-            f"{row.start} k={row.k:g}"
-        print(f"{b.id:>4}  {terminal_safe(b.param):5} {start:14} {terminal_safe(row.status):9} "
+        start = f"{start_name(row)} tau={row.tau:g}" if b.param != "tau" else \
+            f"{start_name(row)} k={row.k:g}"
+        print(f"{b.id:>4}  {terminal_safe(b.param):5} {terminal_safe(start):14} {terminal_safe(row.status):9} "
               f"{row.n_points:>6}  {_found(b)}")  # stored text, escaped
     return 0
 
@@ -75,13 +75,14 @@ def _one(args: argparse.Namespace) -> int:
                             title=f"continuation {branch.id} in {branch.param}",
                             width=size.columns, height=max(size.lines - 2, 12)))
         return 0
+    hopf = f"Hopf point {row.hopf_branch}"  # the n-th, as `continue` names it
     print(f"continuation {branch.id} in {param} from "
-          f"{'the Hopf point' if row.start == 'hopf' else 'a simulated orbit'}: "
+          f"{hopf if row.start == 'hopf' else 'a simulated orbit'}: "
           f"{terminal_safe(row.status)}, {row.n_points} points, {row.runtime_s:.1f} s")
     for point in branch.points:
         print_point(param, point)
     if row.hopf_value is not None:
-        print(f"Hopf point: {param} = {row.hopf_value:.10g}, period "
+        print(f"{hopf}: {param} = {row.hopf_value:.10g}, period "
               f"{row.hopf_period:.10g}" + (f"; {terminal_safe(row.criticality)}"
                                               if row.criticality else ""))
     if row.status == "done":

@@ -34,15 +34,10 @@ if TYPE_CHECKING:
 
 def _check(args: argparse.Namespace) -> None:
     """--from-hopf and --from-run as numbers (one line naming a bad one; the rest are
-    continuation_spec's); --from-hopf N > 1 only computed here: the queue's continuations
-    table stores the start as "hopf" or "orbit", with no place for the branch index."""
+    continuation_spec's)."""
     if args.from_hopf is not None:
         args.from_hopf = int_arg("from-hopf", args.from_hopf, 1, MAX_HOPF_BRANCH,
                                  note=" (the Hopf branch: 1 the first root crossing)")
-        if args.from_hopf > 1 and args.submit:
-            raise ParameterError("from-hopf", args.from_hopf,
-                                 "1 with --submit (queued continuations start at the first "
-                                 "Hopf point; compute later ones without --submit)")
     if args.from_run is not None:
         args.from_run = int_arg("from-run", args.from_run, 1, note=" (a run id)")
 

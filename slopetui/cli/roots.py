@@ -8,10 +8,11 @@ import shutil
 import time
 
 from core.params import PARAM_NAMES, ParameterError, Params
-from core.rest_stability import NEUTRAL_TOL, RestRoot, rest_roots
+from core.rest_stability import rest_roots
 from slopetui.cli.arguments.roots import MAX_COUNT
 from slopetui.json_text import json_text
 from slopetui.provenance import computed_at
+from slopetui.sweeps.rest_roots import unstable_count, verdict
 
 #: How the roots are computed, for the JSON's ``solver`` and the text (core.stability).
 METHOD = "chebyshev collocation + newton"
@@ -29,15 +30,6 @@ def count_of(text: str) -> int:
     return n
 
 
-def verdict(found: list[RestRoot]) -> str:
-    """The rest state's linear stability from its leading root: stable, unstable, or
-    undecided within core.rest_stability.NEUTRAL_TOL of the imaginary axis."""
-    lead = found[0].value.real
-    if abs(lead) <= NEUTRAL_TOL:
-        return "undecided"
-    return "stable" if lead < 0 else "unstable"
-
-
 def handle(args: argparse.Namespace) -> int:
     params = Params(**{n: getattr(args, n) for n in PARAM_NAMES if getattr(args, n) is not None})
     count = count_of(args.count)
@@ -48,7 +40,7 @@ def handle(args: argparse.Namespace) -> int:
         raise ParameterError("roots", "", f"a point whose roots can be computed ({exc})") from None
     runtime = time.perf_counter() - t0
     said = verdict(found)
-    unstable = sum(r.value.real > NEUTRAL_TOL for r in found)
+    unstable = unstable_count(found)
     if args.json:
         print(json_text({"roots": [[r.value.real, r.value.imag] for r in found],
                          "factors": [r.factor for r in found],

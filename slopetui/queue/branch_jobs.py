@@ -54,6 +54,7 @@ class BranchJob:
 def fields_of(spec: BranchSpec, from_run: int | None = None) -> dict[str, Any]:
     """The continuations row of a spec (queued, with the engine's digest)."""
     return {"param": spec.name, "start": "hopf" if spec.from_hopf else "orbit",
+            "hopf_branch": spec.hopf_branch if spec.from_hopf else None,
             **{n: getattr(spec.params, n) for n in PARAM_NAMES}, "from_run": from_run,
             "dt": spec.dt, "end_value": spec.end, "max_points": spec.max_points,
             "max_step": spec.max_step, "engine": source_digest(), "status": "queued"}
@@ -76,10 +77,14 @@ def spec_of(row: ContinuationRow) -> BranchSpec:
     if row.start not in ("hopf", "orbit"):
         raise ParameterError("start", row.start, "hopf or orbit")
     end = None if row.end_value is None else check_finite("end_value", row.end_value)
+    from_hopf = row.start == "hopf"
+    if from_hopf:  # the n-th Hopf point: never a NULL taken for the first
+        stored_inputs.present(row, ("hopf_branch",))
     return BranchSpec(params, row.param, stored_inputs.orbit_step(params, row.dt),
-                      row.start == "hopf", end,
+                      from_hopf, end,
                       stored_inputs.whole("max_points", row.max_points, 1),
-                      check_positive("max_step", row.max_step))
+                      check_positive("max_step", row.max_step),
+                      stored_inputs.whole("hopf_branch", row.hopf_branch, 1) if from_hopf else 1)
 
 
 def claim(db: Database, worker_id: str) -> BranchJob | None:

@@ -39,6 +39,10 @@ def _values(what: str, table: str, where: str) -> Dropped:
 
 #: Each revision's downgrade (to the one before it): what it drops.
 DROPS: dict[str, tuple[Dropped, ...]] = {
+    # a continuation from a later Hopf point reads as one from the first: its points stay;
+    # a queued or running one is failed first (an older worker would start at the first)
+    "0015": (_values("Hopf point (a later one than the first)", "continuations",
+                     "hopf_branch > 1"),),
     # the sweeps and runs stay; what the user wrote on them and marked goes
     "0014": (_values("note", "sweeps", "note IS NOT NULL"),
              Dropped("sweep tag", "sweep tags", "SELECT count(*) FROM sweep_tags"),

@@ -269,6 +269,9 @@ class Continuation(LeasedJob, Base):
     #: the steady state in ``param``) or "orbit" (the orbit a simulation settles on).
     param: Mapped[str] = mapped_column(String(8))
     start: Mapped[str] = mapped_column(String(8))
+    #: Of a "hopf" start, which Hopf point: the n-th root pair's crossing (1 the first;
+    #: core.stability's omega_n); NULL for an "orbit" start.
+    hopf_branch: Mapped[int | None]
     # The starting point's parameters (eqs. 6a-6e, 8; delta places the seed of "orbit").
     a: Mapped[float] = mapped_column(Double)
     b: Mapped[float] = mapped_column(Double)

@@ -27,13 +27,20 @@ class StoredBranch(StoredJob[ContinuationRow]):
     """A continuation as stored: its row (parameters, status, Hopf point, criticality,
     why it ended), its points so far and, once done, its bifurcations."""
 
-    SUMMARY_KEYS = ("id", "param", "start", "status", "from_run", "dt", "end_value",
+    SUMMARY_KEYS = ("id", "param", "start", "hopf_branch", "status", "from_run", "dt", "end_value",
                     "max_points", "max_step", "hopf_value", "hopf_period", "criticality",
                     "end_reason", "n_points", "runtime_s", "error", "attempts", "a", "b", "c",
                     "d", "k", "v", "tau", "delta")
 
     points: list[PointRecord]
     bifurcations: list[BifurcationRecord]
+
+
+def start_name(row: ContinuationRow) -> str:
+    """Where a branch starts, in a word: "hopf2" (the 2nd Hopf point: the second root
+    pair's crossing) or "orbit" (a simulated orbit). Stored text: escape it to print."""
+    n = row.hopf_branch
+    return f"hopf{n}" if row.start == "hopf" and n is not None else str(row.start)
 
 
 def submit(db: Database, spec: BranchSpec, from_run: int | None = None) -> int:

@@ -4,7 +4,8 @@ screen as drawn, whole, at 80 x 24 and at 120 x 40.
 Cut off before: the run detail's result lines after the first (attractor, settled,
 flags, and the fields added since: certified, certificate, multipliers, slips, dt
 error), the λmax note (ending in "…"), the form's δ-list placeholder, and the queue's
-"since" column when no worker was live.
+"since" column when no worker was live. The run detail's Roots tab (the rest state's
+verdict, every root listed, their plot with its legend) is checked whole too.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from slopetui.tui.screens.run_detail import RECOMPUTED_NOTE, RunDetailScreen, re
 from slopetui.tui.screens.sql import SqlScreen
 from slopetui.tui.screens.sweeps import COLUMNS, SweepsScreen
 from slopetui.tui.widgets.phase_grid import PhaseGrid
+from slopetui.tui.widgets.roots_view import roots_lines
 from tests.support import finish_all, submit_quick
 from tests.tui.support import open_form, run, wait_until
 from tests.tui.test_tui_app import app_for, plane
@@ -90,6 +92,12 @@ def test_every_screen_shows_its_essential_text_whole(db, size):
                 await pilot.pause(0.3)
                 assert detail.traces is not None and detail.traces.lambda_note
                 missing.check(app, detail.traces.lambda_note, "running λ(t)")
+                await pilot.press("e")  # the rest state's roots: verdict, list and plot
+                await wait_until(pilot, lambda d=detail: d.roots is not None, 60)
+                await pilot.pause(0.3)
+                assert detail.roots is not None
+                missing.check(app, "Roots", *roots_lines(detail.roots), "Re λ", "Im λ",
+                             "Re = 0", "variance block")
                 await pilot.press("escape")
                 await wait_until(pilot, lambda: isinstance(app.screen, SweepsScreen))
 

@@ -79,7 +79,7 @@ def test_the_branches_screen_lists_and_draws_a_finished_continuation(db):
             await wait_until(pilot, lambda: table.row_count == 1)
             row = cells(table, 0)
             assert row[0] == str(cid) and row[1] == "k" and row[3] == "done"
-            assert row[2].startswith("hopf k=1.35") and row[4] == "5"
+            assert row[2].startswith("hopf1 k=1.35") and row[4] == "5"
             assert row[5] == "subcritical" and row[6] == f"fold k={FOLD_K}"
             plot = app.screen.query_one(PlotView)
             await wait_until(pilot, lambda: "m_y amplitude" in str(plot.render()))

@@ -36,6 +36,7 @@ from slopetui.tui.screens.run_detail import (
     TAB_CERT,
     TAB_LYAP,
     TAB_PHASE,
+    TAB_ROOTS,
     TAB_SPECTRUM,
     TAB_TIME,
     RunDetailScreen,
@@ -123,7 +124,7 @@ def test_a_done_run_shows_its_summary_four_plots_and_the_match(db_url, done_stor
         assert RECOMPUTED_NOTE in str(screen.sub_title)  # in the header, beside the run's id
         assert status(screen).startswith(MATCH_TEXT)
         tabs = screen.query_one("#run-tabs", TabbedContent)
-        assert tabs.tab_count == 5
+        assert tabs.tab_count == 6
         for key, tab in zip("tpsl", (TAB_TIME, TAB_PHASE, TAB_SPECTRUM, TAB_LYAP), strict=True):
             await pilot.press(key)
             await pilot.pause()
@@ -160,6 +161,67 @@ def test_a_fixed_point_says_so_in_the_phase_portrait(db_url, done_store):
         await pilot.press("p")
         await pilot.pause()
         assert "fixed point" in str(screen.query_one(f"#{TAB_PHASE} PlotView", PlotView).content)
+
+    play(db_url, scenario)
+
+
+def test_the_roots_tab_lists_and_draws_the_rest_states_roots(db_url, done_store):
+    """Computed when the tab is first shown, in a worker; checked against what does not
+    come from the roots: the run at rest decays at the rate its simulation measured (its
+    stored lambda_max), and the run at k = 12 lies past the exact Hopf curve k_H(tau = 2)
+    = 9.13 (core.stability's closed form), where the rest state is unstable."""
+    db = open_store(db_url)
+    with db.sessions() as s:
+        resting = s.get(Run, done_store[0])
+        measured, error = resting.lambda_max, resting.lambda_err
+    db.dispose()
+
+    async def scenario(app: SlopeApp, pilot: Pilot) -> None:
+        for run_id, said, sign in ((done_store[0], "stable", "Re λ1 < 0"),
+                                   (done_store[-1], "unstable", "Re λ1 > 0")):
+            screen = await open_run(app, pilot, run_id)
+            assert screen.roots is None  # not computed before it is looked at
+            await pilot.press("e")
+            await wait_until(pilot, lambda s=screen: s.roots is not None, SETTLE_S)
+            await pilot.pause()
+            tabs = screen.query_one("#run-tabs", TabbedContent)
+            assert tabs.active == TAB_ROOTS and screen.roots is not None
+            found = screen.roots
+            listed = text_of(screen, "#roots-text").splitlines()
+            assert listed[:3] == [f"sliding state: {said}", "by its leading nonzero root:",
+                                  sign]
+            assert listed[3].startswith("o λ1 ") and listed[3].endswith("  leading")
+            assert len(listed) == 3 + len(found.roots)  # one line a root, pairs once
+            assert {line[0] for line in listed[3:]} == {"o", "x"}  # the plot's markers
+            plot = screen.query_one("#plot-roots", PlotView)
+            drawn = str(plot.content)
+            assert "┌" in drawn and "Re = 0" in drawn and "too small" not in drawn
+            assert plot.size.height >= 12
+            if said == "stable":
+                assert abs(found.roots[0].value.real - measured) < 2 * error
+            await pilot.press("escape")
+            await pilot.pause()
+
+    play(db_url, scenario)
+
+
+def test_roots_that_cannot_be_computed_say_why_on_the_tab(db_url, done_store):
+    """At tau = 200, k = 3 (d = 1e-4) the variance block's real root -3.456 is not carried
+    to the noisy rest state (core.rest_stability.rest_roots raises): said, not raised."""
+    db = open_store(db_url)
+    with db.transaction() as s:  # queued: nothing is recomputed, the roots still are
+        s.execute(update(Run).where(Run.id == done_store[0])
+                  .values(tau=200.0, k=3.0, status="queued"))
+    db.dispose()
+
+    async def scenario(app: SlopeApp, pilot: Pilot) -> None:
+        screen = await open_run(app, pilot, done_store[0])
+        await pilot.press("e")
+        await wait_until(pilot, lambda: "cannot be computed" in text_of(screen, "#roots-text"),
+                         SETTLE_S)
+        said = text_of(screen, "#roots-text")
+        assert "ArithmeticError: the root -3.456" in said and screen.roots is None
+        assert "┌" not in str(screen.query_one("#plot-roots", PlotView).content)
 
     play(db_url, scenario)
 

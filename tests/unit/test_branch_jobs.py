@@ -5,6 +5,7 @@ one would, and a branch with no orbit to start from fails at once with the reaso
 from __future__ import annotations
 
 from concurrent.futures import Future
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -98,10 +99,15 @@ def test_expired_and_dead_workers_continuations_go_back_or_fail(store):
     assert registry.requeue_expired(store, lease_s=3600.0, max_attempts=3) == (0, 0)  # still fresh
 
 
-def test_a_stopped_continuation_resumes_and_ends_as_an_uninterrupted_one(store):
-    reference = _uninterrupted(SPEC)
-    cid = branch_jobs.submit(store, SPEC)
+# the second Hopf point at tau = 2 is k = 19.97, where a branch of period 1.19 grows
+# towards larger k (the first: k = 9.13, period 2.50, towards smaller k)
+@pytest.mark.parametrize("hopf_branch", [1, 2])
+def test_a_stopped_continuation_resumes_and_ends_as_an_uninterrupted_one(store, hopf_branch):
+    spec = replace(SPEC, hopf_branch=hopf_branch)
+    reference = _uninterrupted(spec)
+    cid = branch_jobs.submit(store, spec)
     job = branch_jobs.claim(store, "w1")
+    assert job.spec == spec  # the index too: the queue's worker starts where it was asked
     branch_jobs.compute(store, "w1", job, inline, StopAfter(store, cid, 3), max_attempts=3)
     row = continuations.continuation(store, cid)
     assert (row.status, row.n_points, row.attempts) == ("queued", 3, 0)
@@ -110,7 +116,9 @@ def test_a_stopped_continuation_resumes_and_ends_as_an_uninterrupted_one(store):
     branch_jobs.compute(store, "w2", job, inline, Never(), max_attempts=3)
     stored = branch_of(store, cid)
     assert stored is not None and stored.row.status == "done"
-    assert stored.row.criticality == "subcritical"
+    if hopf_branch == 1:  # (a later branch's orbits are born beside an unstable rest state)
+        assert stored.row.criticality == "subcritical"
+    assert stored.row.hopf_branch == hopf_branch
     got = [(p["value"], p["period"], p["amplitude"]) for p in stored.points]
     assert len(got) == len(reference) == SPEC.max_points
     # the resumed branch predicts from the same y, t and step: the same points to rounding

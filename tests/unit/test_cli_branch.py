@@ -26,7 +26,7 @@ def test_submit_queues_and_branch_shows_it_queued_then_done(db, db_url, capsys):
     assert continuations.continuation(db, 1).status == "queued"
     assert main(["branch", "--db", db_url]) == 0
     listed = capsys.readouterr().out.splitlines()
-    assert listed[1].split()[:5] == ["1", "k", "hopf", "tau=2", "queued"]
+    assert listed[1].split()[:5] == ["1", "k", "hopf1", "tau=2", "queued"]
     _compute(db)
     assert main(["branch", "1", "--db", db_url, "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
@@ -38,6 +38,7 @@ def test_submit_queues_and_branch_shows_it_queued_then_done(db, db_url, capsys):
     assert main(["branch", "1", "--db", db_url]) == 0
     text = capsys.readouterr().out
     assert "6 points" in text and "subcritical" in text and "end: 6 points computed" in text
+    assert "in k from Hopf point 1: done" in text and "\nHopf point 1: k = " in text
 
 
 # computes the continuation twice (~0.6 s): out of the fast loop, as the CLI's slowest test

@@ -6,6 +6,7 @@ core.stability.roots, carried to the noise by core.rest_stability), and
 
 from __future__ import annotations
 
+import json
 import math
 
 import pytest
@@ -16,6 +17,9 @@ from core.params import Params
 from core.rest_stability import NEUTRAL_TOL, rest_roots
 from core.stability import characteristic, hopf_friction, hopf_k, hopf_omega, hopf_tau, roots
 from slopetui.cli import main
+from slopetui.store import open_store
+from slopetui.store.jobs import continuations
+from slopetui.tui.screens.branches import start_text
 
 F1 = Params().F1
 
@@ -96,10 +100,21 @@ def test_continue_names_a_bad_branch_index(value: str, capsys: pytest.CaptureFix
     assert captured.out == "" and "from-hopf = " in captured.err and "allowed" in captured.err
 
 
-def test_continue_refuses_to_queue_a_later_branch(tmp_path, capsys: pytest.CaptureFixture[str]
-                                                  ) -> None:
-    """The continuations table stores the start as "hopf" or "orbit": no branch index."""
-    assert main(["continue", "--param", "k", "--from-hopf", "2", "--submit",
-                 "--db", f"sqlite:///{tmp_path}/store.db"]) == 2
-    captured = capsys.readouterr()
-    assert captured.out == "" and "from-hopf = 2" in captured.err and "--submit" in captured.err
+def test_continue_queues_a_later_branch_with_its_index(tmp_path, capsys: pytest.CaptureFixture[str]
+                                                        ) -> None:
+    """Before, the continuations table had no place for the index: --submit refused N > 1.
+    The branch is computed through a worker in tests/integration/test_branch_worker.py."""
+    url = f"sqlite:///{tmp_path}/store.db"
+    assert main(["continue", "--param", "k", "--from-hopf", "2", "--tau", "10", "--submit",
+                 "--db", url]) == 0
+    capsys.readouterr()
+    row = continuations.continuation(open_store(url), 1)
+    assert (row.start, row.hopf_branch, row.status) == ("hopf", 2, "queued")
+    assert start_text(row) == "hopf2 τ=10"  # the Branches screen's start column
+    assert main(["branch", "--db", url]) == 0
+    assert capsys.readouterr().out.splitlines()[1].split()[:5] == \
+        ["1", "k", "hopf2", "tau=10", "queued"]
+    assert main(["branch", "1", "--db", url]) == 0
+    assert "continuation 1 in k from Hopf point 2: queued" in capsys.readouterr().out
+    assert main(["branch", "1", "--db", url, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["hopf_branch"] == 2

@@ -190,14 +190,18 @@ def test_a_state_history_is_read_and_checked_at_the_claim(store):
     ("param", "zz", "param = 'zz' is out of range: allowed one of a, b, c, d, k, v, tau, delta"),
     ("max_points", 0, "max_points = 0 is out of range: allowed an integer >= 1"),
     ("k", None, r"k = None is out of range: allowed a value \(the store holds NULL\)"),
-], ids=["k-out-of-range", "dt-0", "param", "max_points-0", "k-null"])
+    # a NULL index is no first Hopf point: the row says nothing of where to start
+    ("hopf_branch", None, r"hopf_branch = None is out of range: allowed a value"),
+    ("hopf_branch", 0, "hopf_branch = 0 is out of range: allowed an integer >= 1"),
+], ids=["k-out-of-range", "dt-0", "param", "max_points-0", "k-null", "hopf_branch-null",
+        "hopf_branch-0"])
 def test_a_poisoned_continuation_fails_at_its_claim_and_the_next_is_claimed(
         store, caplog, column, value, says):
     spec = BranchSpec(Params(tau=2.0), "k", 0.01, from_hopf=True, end=None, max_points=7,
                       max_step=0.5)
     bad, good = branch_jobs.submit(store, spec), branch_jobs.submit(store, spec)
     poison(store, "continuations", bad, column, value,
-           "INTEGER" if column == "max_points" else "DOUBLE PRECISION")
+           "INTEGER" if column in ("max_points", "hopf_branch") else "DOUBLE PRECISION")
     with caplog.at_level(logging.INFO, logger="slopetui"):
         job = branch_jobs.claim(store, "w")
     assert job is not None and job.id == good

@@ -34,7 +34,7 @@ def test_noise_free_roots_solve_the_characteristic_function(k: float, tau: float
 def test_at_the_exact_hopf_point_the_leading_root_is_on_the_axis() -> None:
     """k = k_H(tau) (the closed form of core.stability): Re = 0 to round-off and
     Im = omega with omega^2 = 2k - F'^2: undecided, by the command too."""
-    from slopetui.cli.roots import verdict
+    from slopetui.sweeps.rest_roots import verdict
     p0 = Params(tau=10.0, d=0.0)
     k = hopf_k(10.0, p0.F1)
     p = Params(k=k, tau=10.0, d=0.0)

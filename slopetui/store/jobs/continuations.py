@@ -29,6 +29,7 @@ class ContinuationRow(LeasedRow):
 
     param: str
     start: str
+    hopf_branch: int | None
     a: float
     b: float
     c: float

@@ -22,7 +22,7 @@ from slopetui.plots.branch_plot import render_branch
 from slopetui.plots.canvas import axis_label
 from slopetui.plots.hysteresis_plot import render_hysteresis
 from slopetui.sweeps.branch_records import BifurcationRecord
-from slopetui.sweeps.branches import ContinuationRow, StoredBranch, branch_of, listing
+from slopetui.sweeps.branches import ContinuationRow, StoredBranch, branch_of, listing, start_name
 from slopetui.sweeps.hysteresis_runs import (
     HysteresisRow,
     StoredHysteresis,
@@ -46,10 +46,10 @@ TABLES = {"branch": "#branch-table", "hysteresis": "#hyst-table"}
 
 
 def start_text(row: ContinuationRow) -> str:
-    """Where a branch starts: "hopf k=1.1926 τ=2" (the Hopf point in the parameter, once
-    found, and the fixed k and tau) or "orbit k=5 τ=2" (the parameters simulated)."""
+    """Where a branch starts: "hopf1 k=1.1926 τ=2" (the first Hopf point in the parameter,
+    once found, and the fixed k and tau) or "orbit k=5 τ=2" (the parameters simulated)."""
     param, start = str(row.param), str(row.start)
-    parts = [terminal_safe(start)]
+    parts = [terminal_safe(start_name(row))]
     if start == "hopf" and row.hopf_value is not None:
         parts.append(f"{axis_label(param)}={row.hopf_value:.5g}")
     elif start != "hopf" and param not in ("k", "tau"):

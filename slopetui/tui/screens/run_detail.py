@@ -1,6 +1,8 @@
 """The run detail screen: one run's parameters and stored summary, and four plots of its
 traces (m_x and m_y against time over the analysis window, the phase portrait, the power
-spectrum of m_y, the running lambda_max estimate converging).
+spectrum of m_y, the running lambda_max estimate converging); its certificate; and the
+rest state's characteristic roots at its point (the Roots tab, key e: computed in a
+thread worker the first time the tab is shown, drawn by slopetui.tui.widgets.roots_view).
 
 **The traces are recomputed on demand, not stored.** The model is deterministic: the
 run's parameters and solver settings integrated again give the trajectory the worker
@@ -24,7 +26,7 @@ The time series shows the last TIME_PERIODS periods of the run's dominant freque
 (a window holds hundreds: drawn whole it is a solid wall of braille); z zooms out to
 50 periods, then to the whole window, then back (a fixed point has no period and is
 always shown whole). The footer shows the screen's own keys only (back, recompute,
-zoom, figure, mark): the tab keys t, p, s, l are hidden there, as the tabs are on
+zoom, figure, mark): the tab keys t, p, s, l, c, e are hidden there, as the tabs are on
 screen and clickable, and the help lists them.
 
 Runs that are not done (queued, running, failed, cancelled) show their status and
@@ -63,6 +65,7 @@ from slopetui.plots.run_plots import (
     render_spectrum,
     render_time_series,
 )
+from slopetui.sweeps import rest_roots
 from slopetui.sweeps.recompute import (
     MATCH_TEXT,
     StoredRun,
@@ -72,8 +75,10 @@ from slopetui.sweeps.recompute import (
     lambda_text,
     load_run,
 )
+from slopetui.sweeps.rest_roots import RestRoots
 from slopetui.tui.screens.base import SlopeScreen
 from slopetui.tui.widgets.plot_view import PlotView, Renderer
+from slopetui.tui.widgets.roots_view import RootsView
 from slopetui.tui.widgets.steady_footer import SteadyFooter
 
 __all__ = ["MATCH_TEXT", "RECOMPUTED_NOTE", "RunDetailScreen", "StoredRun", "compare",
@@ -96,6 +101,7 @@ ZOOMS: tuple[int | None, ...] = (TIME_PERIODS, 50, None)
 #: Tab pane ids, in tab order.
 TAB_TIME, TAB_PHASE, TAB_SPECTRUM, TAB_LYAP = "tab-time", "tab-phase", "tab-spectrum", "tab-lyap"
 TAB_CERT = "tab-certificate"
+TAB_ROOTS = "tab-roots"
 #: The header shows a certificate up to its first clause (the rest, often 200 characters,
 #: would push the plots off an 80 x 24 screen); the Certificate tab shows it whole.
 CERTIFICATE_HEAD = 40
@@ -122,6 +128,16 @@ class TracesReady(Message):
 @dataclass
 class TracesFailed(Message):
     generation: int
+    cause: str
+
+
+@dataclass
+class RootsReady(Message):
+    roots: RestRoots
+
+
+@dataclass
+class RootsFailed(Message):
     cause: str
 
 
@@ -324,6 +340,8 @@ class RunDetailScreen(SlopeScreen[None]):
         Binding("l", f"show_tab('{TAB_LYAP}')", "λmax", id="run_detail.tab_lyap", show=False),
         Binding("c", f"show_tab('{TAB_CERT}')", "Certificate", id="run_detail.tab_certificate",
                 show=False),
+        Binding("e", f"show_tab('{TAB_ROOTS}')", "Roots", id="run_detail.tab_roots",
+                show=False, tooltip="The rest state's characteristic roots at this point"),
     ]
 
     def __init__(self, run_id: int) -> None:
@@ -337,6 +355,10 @@ class RunDetailScreen(SlopeScreen[None]):
         self._generation = 0
         #: Which of ZOOMS the time series shows (kept across recomputations).
         self.zoom = 0
+        #: The rest state's roots at the run's point (None until the Roots tab asked for
+        #: them and they came); whether they were asked for.
+        self.roots: RestRoots | None = None
+        self._roots_asked = False
 
     def compose(self) -> ComposeResult:
         yield Header()
@@ -356,6 +378,8 @@ class RunDetailScreen(SlopeScreen[None]):
                 # a certified orbit's multipliers drawn against the unit circle, under
                 # their list; hidden for a run without them (a fixed point, no certificate)
                 yield PlotView(id="plot-multipliers")
+            with TabPane("Roots", id=TAB_ROOTS):
+                yield RootsView(id="roots-view")
         yield SteadyFooter()
 
     def on_mount(self) -> None:
@@ -402,11 +426,23 @@ class RunDetailScreen(SlopeScreen[None]):
         if not worker.is_cancelled:
             self.post_message(TracesReady(generation, traces))
 
+    @work(thread=True, exclusive=True, group="run-detail-roots")
+    def compute_roots(self, params: Params) -> None:
+        """The rest state's roots at the run's point (a fraction of a second; computed
+        only when the Roots tab is first shown)."""
+        try:
+            found = rest_roots.compute(params)
+        except Exception as exc:  # a root that cannot be carried, say: shown, never raised
+            self.post_message(RootsFailed(cause_of(exc)))
+            return
+        self.post_message(RootsReady(found))
+
     # -- messages from the workers ---------------------------------------------------------
 
     def on_run_loaded(self, message: RunLoaded) -> None:
         run = self.run = message.run
         self._show_summary()
+        self._ask_roots()
         if run.inferred:
             self._status("inferred, not computed: nothing to plot; press r to compute it")
         elif run.done:
@@ -428,6 +464,32 @@ class RunDetailScreen(SlopeScreen[None]):
             self._plot(tab).show(renderer)
         verdict = compare(self.run, message.traces, source_digest())
         self._status(verdict.text, "ok" if verdict.ok else "warning")
+
+    def on_roots_ready(self, message: RootsReady) -> None:
+        self.roots = message.roots
+        self.query_one(RootsView).show(message.roots)
+
+    def on_roots_failed(self, message: RootsFailed) -> None:
+        self.query_one(RootsView).say(f"the roots at this point cannot be computed: "
+                                      f"{message.cause}")
+
+    def on_tabbed_content_tab_activated(self, event: TabbedContent.TabActivated) -> None:
+        self._ask_roots()
+
+    def _ask_roots(self) -> None:
+        """Compute the roots once, when the Roots tab is on show and the run is read."""
+        tabs = self.query_one("#run-tabs", TabbedContent)
+        if self._roots_asked or self.run is None or tabs.active != TAB_ROOTS:
+            return
+        self._roots_asked = True
+        view = self.query_one(RootsView)
+        try:
+            params = Params(**{n: getattr(self.run, n) for n in PARAM_NAMES})
+        except ParameterError as exc:
+            view.say(f"no roots: {exc}")
+            return
+        view.say("computing the rest state's roots…")
+        self.compute_roots(params)
 
     def on_traces_failed(self, message: TracesFailed) -> None:
         if message.generation != self._generation:
