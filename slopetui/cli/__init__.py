@@ -27,7 +27,7 @@ from slopetui.store.url_text import holds_password
 #: The modules of slopetui.cli.arguments that declare the commands' arguments, in the
 #: order ``slopetui --help`` lists the commands (imported by name: bound here, `run` or
 #: `sql` would hide the handlers' modules of the same names).
-ARGUMENTS = ("run", "orbit", "roots", "continuation", "branch", "hysteresis", "submit", "example",
+ARGUMENTS = ("run", "orbit", "roots", "continuation", "branch", "curve", "hysteresis", "submit", "example",
              "status", "show", "figure", "runs", "control", "delete", "sql", "worker",
              "workers", "db", "cluster", "nblock", "reproduce", "completion", "annotate",
              "compare")
@@ -39,6 +39,7 @@ HANDLERS = {
     "roots": "slopetui.cli.roots:handle",
     "continue": "slopetui.cli.continuation:handle",
     "branch": "slopetui.cli.branch:handle",
+    "curve": "slopetui.cli.curve_show:handle",
     "hysteresis": "slopetui.cli.hysteresis:handle",
     "submit": "slopetui.cli.submit:handle",
     "example": "slopetui.cli.example:handle",

@@ -26,6 +26,7 @@ from slopetui.sweeps.branch_records import bifurcation_record, point_record
 from slopetui.sweeps.branches import submit
 from slopetui.sweeps.continuation_request import continuation_spec
 from slopetui.sweeps.curve_request import curve_spec
+from slopetui.sweeps.curves import submit as submit_curve
 
 if TYPE_CHECKING:
     from core.branch_start import BranchSpec
@@ -66,9 +67,6 @@ def _submit(args: argparse.Namespace, spec: BranchSpec) -> int:
 
 def _curve(args: argparse.Namespace, params: Params, dt: float) -> int:
     """A curve in two parameters (--param2), computed here."""
-    if args.submit:
-        raise ParameterError("submit", "", "absent with --param2: two-parameter curves are "
-                             "computed here (the queue holds one-parameter branches)")
     start = ("fold" if args.from_fold else "hopf" if args.from_hopf is not None else
              "pd" if args.from_pd else "ns" if args.from_ns else "")
     if args.from_hopf not in (None, 1):
@@ -78,6 +76,9 @@ def _curve(args: argparse.Namespace, params: Params, dt: float) -> int:
         raise ParameterError("param2", args.param2, "given with --from-fold or --from-hopf")
     spec = curve_spec(params, dt, args.param, args.param2, start, args.to2, args.points,
                       args.max_step)
+    if args.submit:
+        cid = submit_curve(open_db(args), spec)
+        return say_queued(args.json, "curve", cid, f"slopetui curve {cid}")
     return run_curve(args, spec)
 
 

@@ -2,9 +2,9 @@
 to every kind at once: heartbeat, requeue, the backlog, the activity ``status`` and
 ``workers`` print.
 
-The order: a continuation first, then a hysteresis sweep (both are asked for
-interactively and take one worker for seconds to minutes, while a sweep's runs keep the
-others busy), then a batch of runs. It is also the order of the job tables in every
+The order: a continuation first, then a hysteresis sweep, then a curve in two parameters
+(all three are asked for interactively and take one worker for seconds to minutes, while a
+sweep's runs keep the others busy), then a batch of runs. It is also the order of the job tables in every
 statement that spans several (slopetui.store.jobs.leases: the lock order).
 
 A new kind of job is one module plus its table. It writes:
@@ -28,6 +28,7 @@ from collections.abc import Iterator
 from typing import Any
 
 from slopetui.queue.branch_jobs import CONTINUATIONS
+from slopetui.queue.curve_jobs import CURVES
 from slopetui.queue.defaults import LEASE_S, MAX_ATTEMPTS
 from slopetui.queue.hysteresis_jobs import HYSTERESIS_SWEEPS
 from slopetui.queue.kinds import Activity, JobKind
@@ -37,7 +38,7 @@ from slopetui.store.jobs import leases
 from slopetui.store.jobs.backlog import Backlog, run_backlog
 
 #: Every kind, in claim order (module docstring).
-KINDS: tuple[JobKind[Any], ...] = (CONTINUATIONS, HYSTERESIS_SWEEPS, RUNS)
+KINDS: tuple[JobKind[Any], ...] = (CONTINUATIONS, HYSTERESIS_SWEEPS, CURVES, RUNS)
 _LEASES = tuple(kind.lease for kind in KINDS)
 
 

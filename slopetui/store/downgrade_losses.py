@@ -39,6 +39,10 @@ def _values(what: str, table: str, where: str) -> Dropped:
 
 #: Each revision's downgrade (to the one before it): what it drops.
 DROPS: dict[str, tuple[Dropped, ...]] = {
+    "0016": (Dropped("curve", "curves", "SELECT count(*) FROM curves",
+                     (Dropped("point", "points", "SELECT count(*) FROM curve_points"),
+                      Dropped("codimension-two point", "codimension-two points",
+                              "SELECT count(*) FROM curve_bifurcations"))),),
     # a continuation from a later Hopf point reads as one from the first: its points stay;
     # a queued or running one is failed first (an older worker would start at the first)
     "0015": (_values("Hopf point (a later one than the first)", "continuations",

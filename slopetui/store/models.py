@@ -464,3 +464,88 @@ class Mark(Base):
     id: Mapped[int] = mapped_column(primary_key=True)
     run_id: Mapped[int] = mapped_column(ForeignKey("runs.id", ondelete="CASCADE"), unique=True)
 
+
+class Curve(LeasedJob, Base):
+    """A curve in two parameters (core.curve_start.CurveSpec): the fold of cycles or the
+    Hopf curve, a job of the queue like a continuation, whose points are saved as they are
+    computed, so that a worker taking it over resumes from the last one."""
+
+    __tablename__ = "curves"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    #: "fold" (the fold of cycles of the branch in ``param``) or "hopf" (the Hopf curve).
+    kind: Mapped[str] = mapped_column(String(8))
+    #: The parameter of the fold or Hopf point, and the one the curve follows it in.
+    param: Mapped[str] = mapped_column(String(8))
+    param2: Mapped[str] = mapped_column(String(8))
+    # The starting point's parameters (eqs. 6a-6e, 8).
+    a: Mapped[float] = mapped_column(Double)
+    b: Mapped[float] = mapped_column(Double)
+    c: Mapped[float] = mapped_column(Double)
+    d: Mapped[float] = mapped_column(Double)
+    k: Mapped[float] = mapped_column(Double)
+    v: Mapped[float] = mapped_column(Double)
+    tau: Mapped[float] = mapped_column(Double)
+    delta: Mapped[float] = mapped_column(Double)
+    # What was asked: grid step, where param2 ends, point budget, largest step.
+    dt: Mapped[float] = mapped_column(Double)
+    end_value: Mapped[float] = mapped_column(Double)
+    max_points: Mapped[int]
+    max_step: Mapped[float] = mapped_column(Double)
+    engine: Mapped[str] = mapped_column(String(16))
+
+    # The queue: status, worker_id, attempts and the times from LeasedJob.
+
+    # The result: why the curve ended, points saved so far, compute time over every
+    # attempt (s).
+    end_reason: Mapped[str | None] = mapped_column(Text)
+    n_points: Mapped[int] = mapped_column(default=0, server_default="0")
+    runtime_s: Mapped[float] = mapped_column(Double, default=0.0, server_default="0")
+
+    __table_args__ = LeasedJob.queue_args(
+        CheckConstraint(_one_of("kind", ("fold", "hopf")), name="kind"))
+
+
+class CurvePoint(Base):
+    """One point of a curve: both parameters and the period; a fold's amplitude (peak to
+    peak of m_y), quadratic coefficient, multipliers, Newton steps and the state it is
+    resumed from; a Hopf point's first Lyapunov coefficient (NULL where it does not
+    apply)."""
+
+    __tablename__ = "curve_points"
+
+    curve_id: Mapped[int] = mapped_column(ForeignKey("curves.id", ondelete="CASCADE"),
+                                          primary_key=True)
+    idx: Mapped[int] = mapped_column(primary_key=True)
+    first: Mapped[float] = mapped_column(Double)
+    second: Mapped[float] = mapped_column(Double)
+    period: Mapped[float] = mapped_column(Double)
+    amplitude: Mapped[float | None] = mapped_column(Double)
+    l1: Mapped[float | None] = mapped_column(Double)
+    curvature: Mapped[float | None] = mapped_column(Double)
+    #: The leading multipliers as [re, im] pairs, which one is the flow's, and the
+    #: translation multiplier (core.floquet.Multipliers).
+    multipliers: Mapped[list[float] | None]
+    flow_index: Mapped[int | None]
+    translation: Mapped[float | None] = mapped_column(Double)
+    newton_steps: Mapped[int | None]
+    #: The step along the curve tried after this point, and the resume state
+    #: (core.curve_start.SavedCurvePoint), float64 little-endian.
+    step: Mapped[float | None] = mapped_column(Double)
+    state: Mapped[bytes | None] = mapped_column(LargeBinary)
+
+
+class CurveBifurcation(Base):
+    """A codimension-two point on a finished curve, in curve order (core.codim2)."""
+
+    __tablename__ = "curve_bifurcations"
+
+    curve_id: Mapped[int] = mapped_column(ForeignKey("curves.id", ondelete="CASCADE"),
+                                          primary_key=True)
+    idx: Mapped[int] = mapped_column(primary_key=True)
+    #: cusp, bautin, fold-flip, fold-ns or resonance-1:1.
+    type: Mapped[str] = mapped_column(String(16))
+    first: Mapped[float] = mapped_column(Double)
+    second: Mapped[float] = mapped_column(Double)
+    period: Mapped[float] = mapped_column(Double)
+    note: Mapped[str] = mapped_column(Text)

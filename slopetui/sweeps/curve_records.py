@@ -19,7 +19,8 @@ def curve_solver(spec: Any) -> dict[str, Any]:
 
 def curve_record(name: str, second: str, point: Any) -> dict[str, Any]:
     """One point of the curve: both parameters by name and the period; a fold's amplitude
-    (peak to peak of m_y), stability and largest multiplier but the fold's two at +1; a
+    (peak to peak of m_y) and its largest multiplier but the two a fold has at +1 (inside
+    the circle: the fold's orbit is otherwise stable; its own stability changes there); a
     Hopf point's l1 and criticality."""
     out: dict[str, Any] = {name: point.first, second: point.second, "period": point.period}
     if point.l1 is not None:
@@ -27,8 +28,7 @@ def curve_record(name: str, second: str, point: Any) -> dict[str, Any]:
         out["criticality"] = "supercritical" if point.l1 < 0 else "subcritical"
         return out
     lead = leading_at_fold(point.multipliers)
-    out.update({"amplitude": point.amplitude, "stable": abs(lead) < 1.0,
-                "leading_multiplier": [lead.real, lead.imag]})
+    out.update({"amplitude": point.amplitude, "leading_multiplier": [lead.real, lead.imag]})
     return out
 
 
@@ -47,8 +47,8 @@ def codim2_record(name: str, second: str, c: Any) -> dict[str, Any]:
 
 def print_curve_point(name: str, second: str, point: Mapping[str, Any]) -> None:
     extra = (f"l1 {point['l1']:+.6g} ({point['criticality']})" if "l1" in point else
-             f"amplitude {point['amplitude']:.6g} "
-             f"{'stable' if point['stable'] else 'unstable'}")
+             f"amplitude {point['amplitude']:.6g}, next multiplier "
+             f"|mu| {abs(complex(*point['leading_multiplier'])):.4g}")
     print(f"{name} = {point[name]:<14.10g} {second} = {point[second]:<12.8g} period "
           f"{point['period']:<12.8g} {extra}", flush=True)
 

@@ -40,7 +40,6 @@ def test_bad_requests_name_their_field(kw, field):
 
 
 @pytest.mark.parametrize("argv", [
-    ["--param2", "tau", "--from-fold", "--to2", "2", "--submit"],
     ["--from-fold"],
     ["--to2", "3"],
     ["--param2", "tau", "--to2", "3"],

@@ -1,0 +1,78 @@
+"""Curves in two parameters for the faces (the CLI's ``continue --param2 --submit`` and
+``curve``, the TUI's branches screen): queue one, list them, read one back with its points
+and codimension-two points as plain records. No UI here, and no SQL
+(slopetui.store.jobs.curves owns it)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from slopetui.queue import curve_jobs
+from slopetui.store.database import Database
+from slopetui.store.jobs import curves
+from slopetui.store.jobs.curves import CurvePointRow, CurveRow
+from slopetui.sweeps.stored_jobs import StoredJob
+
+if TYPE_CHECKING:
+    from core.curve_start import CurveSpec
+
+
+@dataclass(frozen=True)
+class StoredCurve(StoredJob[CurveRow]):
+    """A curve as stored: its row (parameters, status, why it ended), its points so far
+    and, once done, its codimension-two points; records keyed by the parameters' names, as
+    ``continue --param2 --json`` prints them."""
+
+    SUMMARY_KEYS = ("id", "kind", "param", "param2", "status", "dt", "end_value", "max_points",
+                    "max_step", "end_reason", "n_points", "runtime_s", "error", "attempts",
+                    "a", "b", "c", "d", "k", "v", "tau", "delta")
+
+    points: list[dict[str, Any]]
+    bifurcations: list[dict[str, Any]]
+
+    @property
+    def second(self) -> str:
+        return str(self.row.param2)
+
+
+def submit(db: Database, spec: CurveSpec) -> int:
+    """Queue a curve for the workers; returns its id."""
+    return curve_jobs.submit(db, spec)
+
+
+def listing(db: Database) -> list[StoredCurve]:
+    """Every curve, newest first, without its points."""
+    return [StoredCurve(row, [], []) for row in curves.curves(db)]
+
+
+def point_record(name: str, second: str, p: CurvePointRow) -> dict[str, Any]:
+    """A stored point as ``continue --param2 --json`` prints a computed one (the largest
+    multiplier but the fold's two at +1 is read from the stored ones)."""
+    out: dict[str, Any] = {name: p.first, second: p.second, "period": p.period}
+    if p.l1 is not None:
+        return {**out, "l1": p.l1, "criticality": "supercritical" if p.l1 < 0 else "subcritical"}
+    lead = _leading(p)
+    return {**out, "amplitude": p.amplitude, "leading_multiplier": [lead.real, lead.imag]}
+
+
+def _leading(p: CurvePointRow) -> complex:
+    """The largest stored multiplier but the flow's and the one nearest +1 (the fold's)."""
+    values = [complex(re, im) for re, im in (p.multipliers or [])]
+    if p.flow_index is not None and 0 <= p.flow_index < len(values):
+        values.pop(p.flow_index)
+    if values:
+        values.pop(min(range(len(values)), key=lambda i: abs(values[i] - 1.0)))
+    return max(values, key=abs) if values else 0j
+
+
+def curve_of(db: Database, cid: int) -> StoredCurve | None:
+    """Curve ``cid`` with its points and codimension-two points; None if there is none."""
+    row = curves.curve(db, cid)
+    if row is None:
+        return None
+    name, second = row.param, row.param2
+    points = [point_record(name, second, p) for p in curves.points(db, cid)]
+    found = [{"type": b.type, name: b.first, second: b.second, "period": b.period,
+              "note": b.note} for b in curves.bifurcations(db, cid)]
+    return StoredCurve(row, points, found)
