@@ -4,7 +4,8 @@ the application in docs/screens/.
     python docs/pictures.py [--store /tmp/slopetui-pictures.db] [--only figures|screens]
 
 On a new store it queues the two sweeps the README shows (sweep 1, the (k, tau) plane;
-sweep 2, the paper's Fig. 4A), computes them with a worker pool (about 3 minutes on two
+sweep 2, the paper's Fig. 4A) and the continuation from the Hopf point at tau = 10 (the
+Branches screen's), computes them with a worker pool (about 3 minutes on two
 cores, the first time), then runs the commands the README quotes: `slopetui figure` for
 the figures, and the application in tmux at 80 x 24 with NO_COLOR=1 for the captures
 (tmux needed). The ids the README names (sweeps 1 and 2, runs 903 and 923) are those of a
@@ -31,6 +32,9 @@ PLANE = ["--x", "k=2:20:37", "--y", "tau=0.5:10:24", "--delta", "0.1", "--method
 #: Runs 903 (k = 10) and 923 (k = 20) of Fig. 4A on a new store.
 RUN_A, RUN_B = "903", "923"
 SIZE = (80, 24)
+#: Seconds before a form's capture: the note a form opens with ("the form opens at run
+#: 903's point") is a toast shown for 4 s (app.open_analysis), over the form's last lines.
+FORM_WAIT = 6
 
 
 def slopetui(*args: str, env: dict[str, str]) -> None:
@@ -41,6 +45,8 @@ def slopetui(*args: str, env: dict[str, str]) -> None:
 def compute(env: dict[str, str]) -> None:
     slopetui("submit", *PLANE, "--yes", env=env)
     slopetui("submit", "fig4a", "--yes", env=env)
+    slopetui("continue", "--param", "k", "--from-hopf", "--tau", "10", "--to", "25", "--submit",
+             env=env)
     slopetui("worker", "--exit-when-idle", env=env)
 
 
@@ -68,8 +74,10 @@ def capture(name: str) -> None:
 def screens(env: dict[str, str]) -> None:
     """A walk through every screen at 80 x 24, colour off, as a newcomer would take it:
     the sweeps screen on the plane and on Fig. 4A, the help, the command palette, the
-    new-sweep form, a run's detail, two runs compared, the queue, the SQL console and
-    the continuations."""
+    new-sweep form, a run's detail (run 903: periodic, certified) with its certificate
+    and the two analyses' forms it opens (an orbit at its point, a certified re-run), two
+    runs compared, the queue, the SQL console, the continuations and their two forms (a
+    continuation, a hysteresis sweep)."""
     if shutil.which("tmux") is None:
         raise SystemExit("the captures need tmux")
     SCREENS.mkdir(exist_ok=True)
@@ -81,9 +89,12 @@ def screens(env: dict[str, str]) -> None:
              ("help", ["?"], 2), ("palette", ["Escape", "C-p"], 2),
              ("new-sweep", ["Escape", "n"], 3),
              ("run-detail", ["Escape", "d", *["Right"] * 14, "Enter"], 6),
-             ("compare", ["m", "Escape", *["Right"] * 20, "m", "v"], 8),
+             ("run-detail-certificate", ["c"], 3),
+             ("form-orbit", ["o"], FORM_WAIT), ("form-certified-rerun", ["Escape", "u"], FORM_WAIT),
+             ("compare", ["Escape", "m", "Escape", *["Right"] * 20, "m", "v"], 8),
              ("queue", ["Escape", "Escape", "2"], 3),
-             ("sql", ["3", "C-r"], 3), ("branches", ["Tab", "4"], 3)]
+             ("sql", ["3", "C-r"], 3), ("branches", ["Tab", "4"], 3),
+             ("form-continuation", ["c"], FORM_WAIT), ("form-hysteresis", ["Escape", "h"], FORM_WAIT)]
     try:
         time.sleep(4)
         for name, keys, wait in steps:
@@ -92,6 +103,7 @@ def screens(env: dict[str, str]) -> None:
                 time.sleep(0.4)
             time.sleep(wait)
             capture(name)
+        tmux("send-keys", "-t", "pics", "Escape")
         tmux("send-keys", "-t", "pics", "C-q")
     finally:
         subprocess.run(["tmux", "-L", "slopetui-pictures", "kill-server"], capture_output=True)

@@ -6,7 +6,9 @@ The application's command palette exports the selected sweep this way into the f
 figures go to. It lives here, not in ``slopetui.cli``, because the faces may not import
 each other (the layers of pyproject.toml). Like the figure key, an export never replaces
 an earlier file: the name takes -2, -3... when taken, and the file appears whole or not
-at all (written beside it under a temporary name, then renamed).
+at all (written beside it under a temporary name, then given the first free name at
+once, ``slopetui.whole_files.write_new``: two exports of one sweep at the same time get
+two names).
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ from slopetui.json_text import json_text
 from slopetui.store.queries import runs_of, sweep_exists
 from slopetui.sweeps.control import UnknownSweep
 from slopetui.sweeps.export import write_csv
-from slopetui.whole_files import as_text, first_free, write_whole
+from slopetui.whole_files import as_text, write_new
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -41,11 +43,6 @@ class Exported:
 def export_stem(sweep_id: int) -> str:
     """sweep-3-runs: not the figure's sweep-3, whose data file is sweep-3.csv."""
     return f"sweep-{sweep_id}-runs"
-
-
-def unused_export_path(folder: Path, sweep_id: int, fmt: str) -> Path:
-    """folder/sweep-N-runs.fmt, or -2, -3... the first that does not exist."""
-    return first_free(folder, export_stem(sweep_id), fmt)
 
 
 def write_json(frame: pd.DataFrame, out: IO[str]) -> int:
@@ -85,5 +82,6 @@ def export_sweep(db: Database, sweep_id: int, fmt: str, folder: Path) -> Exporte
 
         def write(out: IO[str]) -> int:
             return write_json(frame, out)
-    path = unused_export_path(folder, sweep_id, fmt)
-    return Exported(path, write_whole(path, lambda out: as_text(out, write)))
+    # the name is claimed once the file is whole: one picked before writing would be
+    # picked by an export started meanwhile too, and the later to finish replaced the other
+    return Exported(*write_new(folder, export_stem(sweep_id), fmt, lambda out: as_text(out, write)))

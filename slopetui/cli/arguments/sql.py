@@ -10,8 +10,8 @@ from slopetui.store.read_query import DEFAULT_TIMEOUT_S
 
 def declare(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("sql", help="run a read-only SQL query over the store",
-                       description="Run one read-only SQL statement. The schema is in the "
-                                   "README (tables sweeps, runs, workers). Control "
+                       description="Run one read-only SQL statement. The schema is in "
+                                   "docs/store.md (tables sweeps, runs, workers). Control "
                                    "characters in the data are shown escaped (\\x1b) in "
                                    "the table and on a terminal; --csv and --json into a "
                                    "file or a pipe are exact. On PostgreSQL, $SLOPETUI_READ_DB "

@@ -14,7 +14,7 @@ from slopetui.sweeps.sizes import CONFIRM_ABOVE_RUNS
 def declare(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "submit", help="queue a 1-D or 2-D sweep",
-        description="Queue a sweep: a TOML spec file (see README), flags, or a file with "
+        description="Queue a sweep: a TOML spec file (docs/sweeps.md), flags, or a file with "
                     "flags that override it. Axes take PARAM=START:STOP:NUM[:log].",
         epilog="examples: slopetui submit fig4a; "
                "slopetui submit --x k=3:24:43 --tau 10 --delta 0.1 --t-end 1e4")

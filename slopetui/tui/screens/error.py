@@ -23,6 +23,7 @@ from textual.widgets import Button, Input, Static
 
 from slopetui.store.database import parse_url, sqlite_path
 from slopetui.store.failures import StoreError
+from slopetui.store.location import sqlite_url
 
 ResultT = TypeVar("ResultT")
 
@@ -64,7 +65,7 @@ def store_url(text: str) -> str:
         url = text
     else:
         path = Path(text).expanduser().resolve()
-        url = f"sqlite:///{path}"
+        url = sqlite_url(path)  # escaped: a "#" or "?" in a file name is not URL syntax
     if path is not None:  # a folder named by mistake is refused here, not by SQLite later
         if path.is_dir():
             raise ValueError(f"{path} is a folder: name a database file in it")
