@@ -66,9 +66,6 @@ def _carry(lam: complex, j0: np.ndarray, jt: np.ndarray, tau: float) -> complex 
     return None
 
 
-#: Memoised: the classifier's linear-theory check and the certificate both ask it of a
-#: run at rest, and past the gate it carries every root by Newton.
-@lru_cache(maxsize=64)
 @dataclass(frozen=True, slots=True)
 class RestRoot:
     """A root of the rest state's characteristic function (Im >= 0): ``factor`` "delay"
@@ -110,6 +107,9 @@ def rest_roots(p: Params, count: int = 6) -> list[RestRoot]:
     return sorted(found, key=lambda r: -r.value.real)
 
 
+#: Memoised: the classifier's linear-theory check and the certificate both ask it of a
+#: run at rest, and past the gate it carries every root by Newton.
+@lru_cache(maxsize=64)
 def rest_exponent(p: Params) -> float:
     """The real part of the leading nonzero root at the rest state of p (with its noise d):
     its growth rate of small perturbations. Negative: stable; positive: a window that sits
