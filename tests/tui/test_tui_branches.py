@@ -222,3 +222,56 @@ def test_the_fold_curve_is_computed_once_and_drawn(db, monkeypatch):
             assert len(calls) == 1
 
     run(scenario)
+
+
+def stored_curve(db: Database) -> int:
+    """A fold curve in (k, tau) with four points, finished with a Bautin point."""
+    from core.curve_start import CurveSpec
+    from slopetui.queue.curve_jobs import submit as submit_curve
+    from slopetui.store.jobs import curves
+    from tests.unit.test_curve_jobs import _point as curve_point
+
+    cid = submit_curve(db, CurveSpec(Params(tau=2.0), "k", "tau", "fold", 0.01, 0.5, 50, 0.5))
+    assert curves.claim(db, "w1") is not None
+    for i in range(4):
+        assert curves.save_point(db, cid, "w1", curve_point(i), 0.0)
+    assert curves.finish(db, cid, "w1", "the amplitude vanished", 1.0, [
+        {"type": "bautin", "first": 26.2247, "second": 0.64995, "period": 0.987,
+         "note": "the fold curve's end on the Hopf curve"}])
+    return cid
+
+
+def test_all_three_kinds_show_at_80x24_and_a_curve_is_drawn_in_its_plane(db):
+    """With a continuation, a hysteresis sweep and a curve stored, each table keeps its
+    header and a row at 80 x 24, and the highlighted curve is drawn in (k, tau) with its
+    Bautin point, and named in the detail."""
+    from slopetui.queue.hysteresis_jobs import submit as submit_sweep
+    from tests.unit.test_hysteresis_jobs import SPEC as SWEEP
+
+    continuation(db)
+    submit_sweep(db, SWEEP)
+    cid = stored_curve(db)
+
+    async def scenario():
+        app = app_for(db)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await branch_table(pilot, app)
+            curve_table = app.screen.query_one("#curve-table", DataTable)
+            await wait_until(pilot, lambda: curve_table.row_count == 1)
+            assert app.screen.has_class("-three")
+            row = cells(curve_table, 0)
+            assert row[:5] == [str(cid), "fold", "(k, τ)", "done", "4"]
+            assert row[5].startswith("bautin k=26.225")
+            for table_id in ("#branch-table", "#hyst-table", "#curve-table"):
+                assert app.screen.query_one(table_id).region.height >= 2
+            curve_table.focus()
+            plot = app.screen.query_one(PlotView)
+            await wait_until(pilot, lambda: f"curve {cid}: fold of cycles" in str(plot.render()))
+            drawn = str(plot.render())
+            assert "fold of cycles 4" in drawn and "bautin 1" in drawn
+            assert plot.region.height >= 11 and plot.region.bottom <= 23
+            detail = str(app.screen.query_one("#branch-detail").render())
+            assert "found: bautin k=26.2247 τ=0.64995" in detail
+            assert "end: the amplitude vanished" in detail
+
+    run(scenario)

@@ -1,7 +1,9 @@
-"""Branches: the stored continuations of periodic orbits (``slopetui continue --submit``)
-and, in a second table below, the stored hysteresis sweeps (``slopetui hysteresis
---submit``); the highlighted one's diagram, filling as a worker saves its points. The
-highlighted row of the focused table is the one drawn (tab moves between the tables)."""
+"""Branches: the stored continuations of periodic orbits (``slopetui continue --submit``),
+in a second table the stored hysteresis sweeps (``slopetui hysteresis --submit``) and in a
+third the curves in two parameters (``slopetui continue --param2 ... --submit``: a fold of
+cycles or a Hopf curve, drawn in its plane with its codimension-two points); the
+highlighted one's diagram, filling as a worker saves its points. The highlighted row of the
+focused table is the one drawn (tab moves between the tables)."""
 
 from __future__ import annotations
 
@@ -20,9 +22,12 @@ from core.params import PARAM_NAMES, Params
 from slopetui.display_text import terminal_safe
 from slopetui.plots.branch_plot import render_branch
 from slopetui.plots.canvas import axis_label
+from slopetui.plots.curve_plot import render_curve
 from slopetui.plots.hysteresis_plot import render_hysteresis
 from slopetui.sweeps.branch_records import BifurcationRecord
 from slopetui.sweeps.branches import ContinuationRow, StoredBranch, branch_of, listing, start_name
+from slopetui.sweeps.curves import StoredCurve, curve_of
+from slopetui.sweeps.curves import listing as curve_listing
 from slopetui.sweeps.hysteresis_runs import (
     HysteresisRow,
     StoredHysteresis,
@@ -38,11 +43,15 @@ from slopetui.tui.widgets.steady_footer import SteadyFooter
 #: The bifurcations column is cut to this many characters, so the table fits 80 columns.
 FOUND_WIDTH = 24
 EMPTY_HINT = ("No continuations yet: c queues one (from the Hopf point or an orbit), h a "
-              "hysteresis sweep; the pool computes them point by point.")
-#: What is highlighted: ("branch", continuation id) or ("hysteresis", sweep id).
+              "hysteresis sweep (slopetui continue --param2 ... --submit a curve in two "
+              "parameters); the pool computes them point by point.")
+#: What is highlighted: ("branch", continuation id), ("hysteresis", sweep id) or
+#: ("curve", curve id).
 Selection = tuple[str, int]
-#: The table of each kind of row.
-TABLES = {"branch": "#branch-table", "hysteresis": "#hyst-table"}
+#: The table of each kind of row, in the screen's order.
+TABLES = {"branch": "#branch-table", "hysteresis": "#hyst-table", "curve": "#curve-table"}
+KIND_OF_TABLE = {table[1:]: kind for kind, table in TABLES.items()}
+Chosen = StoredBranch | StoredHysteresis | StoredCurve
 
 
 def start_text(row: ContinuationRow) -> str:
@@ -168,17 +177,61 @@ def _value(value: float | None) -> str:
     return "" if value is None else f"{value:.5g}"
 
 
+def curve_found_text(name: str, second: str, found: Sequence[dict[str, Any]], *,
+                     digits: int = 5) -> str:
+    """The codimension-two points, e.g. "bautin k=26.225 τ=0.64995"."""
+    return ", ".join(f"{terminal_safe(str(b['type']))} {axis_label(name)}={b[name]:.{digits}g} "
+                     f"{axis_label(second)}={b[second]:.{digits}g}" for b in found)
+
+
+def curve_detail(curve: StoredCurve) -> Text:
+    """The highlighted curve in two lines: its codimension-two points once done (else its
+    status and progress), then why it ended or its error's last line."""
+    row = curve.row
+    status = str(row.status)
+    if curve.bifurcations:
+        found = "found: " + curve_found_text(curve.param, curve.second, curve.bifurcations,
+                                             digits=8)
+    elif status == "done":
+        found = "no codimension-two point on this curve"
+    else:
+        found = f"{terminal_safe(status)}: {row.n_points} points so far"
+    if row.error:
+        last = str(row.error).strip().splitlines()[-1:] or [""]
+        return Text.assemble(found, "\n", Text(f"error: {terminal_safe(last[0])}",
+                                               style="bold red"))
+    end = f"end: {terminal_safe(str(row.end_reason))}; " if row.end_reason else ""
+    return Text.assemble(found, "\n", f"{end}{row.n_points} points, {row.runtime_s:.1f} s")
+
+
+def curve_renderer(curve: StoredCurve) -> Renderer:
+    """Draws the curve in its plane at the PlotView's size (a pure function of records)."""
+    what = "fold of cycles" if curve.row.kind == "fold" else "Hopf curve"
+    title = f"curve {curve.id}: {what} in ({curve.param}, {curve.second})"
+    points, found = list(curve.points), list(curve.bifurcations)
+
+    def draw(width: int, height: int, color: bool) -> str:
+        return render_curve(curve.param, curve.second, points, found, title=title,
+                            width=width, height=height, color=color)
+    return draw
+
+
 class BranchesScreen(SlopeScreen[None]):
     """The highlighted continuation or hysteresis sweep is drawn below the lists; a running
     one grows as its points are saved (the periodic refresh)."""
 
     # The layout is this screen's alone; kept here with the screen (see slopetui.tcss for
     # the other screens'). At 80x24: header 1, tables 6 (4 + 4 when both kinds are
-    # stored; a table with no rows is hidden unless both are empty), detail 2, plot >= 12
-    # (PlotView's minimum), footer 1.
+    # stored, 3 + 3 + 3 with curves too: each table's header and two rows, its cursor row
+    # scrolled into view; a table with no rows is hidden unless all are empty), detail 2,
+    # plot >= 11 (12 unless all three kinds are stored), footer 1.
     DEFAULT_CSS = """
-    #branch-table, #hyst-table { height: auto; max-height: 6; }
-    BranchesScreen.-both #branch-table, BranchesScreen.-both #hyst-table { max-height: 4; }
+    #branch-table, #hyst-table, #curve-table { height: auto; max-height: 6; }
+    BranchesScreen.-both #branch-table, BranchesScreen.-both #hyst-table,
+    BranchesScreen.-both #curve-table { max-height: 4; }
+    BranchesScreen.-three #branch-table, BranchesScreen.-three #hyst-table,
+    BranchesScreen.-three #curve-table { max-height: 3; }
+    BranchesScreen.-three #branch-plot { min-height: 11; }
     #branch-detail { height: auto; max-height: 3; padding: 0 1; background: $boost; }
     #branch-plot { height: 1fr; }
     """
@@ -187,11 +240,14 @@ class BranchesScreen(SlopeScreen[None]):
     class Loaded(Message):
         branches: list[StoredBranch]
         sweeps: list[StoredHysteresis]
-        #: The highlighted continuation with its points and bifurcations, or hysteresis
-        #: sweep with its points.
-        chosen: StoredBranch | StoredHysteresis | None
+        curves: list[StoredCurve]
+        #: The highlighted continuation with its points and bifurcations, hysteresis
+        #: sweep with its points, or curve with its points and codimension-two points.
+        chosen: Chosen | None
         #: Bifurcations of each finished continuation by id (the table's column).
         found: dict[int, list[BifurcationRecord]]
+        #: Codimension-two points of each finished curve by id (the table's column).
+        curve_found: dict[int, list[dict[str, Any]]]
 
     BINDINGS = [
         Binding("c", "app.open_analysis('continuation')", "New continuation",
@@ -208,8 +264,10 @@ class BranchesScreen(SlopeScreen[None]):
         #: Bifurcations of finished continuations by id: written once, with the status
         #: "done", so read once (listing() gives rows without them).
         self._found: dict[int, list[BifurcationRecord]] = {}
-        #: The highlighted continuation or hysteresis sweep, as last read.
-        self._chosen: StoredBranch | StoredHysteresis | None = None
+        #: Codimension-two points of finished curves by id, read once likewise.
+        self._curve_found: dict[int, list[dict[str, Any]]] = {}
+        #: The highlighted continuation, hysteresis sweep or curve, as last read.
+        self._chosen: Chosen | None = None
         #: (kind, id, points, status) of what is drawn: redraw only when it changed.
         self._drawn: tuple[str, int, int, str] | None = None
 
@@ -226,6 +284,11 @@ class BranchesScreen(SlopeScreen[None]):
                            "offset down")
         sweeps.display = False
         yield sweeps
+        curves: DataTable[Any] = DataTable(id="curve-table", cursor_type="row",
+                                           zebra_stripes=True)
+        curves.add_columns("curve", "kind", "plane", "status", "points", "found")
+        curves.display = False
+        yield curves
         yield Static("Opening the store…", id="branch-detail")
         yield PlotView(id="branch-plot")
         yield SteadyFooter()
@@ -248,39 +311,51 @@ class BranchesScreen(SlopeScreen[None]):
         try:
             branches = listing(db)
             sweeps = hysteresis_listing(db)
+            curves = curve_listing(db)
             if selected is None:
-                selected = (("branch", branches[0].id) if branches else
-                            ("hysteresis", sweeps[0].id) if sweeps else None)
-            chosen: StoredBranch | StoredHysteresis | None = None
+                selected = _first(branches, sweeps, curves)
+            chosen: Chosen | None = None
             if selected is not None:
                 kind, ident = selected
-                chosen = branch_of(db, ident) if kind == "branch" else hysteresis_of(db, ident)
+                chosen = (branch_of(db, ident) if kind == "branch" else
+                          hysteresis_of(db, ident) if kind == "hysteresis" else
+                          curve_of(db, ident))
             for b in branches:
                 if b.row.status == "done" and b.id not in self._found:
                     whole = (chosen if isinstance(chosen, StoredBranch) and chosen.id == b.id
                              else branch_of(db, b.id))
                     self._found[b.id] = whole.bifurcations if whole is not None else []
+            for c in curves:
+                if c.row.status == "done" and c.id not in self._curve_found:
+                    read = (chosen if isinstance(chosen, StoredCurve) and chosen.id == c.id
+                            else curve_of(db, c.id))
+                    self._curve_found[c.id] = read.bifurcations if read is not None else []
         except Exception as exc:  # a locked or vanished database: say so, keep running
             self.post_message(StoreFailed("read the continuations",
                                           f"{type(exc).__name__}: {exc}"))
             return
-        self.post_message(self.Loaded(branches, sweeps, chosen, dict(self._found)))
+        self.post_message(self.Loaded(branches, sweeps, curves, chosen, dict(self._found),
+                                      dict(self._curve_found)))
 
     def on_branches_screen_loaded(self, message: Loaded) -> None:
-        branches, sweeps = message.branches, message.sweeps
+        branches, sweeps, curves = message.branches, message.sweeps, message.curves
         branch_table = self.query_one("#branch-table", DataTable)
         hyst_table = self.query_one("#hyst-table", DataTable)
-        branch_table.display = bool(branches) or not sweeps
+        curve_table = self.query_one("#curve-table", DataTable)
+        branch_table.display = bool(branches) or not (sweeps or curves)
         hyst_table.display = bool(sweeps)
-        self.set_class(bool(branches) and bool(sweeps), "-both")
-        if not branches and sweeps and branch_table.has_focus:
-            hyst_table.focus()  # the only rows there are
+        curve_table.display = bool(curves)
+        kinds = sum(bool(rows) for rows in (branches, sweeps, curves))
+        self.set_class(kinds == 2, "-both")
+        self.set_class(kinds == 3, "-three")
+        if not branches and branch_table.has_focus and (sweeps or curves):
+            (hyst_table if sweeps else curve_table).focus()  # the only rows there are
         if self.selected is None:
-            self.selected = (("branch", branches[0].id) if branches else
-                             ("hysteresis", sweeps[0].id) if sweeps else None)
+            self.selected = _first(branches, sweeps, curves)
         self._fill_table(branches, message.found)
         self._fill_sweeps(sweeps)
-        if not branches and not sweeps:
+        self._fill_curves(curves, message.curve_found)
+        if not branches and not sweeps and not curves:
             self.query_one("#branch-detail", Static).update(EMPTY_HINT)
         self._show(message.chosen)
 
@@ -332,38 +407,60 @@ class BranchesScreen(SlopeScreen[None]):
                               key=str(h.id))
             self._place_cursor(table, "hysteresis", [h.id for h in sweeps], keep)
 
+    def _fill_curves(self, curves: list[StoredCurve],
+                     found: dict[int, list[dict[str, Any]]]) -> None:
+        table = self.query_one("#curve-table", DataTable)
+        keep = table.cursor_row
+        with table.prevent(DataTable.RowHighlighted):  # as in _fill_table: not a choice
+            table.clear()
+            for c in curves:
+                row = c.row
+                plane = f"({axis_label(c.param)}, {axis_label(c.second)})"
+                table.add_row(str(c.id), Text(terminal_safe(str(row.kind))),
+                              Text(terminal_safe(plane)), Text(terminal_safe(str(row.status))),
+                              str(row.n_points),
+                              Text(cut(curve_found_text(row.param, row.param2,
+                                                        found.get(c.id, [])), FOUND_WIDTH)),
+                              key=str(c.id))
+            self._place_cursor(table, "curve", [c.id for c in curves], keep)
+
     def analysis_point(self) -> tuple[Params, str] | None:
         """Where an analysis opened from here starts (SlopeApp.analysis_point): the point
         the highlighted continuation or hysteresis sweep started from; None with none."""
         chosen = self._chosen
         if chosen is None:
             return None
-        kind = "continuation" if isinstance(chosen, StoredBranch) else "hysteresis sweep"
+        kind = ("continuation" if isinstance(chosen, StoredBranch) else
+                "hysteresis sweep" if isinstance(chosen, StoredHysteresis) else "curve")
         try:
             at = Params(**{n: getattr(chosen.row, n) for n in PARAM_NAMES})
         except ValueError:  # a hand-edited row: the form opens at the defaults instead
             return None
         return at, f"{kind} {chosen.id}'s point"
 
-    def _show(self, chosen: StoredBranch | StoredHysteresis | None) -> None:
+    def _show(self, chosen: Chosen | None) -> None:
         self._chosen = chosen
         if chosen is None:
             self._drawn = None
             self.query_one(PlotView).show(None)
             return
-        branch = isinstance(chosen, StoredBranch)
-        self.query_one("#branch-detail", Static).update(
-            detail_text(chosen) if isinstance(chosen, StoredBranch) else hysteresis_detail(chosen))
-        drawn = ("branch" if branch else "hysteresis", chosen.id, len(chosen.points),
-                 str(chosen.row.status))
+        detail: Text
+        renderer: Renderer
+        if isinstance(chosen, StoredBranch):
+            kind, detail, renderer = "branch", detail_text(chosen), branch_renderer(chosen)
+        elif isinstance(chosen, StoredHysteresis):
+            kind, detail = "hysteresis", hysteresis_detail(chosen)
+            renderer = hysteresis_renderer(chosen)
+        else:
+            kind, detail, renderer = "curve", curve_detail(chosen), curve_renderer(chosen)
+        self.query_one("#branch-detail", Static).update(detail)
+        drawn = (kind, chosen.id, len(chosen.points), str(chosen.row.status))
         if drawn != self._drawn:  # a finished one is not redrawn every refresh
             self._drawn = drawn
-            self.query_one(PlotView).show(branch_renderer(chosen)
-                                          if isinstance(chosen, StoredBranch)
-                                          else hysteresis_renderer(chosen))
+            self.query_one(PlotView).show(renderer)
 
     def _select(self, table: DataTable[Any], key: str | None) -> None:
-        kind = "branch" if table.id == "branch-table" else "hysteresis"
+        kind = KIND_OF_TABLE[str(table.id)]
         if key is not None and (kind, int(key)) != self.selected:
             self.selected = (kind, int(key))
             self.refresh_data()
@@ -381,3 +478,11 @@ class BranchesScreen(SlopeScreen[None]):
         if isinstance(table, DataTable) and table.row_count:
             key = table.coordinate_to_cell_key(table.cursor_coordinate).row_key.value
             self._select(table, key)
+
+
+def _first(branches: list[StoredBranch], sweeps: list[StoredHysteresis],
+           curves: list[StoredCurve]) -> Selection | None:
+    """What is highlighted when nothing was: the newest of the first kind that has rows."""
+    return (("branch", branches[0].id) if branches else
+            ("hysteresis", sweeps[0].id) if sweeps else
+            ("curve", curves[0].id) if curves else None)
