@@ -166,7 +166,8 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
     if (begun := held.step(begin)) is None:
         return
     (branch, hopf), spent = begun
-    log.info("continuation %d in %s: %s (%d saved points)", job.id, spec.name,
+    log.info("continuation %d in %s from %s: %s (%d saved points)", job.id, spec.name,
+             f"Hopf point {spec.hopf_branch}" if spec.from_hopf else "an orbit",
              "resumed" if saved else "started", len(saved))
 
     def stop(point: Any) -> bool:

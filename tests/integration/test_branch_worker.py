@@ -48,6 +48,7 @@ def test_a_branch_survives_kill_9_and_a_stop_and_finishes_once(tmp_path, db, db_
     assert text.count(f"continuation {cid} done") == 1
     assert "died (exit code -9): 1 jobs requeued" in text
     assert text.count("resumed") == 2 and "Traceback" not in text + err
+    assert text.count(f"from Hopf point {hopf_branch}: resumed") == 2
 
 
 def test_a_queued_branch_from_the_second_hopf_point_is_the_one_computed_here(

@@ -89,6 +89,7 @@ def test_the_branches_screen_lists_and_draws_a_finished_continuation(db):
             detail = str(app.screen.query_one("#branch-detail").render())
             assert f"fold k = {FOLD_K}" in detail and "period 30" in detail
             assert "end: reached the requested end" in detail
+            assert "; subcritical Hopf point 1" in detail  # which one it started at
 
     run(scenario)
 

@@ -92,7 +92,8 @@ def detail_text(branch: StoredBranch) -> Text:
     else:
         found = f"{terminal_safe(status)}: {len(branch.points)} points so far"
     if row.criticality:
-        found += f"; {terminal_safe(str(row.criticality))} Hopf point"
+        which = "" if row.hopf_branch is None else f" {row.hopf_branch}"  # the n-th
+        found += f"; {terminal_safe(str(row.criticality))} Hopf point{which}"
     if row.error:
         last = str(row.error).strip().splitlines()[-1:] or [""]
         end = Text(f"error: {terminal_safe(last[0])}", style="bold red")
