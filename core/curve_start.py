@@ -38,7 +38,9 @@ class CurveSpec:
     """A curve in (``name``, ``second``) from ``params``: ``start`` "fold" (the fold of
     cycles of the branch in ``name`` from the first Hopf point) or "hopf" (the Hopf curve);
     grid step ``dt``; until ``second`` reaches ``to``; at most ``max_points`` points; steps
-    of at most ``max_step`` (along the fold curve, or between Hopf points in ``second``)."""
+    of at most ``max_step`` (along the fold curve, or between Hopf points in ``second``);
+    from the ``hopf_branch``-th Hopf point (the n-th root pair's crossing: its Hopf curve,
+    or the fold of the branch born there)."""
 
     params: Params
     name: str
@@ -48,6 +50,7 @@ class CurveSpec:
     to: float
     max_points: int
     max_step: float
+    hopf_branch: int = 1
 
 
 @dataclass(frozen=True)
@@ -124,7 +127,7 @@ class HopfWalk:
             return None
         value = float(self.values[len(self.points)])
         point = next(hopf_curve(self.spec.params, (self.spec.name, self.spec.second), [value],
-                                self.spec.dt))
+                                self.spec.dt, self.spec.hopf_branch))
         self.points.append(point)
         if len(self.points) == len(self.values):
             self.end = f"reached {self.spec.second} = {self.spec.to:g}"
@@ -136,7 +139,7 @@ class HopfWalk:
         names = (self.spec.name, self.spec.second)
         for a, b in itertools.pairwise(self.points):
             if a.l1 * b.l1 < 0:
-                bp = bautin(self.spec.params, names, a, b, self.spec.dt)
+                bp = bautin(self.spec.params, names, a, b, self.spec.dt, self.spec.hopf_branch)
                 out.append(Codim2("bautin", bp.first, bp.second, bp.period,
                                   "l1 = 0 on the Hopf curve"))
         return out
@@ -152,7 +155,7 @@ def start(spec: CurveSpec) -> Walk:
     if spec.start == "hopf":
         return HopfWalk(spec)
     curve = start_at_fold(spec.params, (spec.name, spec.second), spec.to, spec.dt,
-                          max_step=spec.max_step)
+                          max_step=spec.max_step, hopf_branch=spec.hopf_branch)
     return FoldWalk(spec, curve)
 
 

@@ -37,7 +37,7 @@ def start_at_fold(p: Params, names: tuple[str, str], reach: float, dt: float = 0
         if second == "tau":
             n_delay = math.ceil(max(p.tau, reach) / dt - 1e-9)
     if name not in HOPF_STARTS:
-        return _via_k(p, names, reach, dt, step, max_step, n_delay)
+        return _via_k(p, names, reach, dt, step, max_step, n_delay, hopf_branch)
     dt_start = p.tau / n_delay
     first, largest = step_sizes(p, name)
     branch, _ = Branch.from_hopf(p, name, dt_start, 1e-3, first, largest, hopf_branch)
@@ -79,14 +79,14 @@ def switched(curve: FoldCurve, names: tuple[str, str], towards: float, step: flo
 
 
 def _via_k(p: Params, names: tuple[str, str], reach: float, dt: float, step: float,
-           max_step: float, n_delay: int) -> FoldCurve:
+           max_step: float, n_delay: int, hopf_branch: int = 1) -> FoldCurve:
     """The fold in names[0] (d or v: no Hopf start) at p: the fold in k at p's other
     values, continued in (names[0], k) at p's tau until k = p.k, where it is a fold in
     names[0]; from there the curve in ``names``. Raises OrbitError when that path meets
     the Hopf curve first (a Bautin point: no fold in names[0] at this k; at tau = 10 the
     fold in k moves from 1.214 at d = 1e-4 to the Hopf curve at d = 2.23, k = 6.41)."""
     name = names[0]
-    in_k = start_at_fold(p, ("k", name), getattr(p, name), dt, step, max_step,
+    in_k = start_at_fold(p, ("k", name), getattr(p, name), dt, step, max_step, hopf_branch,
                          n_delay=n_delay)
     in_k.first()
     along = switched(in_k, (name, "k"), p.k, step, max_step)

@@ -8,7 +8,8 @@ Create Date: 2026-12-03 23:30:00
 Only new tables (the runs, sweeps, continuations and hysteresis sweeps stored before are
 untouched):
 - ``curves``: what was asked (kind fold or hopf, the two parameters, the starting point,
-  dt, where param2 ends, the point budget, the largest step, the engine), the queue's
+  dt, where param2 ends, the point budget, the largest step, the Hopf point it starts
+  from, the engine), the queue's
   columns as every job's, and why it ended; ids never reused (AUTOINCREMENT on SQLite, as
   0009 made the other job tables);
 - ``curve_points``: each point as computed, with what a resumption needs;
@@ -41,6 +42,7 @@ def upgrade() -> None:
         sa.Column("end_value", sa.Double(), nullable=False),
         sa.Column("max_points", sa.Integer(), nullable=False),
         sa.Column("max_step", sa.Double(), nullable=False),
+        sa.Column("hopf_branch", sa.Integer(), server_default="1", nullable=False),
         sa.Column("engine", sa.String(length=16), nullable=False),
         sa.Column("end_reason", sa.Text(), nullable=True),
         sa.Column("n_points", sa.Integer(), server_default="0", nullable=False),

@@ -34,13 +34,16 @@ if TYPE_CHECKING:
 
 
 def _check(args: argparse.Namespace) -> None:
-    """--from-hopf and --from-run as numbers (one line naming a bad one; the rest are
-    continuation_spec's)."""
+    """--from-hopf, --from-run and --from-fold as numbers (one line naming a bad one; the
+    rest are continuation_spec's and curve_spec's)."""
     if args.from_hopf is not None:
         args.from_hopf = int_arg("from-hopf", args.from_hopf, 1, MAX_HOPF_BRANCH,
                                  note=" (the Hopf branch: 1 the first root crossing)")
     if args.from_run is not None:
         args.from_run = int_arg("from-run", args.from_run, 1, note=" (a run id)")
+    if args.from_fold is not None:
+        args.from_fold = int_arg("from-fold", args.from_fold, 1, MAX_HOPF_BRANCH,
+                                 note=" (the Hopf branch whose fold starts the curve)")
 
 
 def _params_of_run(args: argparse.Namespace, params: Params) -> Params:
@@ -67,15 +70,12 @@ def _submit(args: argparse.Namespace, spec: BranchSpec) -> int:
 
 def _curve(args: argparse.Namespace, params: Params, dt: float) -> int:
     """A curve in two parameters (--param2), computed here."""
-    start = ("fold" if args.from_fold else "hopf" if args.from_hopf is not None else
+    start = ("fold" if args.from_fold is not None else "hopf" if args.from_hopf is not None else
              "pd" if args.from_pd else "ns" if args.from_ns else "")
-    if args.from_hopf not in (None, 1):
-        raise ParameterError("from-hopf", args.from_hopf, "1 with --param2 (the first "
-                             "Hopf curve)")
     if not start:
         raise ParameterError("param2", args.param2, "given with --from-fold or --from-hopf")
     spec = curve_spec(params, dt, args.param, args.param2, start, args.to2, args.points,
-                      args.max_step)
+                      args.max_step, args.from_fold or args.from_hopf or 1)
     if args.submit:
         cid = submit_curve(open_db(args), spec)
         return say_queued(args.json, "curve", cid, f"slopetui curve {cid}")
@@ -88,7 +88,7 @@ def handle(args: argparse.Namespace) -> int:
         _check(args)
         if args.param2 is not None:
             return _curve(args, params, dt)
-        if args.from_fold or args.from_pd or args.from_ns or args.to2 is not None:
+        if args.from_fold is not None or args.from_pd or args.from_ns or args.to2 is not None:
             raise ParameterError("param2", "", "a second parameter: --from-fold, --from-pd, "
                                  "--from-ns and --to2 continue a curve in (--param, --param2)")
         if args.from_run is not None:

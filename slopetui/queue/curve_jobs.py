@@ -56,7 +56,7 @@ def fields_of(spec: CurveSpec) -> dict[str, Any]:
     return {"kind": spec.start, "param": spec.name, "param2": spec.second,
             **{n: getattr(spec.params, n) for n in PARAM_NAMES}, "dt": spec.dt,
             "end_value": spec.to, "max_points": spec.max_points, "max_step": spec.max_step,
-            "engine": source_digest(), "status": "queued"}
+            "hopf_branch": spec.hopf_branch, "engine": source_digest(), "status": "queued"}
 
 
 def submit(db: Database, spec: CurveSpec) -> int:
@@ -69,7 +69,7 @@ def spec_of(row: CurveRow) -> CurveSpec:
     (ParameterError naming the column) for values it cannot be computed from."""
     from core.curve_start import STARTS, CurveSpec
     stored_inputs.present(row, (*PARAM_NAMES, "kind", "param", "param2", "dt", "end_value",
-                                "max_points", "max_step"))
+                                "max_points", "max_step", "hopf_branch"))
     params = Params(**{n: getattr(row, n) for n in PARAM_NAMES})
     for column in ("param", "param2"):
         if getattr(row, column) not in PARAM_NAMES:
@@ -81,7 +81,8 @@ def spec_of(row: CurveRow) -> CurveSpec:
     return CurveSpec(params, row.param, row.param2, row.kind,
                      stored_inputs.orbit_step(params, row.dt), end,
                      stored_inputs.whole("max_points", row.max_points, 2),
-                     check_positive("max_step", row.max_step))
+                     check_positive("max_step", row.max_step),
+                     stored_inputs.whole("hopf_branch", row.hopf_branch, 1))
 
 
 def claim(db: Database, worker_id: str) -> CurveJob | None:

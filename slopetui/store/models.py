@@ -492,6 +492,9 @@ class Curve(LeasedJob, Base):
     end_value: Mapped[float] = mapped_column(Double)
     max_points: Mapped[int]
     max_step: Mapped[float] = mapped_column(Double)
+    #: Which Hopf point the curve starts from (the n-th root pair's crossing): its Hopf
+    #: curve, or the fold of the branch born there.
+    hopf_branch: Mapped[int] = mapped_column(default=1, server_default="1")
     engine: Mapped[str] = mapped_column(String(16))
 
     # The queue: status, worker_id, attempts and the times from LeasedJob.

@@ -32,7 +32,7 @@ MAX_HOPF_POINTS = 400
 
 
 def curve_spec(params: Params, dt: float, param: str, param2: str, start: str,
-               to2: str | None, points: str, step: str) -> CurveSpec:
+               to2: str | None, points: str, step: str, hopf_branch: int = 1) -> CurveSpec:
     """The request, checked: ParameterError naming the flag (param2, to2, from-..., points,
     max-step) and what it allows."""
     if param2 not in CONTINUABLE or param2 == param:
@@ -59,4 +59,4 @@ def curve_spec(params: Params, dt: float, param: str, param2: str, start: str,
         raise ParameterError("max-step", step, f"at least {abs(end - getattr(params, param2)) / (n - 1):.4g} "
                              f"(the Hopf curve's {n} points, --points, span {param2} "
                              f"from {getattr(params, param2):g} to {end:g})")
-    return CurveSpec(params, param, param2, start, dt, end, n, largest)
+    return CurveSpec(params, param, param2, start, dt, end, n, largest, hopf_branch)

@@ -24,8 +24,8 @@ class StoredCurve(StoredJob[CurveRow]):
     and, once done, its codimension-two points; records keyed by the parameters' names, as
     ``continue --param2 --json`` prints them."""
 
-    SUMMARY_KEYS = ("id", "kind", "param", "param2", "status", "dt", "end_value", "max_points",
-                    "max_step", "end_reason", "n_points", "runtime_s", "error", "attempts",
+    SUMMARY_KEYS = ("id", "kind", "param", "param2", "hopf_branch", "status", "dt", "end_value",
+                    "max_points", "max_step", "end_reason", "n_points", "runtime_s", "error", "attempts",
                     "a", "b", "c", "d", "k", "v", "tau", "delta")
 
     points: list[dict[str, Any]]

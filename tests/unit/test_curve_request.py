@@ -44,7 +44,7 @@ def test_bad_requests_name_their_field(kw, field):
     ["--to2", "3"],
     ["--param2", "tau", "--to2", "3"],
     ["--param2", "tau", "--from-ns", "--to2", "3"],
-    ["--param2", "tau", "--from-hopf", "2", "--to2", "3"],
+    ["--param2", "tau", "--from-fold", "0", "--to2", "3"],
 ])
 def test_the_cli_refuses_before_computing(argv, capsys):
     assert main(["continue", "--param", "k", "--tau", "10", *argv]) == 2

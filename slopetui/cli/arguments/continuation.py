@@ -30,10 +30,10 @@ def declare(sub: argparse._SubParsersAction) -> None:
                             "in k, tau, a, b or c)")
     start.add_argument("--from-run", dest="from_run", metavar="ID",
                        help="start from the orbit at a stored run's parameters")
-    start.add_argument("--from-fold", dest="from_fold", action="store_true",
+    start.add_argument("--from-fold", dest="from_fold", nargs="?", const="1", metavar="N",
                        help="with --param2: the fold of cycles of the branch in --param born "
-                            "at the first Hopf point, continued as a curve in (--param, "
-                            "--param2)")
+                            "at the N-th Hopf point (default 1), continued as a curve in "
+                            "(--param, --param2)")
     for kind, what in (("pd", "period-doubling"), ("ns", "torus (Neimark-Sacker)")):
         start.add_argument(f"--from-{kind}", dest=f"from_{kind}", action="store_true",
                            help=f"with --param2: a {what} curve (refused: no real crossing "

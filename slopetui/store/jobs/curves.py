@@ -41,6 +41,7 @@ class CurveRow(LeasedRow):
     end_value: float
     max_points: int
     max_step: float
+    hopf_branch: int
     engine: str
     end_reason: str | None
     n_points: int
