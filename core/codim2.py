@@ -1,7 +1,8 @@
 """Codimension-two points along a fold-of-cycles curve (core.fold_continuation), each
 found between two consecutive curve points:
 
-    - cusp: the fold's quadratic coefficient Dg.phi1 (k''(s)) changes sign;
+    - cusp: the fold's quadratic coefficient Dg.phi1 (k''(s)) changes sign (away from the
+      curve's Bautin end: CUSP_AMPLITUDE);
     - bautin (generalised Hopf): the amplitude vanishes: the fold curve ends on the Hopf
       curve, where the first Lyapunov coefficient changes sign (core.lyapunov_coefficient
       locates it there, on the Hopf curve, independently);
@@ -27,6 +28,13 @@ from core.fold_continuation import CurvePoint, FoldCurve
 #: sit at +1 (the flow's and the fold's); round-off moves multipliers that sit on the
 #: circle by ~1e-7 (core.floquet.FLOW_TOL's measurements).
 UNIT_MARGIN = 1e-5
+#: A cusp is claimed only where the amplitude is at least this fraction of the curve's
+#: largest. Towards a Bautin point the fold degenerates (its quadratic coefficient goes to
+#: zero with the amplitude squared) and the coefficient's sign stops being a property of
+#: the curve: on the third fold curve in (k, tau) it changed sign at amplitude 0.02 (2 % of
+#: the curve's largest) with GMRES at 1e-11, and already at 0.04 with GMRES at 1e-13 and
+#: forward differences of 1e-5. There such a change is "undetermined", with that reason.
+CUSP_AMPLITUDE = 0.1
 
 
 @dataclass(frozen=True)
@@ -40,12 +48,19 @@ class Codim2:
     note: str = ""
 
 
-def crossings(a: CurvePoint, b: CurvePoint) -> list[Codim2]:
-    """Codimension-two points between two consecutive curve points (see the module doc)."""
+def crossings(a: CurvePoint, b: CurvePoint, largest: float = 0.0) -> list[Codim2]:
+    """Codimension-two points between two consecutive curve points (see the module doc);
+    ``largest``: the largest amplitude on the curve (CUSP_AMPLITUDE)."""
     found: list[Codim2] = []
     if a.curvature * b.curvature < 0:
         s = a.curvature / (a.curvature - b.curvature)
-        found.append(_between("cusp", a, b, s, "the fold's quadratic coefficient vanishes"))
+        if min(a.amplitude, b.amplitude) >= CUSP_AMPLITUDE * largest:
+            found.append(_between("cusp", a, b, s, "the fold's quadratic coefficient vanishes"))
+        else:
+            found.append(_between("undetermined", a, b, s, (
+                "the fold's quadratic coefficient changes sign where the fold degenerates "
+                f"towards the Hopf curve (amplitude {min(a.amplitude, b.amplitude):.3g}): "
+                "no cusp is claimed there")))
     ma, mb = fold_others(a.multipliers), fold_others(b.multipliers)
     for mu_b in mb:
         if abs(abs(mu_b) - 1.0) < UNIT_MARGIN:
@@ -83,8 +98,9 @@ def codim2_points(curve: FoldCurve) -> list[Codim2]:
     """The codimension-two points along a walked curve, in order."""
     found: list[Codim2] = []
     pts = curve.points
+    largest = max((p.amplitude for p in pts), default=0.0)
     for a, b in itertools.pairwise(pts):
-        found.extend(crossings(a, b))
+        found.extend(crossings(a, b, largest))
     if curve.end.startswith("the amplitude vanished"):
         a, b = pts[-2], pts[-1]
         a2, b2 = a.amplitude ** 2, b.amplitude ** 2

@@ -1,0 +1,53 @@
+"""Codimension-two points between two points of a fold curve (core.codim2): a cusp where
+the fold's quadratic coefficient changes sign (none claimed where the fold degenerates next
+to the Hopf curve), and the kind of a multiplier crossing the circle, the fold's own two at
++1 left out."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from core.codim2 import crossings, fold_others
+from core.floquet import Multipliers
+from core.fold_continuation import CurvePoint
+
+
+def _point(k: float, curvature: float, others: list[complex], amplitude: float = 1.0
+           ) -> CurvePoint:
+    values = np.array([1.0 + 0j, 1.0 - 1e-9 + 0j, *others])  # the flow's, the fold's
+    return CurvePoint(k, 10.0 - k, 11.0, amplitude, curvature,
+                      Multipliers(values, 0, 1.0), 2)
+
+
+def test_the_fold_s_two_multipliers_at_one_are_left_out():
+    m = _point(1.0, 1.0, [0.5, -0.2]).multipliers
+    assert sorted(fold_others(m).real) == [-0.2, 0.5]
+
+
+def test_a_cusp_where_the_quadratic_coefficient_changes_sign():
+    (c,) = crossings(_point(1.0, 2.0, [0.5]), _point(2.0, -2.0, [0.5]), largest=1.0)
+    assert c.type == "cusp" and c.first == pytest.approx(1.5)
+
+
+def test_no_cusp_is_claimed_where_the_fold_degenerates():
+    (c,) = crossings(_point(1.0, 2e-3, [0.5], 0.03), _point(2.0, -2e-3, [0.5], 0.02),
+                     largest=1.0)
+    assert c.type == "undetermined" and "no cusp is claimed" in c.note
+
+
+@pytest.mark.parametrize(("before", "after", "kind"), [
+    (-0.98, -1.02, "fold-flip"),
+    (0.6 + 0.78j, 0.62 + 0.8j, "fold-ns"),
+    (0.98, 1.02, "resonance-1:1"),
+])
+def test_a_multiplier_through_the_circle_names_its_kind(before, after, kind):
+    (c,) = crossings(_point(1.0, 1.0, [before]), _point(2.0, 1.0, [after]), largest=1.0)
+    assert c.type == kind
+    s = (abs(before) - 1) / ((abs(before) - 1) - (abs(after) - 1))
+    assert c.first == pytest.approx(1.0 + s)
+
+
+def test_a_multiplier_on_the_circle_within_the_margin_is_no_crossing():
+    assert crossings(_point(1.0, 1.0, [-1.0 + 2e-6]), _point(2.0, 1.0, [-1.0 - 2e-6]),
+                     largest=1.0) == []
