@@ -153,6 +153,38 @@ def test_a_done_run_shows_its_summary_four_plots_and_the_match(db_url, done_stor
     play(db_url, scenario)
 
 
+def test_a_long_summary_scrolls_the_screen_packed_to_the_room_the_scrollbar_leaves(
+        db_url, done_store):
+    """A certified cycle with a long regime detail and flags takes more lines than the
+    plot leaves at 80 x 24, so the screen scrolls (the plot keeps the 12 lines it needs);
+    the scrollbar then takes two columns, and the summary, packed to the full width, was
+    wrapped again two columns short, an item cut across two lines ("peaks 1 / (1.99)").
+    Packed again to the narrower width, every line fits."""
+    db = open_store(db_url)
+    with db.sessions() as s, s.begin():
+        s.execute(update(Run).where(Run.id == done_store[-1]).values(
+            detail="period-1, 1 maximum, 0.99 T_H (certified); unrealisable from t = 0.001 "
+                   "(min s_x -3.64e-05, s_y -0.000944, s_x s_y - u^2 -0.000125)",
+            flags="uphill,unrealisable"))
+    db.dispose()
+
+    async def scenario(app: SlopeApp, pilot: Pilot) -> None:
+        screen = await open_run(app, pilot, done_store[-1])
+        await pilot.pause()
+        await pilot.pause()
+        summary = screen.query_one("#run-summary", Static)
+        assert screen.max_scroll_y > 0, "the long detail scrolls the screen: the case at stake"
+        room = summary.content_size.width
+        assert room == SIZE[0] - 2 - 2  # the padding and the scrollbar
+        lines = str(summary.content).splitlines()
+        # a line of several items fits; only an item longer than a line (the long regime
+        # detail) goes on, wrapped by the screen
+        assert all(len(line) <= room for line in lines if " · " in line)
+        assert any(line.startswith("peaks 1 (") for line in lines)  # not cut from its value
+
+    play(db_url, scenario)
+
+
 def test_a_fixed_point_says_so_in_the_phase_portrait(db_url, done_store):
     async def scenario(app: SlopeApp, pilot: Pilot) -> None:
         screen = await open_run(app, pilot, done_store[0])  # k = 4: sliding at rest

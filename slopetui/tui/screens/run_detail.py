@@ -91,6 +91,8 @@ PEAKS_SHOWN = 2
 #: Columns of a line of the header on an 80-column terminal (its padding: one each side):
 #: the width its result items are packed to when none is given.
 SUMMARY_WIDTH = 78
+#: The columns of the screen's vertical scrollbar (Textual's default), kept free.
+SCROLLBAR_COLUMNS = 2
 #: Between two result items on a line of the header.
 ITEM_SEPARATOR = " · "
 
@@ -569,9 +571,19 @@ class RunDetailScreen(SlopeScreen[None]):
             summary = self.query_one("#run-summary", Static)
             width = self.size.width - summary.styles.gutter.width
             summary.update(summary_text(self.run, max(width, 20)))
+            self.call_after_refresh(self._repack_if_scrolled, width)
             self.query_one("#certificate-text", Static).update(
                 certificate_text(self.run, max(width - 2, 20)))
             self._show_multipliers(self.run)
+
+    def _repack_if_scrolled(self, width: int) -> None:
+        """A summary taller than the room the plot leaves scrolls the screen, whose
+        scrollbar then takes two columns: packed to the full width, its lines were
+        wrapped again two columns short (an item cut across two lines). Packed again to
+        the narrower width once the screen scrolls."""
+        if self.run is not None and self.max_scroll_y > 0:
+            narrower = max(width - SCROLLBAR_COLUMNS, 20)
+            self.query_one("#run-summary", Static).update(summary_text(self.run, narrower))
 
     def _show_multipliers(self, run: StoredRun) -> None:
         plot = self.query_one("#plot-multipliers", PlotView)
