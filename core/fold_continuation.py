@@ -43,6 +43,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -86,7 +87,7 @@ class CurvePoint:
 
 
 @dataclass
-class _Linear:
+class LinearParts:
     """The bordered solves at one point (see the module doc)."""
 
     F: np.ndarray
@@ -95,11 +96,18 @@ class _Linear:
     phi1: np.ndarray
     phi2: np.ndarray | None
     shot: Shot
+    #: The test function's bordered solution (v, g): where its next solve starts.
+    null: np.ndarray
 
 
 @dataclass
 class FoldCurve:
-    """The fold of cycles in ``names[0]`` continued in ``names[1]`` (see the module doc)."""
+    """The fold of cycles in ``names[0]`` continued in ``names[1]`` (see the module doc).
+    A subclass with its own test function and border continues another bifurcation of
+    cycles the same way (core.flip_continuation)."""
+
+    #: What the curve is a curve of, for messages.
+    what: ClassVar[str] = "fold"
 
     base: Params
     names: tuple[str, str]
@@ -187,7 +195,7 @@ class FoldCurve:
         x = self._bordered(pm, shot, f_p, rhs, x0)
         return float(x[-1]), x
 
-    def _linear(self, y: np.ndarray, free_q: bool) -> _Linear:
+    def _linear(self, y: np.ndarray, free_q: bool) -> LinearParts:
         n = self.size
         F, shot, pm = self._F(y)
         f_p = self._dF(y, n + 1)
@@ -202,7 +210,7 @@ class FoldCurve:
             f_q = self._dF(y, n + 2)
             u = self._bordered(pm, shot, f_p, np.concatenate((-f_q, [0.0])))
             phi2 = np.concatenate((u, [1.0]))
-        return _Linear(F, float(v[-1]), np.concatenate((d0, [0.0])), phi1, phi2, shot)
+        return LinearParts(F, float(v[-1]), np.concatenate((d0, [0.0])), phi1, phi2, shot, v)
 
     def _dg(self, y: np.ndarray, g: float, d: np.ndarray, x0: np.ndarray) -> float:
         """g's derivative along d, by a forward difference."""
@@ -226,7 +234,7 @@ class FoldCurve:
             arc = 0.0 if t is None else weighted_dot(t, y - y_pred, w)
             res = math.sqrt(weighted_dot(lin.F, lin.F, np.concatenate(
                 (Grid(1.0, self.n_delay).weights, [1.0]))) + arc * arc)
-            x0 = lin.phi1[:-1]
+            x0 = lin.null
             dg1 = self._dg(y, lin.g, lin.phi1, x0)
             curvature = dg1
             if res < CURVE_TOL and abs(lin.g) < G_TOL:
@@ -246,15 +254,14 @@ class FoldCurve:
                 y = y + lin.d0 + s1 * lin.phi1 + s2 * lin.phi2
             if y[self.size] <= 0:
                 raise OrbitError("the period left the positive range")
-        raise OrbitError(f"the fold curve's Newton did not converge at {self.names[0]} = "
+        raise OrbitError(f"the {self.what} curve's Newton did not converge at {self.names[0]} = "
                          f"{float(y[-2]):.6g}, {self.names[1]} = {float(y[-1]):.6g}")
 
     def _accept(self, y: np.ndarray, steps: int, curvature: float) -> CurvePoint:
         n = self.size
         _, shot, pm = self._F(y)
         _, null = self._g(y)
-        v = null[:n + 1]
-        self.c = v / math.sqrt(weighted_dot(v, v, np.concatenate((pm.g.weights, [1.0]))))
+        self.c = self._border(null, pm)
         self.z_ref, self.zdot_ref = y[:n].copy(), shot.d_dT.copy()
         m_y = shot.traj[1, self.n_delay:shot.col + 1]
         point = CurvePoint(float(y[-2]), float(y[-1]), float(y[n]), float(np.ptp(m_y)),
@@ -262,6 +269,11 @@ class FoldCurve:
         self.y = y
         self.points.append(point)
         return point
+
+    def _border(self, null: np.ndarray, pm: PeriodMap) -> np.ndarray:
+        """The next border: the null vector (v of the bordered solution), unit."""
+        v = null[:self.size + 1]
+        return v / math.sqrt(weighted_dot(v, v, np.concatenate((pm.g.weights, [1.0]))))
 
     def first(self) -> CurvePoint:
         """The fold at the start's q: Newton from the start with q fixed."""
@@ -280,7 +292,7 @@ class FoldCurve:
             except (OrbitError, ParameterError, np.linalg.LinAlgError) as exc:
                 self.h *= 0.5
                 if self.h < min_step:
-                    raise OrbitError(f"the fold curve could not be continued past "
+                    raise OrbitError(f"the {self.what} curve could not be continued past "
                                      f"{self.names[0]} = {float(self.y[-2]):.6g}, "
                                      f"{self.names[1]} = {float(self.y[-1]):.6g}: {exc}") from None
         step = y - self.y
@@ -296,7 +308,7 @@ class FoldCurve:
         d = s1 phi1 + s2 phi2 with Dg.d = 0, oriented by ``direction``."""
         lin = self._linear(self.y, True)
         assert lin.phi2 is not None
-        x0 = lin.phi1[:-1]
+        x0 = lin.null
         dg1 = self._dg(self.y, lin.g, lin.phi1, x0)
         dg2 = self._dg(self.y, lin.g, lin.phi2, x0)
         t = -dg2 * lin.phi1 + dg1 * lin.phi2
