@@ -138,10 +138,11 @@ Corrector = Callable[[float, np.ndarray, float], Orbit]
 
 
 def locate(at: Corrector, a: Orbit, b: Orbit, mu_a: complex, mu_b: complex
-           ) -> tuple[float, float, complex]:
+           ) -> tuple[float, float, complex, float]:
     """The parameter where the multiplier followed from mu_a (at a) to mu_b (at b) has
     |mu| = 1: regula falsi (Illinois) on |mu| - 1, each evaluation an orbit corrected at
-    the secant's root from the nearer end's state. Returns (value, period, mu)."""
+    the secant's root from the nearer end's state. Returns (value, period, mu, the last
+    bracket's length) at the evaluated orbit nearest the circle."""
     lo, hi = (a, abs(mu_a) - 1.0, mu_a), (b, abs(mu_b) - 1.0, mu_b)
     side = 0
     scale = max(1.0, abs(a.value))
@@ -172,7 +173,7 @@ def locate(at: Corrector, a: Orbit, b: Orbit, mu_a: complex, mu_b: complex
                 lo = (lo[0], lo[1] / 2, lo[2])
             side = 1
     o, _, mu = best
-    return o.value, o.period, mu
+    return float(o.value), float(o.period), mu, abs(hi[0].value - lo[0].value)
 
 
 def kind_of(mu: complex, u: float) -> str:
@@ -222,11 +223,13 @@ def judge(at: Corrector, a: Orbit, b: Orbit, ua: Callable[[complex], float],
         return Verdict("undetermined", *rough, mu_b, reason=(
             f"{figures}: not beyond {CLEAR:g} uncertainties on both sides"))
     try:
-        value, period, mu = locate(at, a, b, mu_a, mu_b)
+        value, period, mu, bracket = locate(at, a, b, mu_a, mu_b)
     except OrbitError as exc:
         return Verdict("undetermined", *rough, mu_b, reason=f"{figures}; located by no orbit: {exc}")
-    return Verdict(kind_of(mu, max(ua_, ub_)), value, period, mu, reason=figures + resonance(mu))
+    located = f"; located within {bracket:.1e}, where |mu| - 1 = {abs(mu) - 1:+.1e}"
+    return Verdict(kind_of(mu, max(ua_, ub_)), value, period, mu,
+                   reason=figures + located + resonance(mu))
 
 
-__all__ = ["CLEAR", "LOCATE_TOL", "Orbit", "Verdict", "corrected", "crossing_multiplier", "halved",
+__all__ = ["CLEAR", "LOCATE_TOL", "Corrector", "Orbit", "Verdict", "corrected", "crossing_multiplier", "halved",
            "judge", "uncertainty"]
