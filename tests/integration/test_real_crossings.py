@@ -9,10 +9,13 @@ N = 3: tori at 16.3, 17.95, 18.5). These are now undetermined, with the figures.
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from core.branch_start import MIN_STEP, BranchSpec, past_end, start
+from core.branch_switch import half_shift, period_doubled
 from core.continuation import bifurcations, walk
+from core.orbit_seed import simulate_from
 from core.params import Params
 
 
@@ -42,3 +45,88 @@ def test_the_upper_hopf_branches_mark_no_crossing_within_the_round_off(n):
         (torus,) = crossings
         assert torus.type == "torus" and abs(torus.value - 5.2567) < 1e-3
         assert abs(abs(torus.multiplier) - 1) < 1e-6 and "1:2 resonance" in torus.reason
+
+
+# --- a real period doubling, and the branch born there -----------------------------------
+#
+# b at tau = 2, k = 12 (a = 3.2, c = 4.8, d = 1e-4, v = 0.1), from the Hopf point at
+# b = 3.675: the orbit grows (amplitude 8.8 at b = 22.3, past eq. 12's b^2 < 4ac) and a
+# real multiplier runs from +0.07 at b = 22.300 to -1.02 at 22.3255: a period doubling at
+# b = 22.32519 (period 4.01147), undone at 22.33167, and another at 22.3460. At dt = 0.01
+# the orbit is not resolved there (the flow multiplier 4e-3 off 1, the crossing
+# multiplier moving by 0.19 under dt -> dt/2: undetermined); at dt = 0.0025 it is (1e-6,
+# and 6e-4 and 1.9e-3 against |mu| - 1 = -0.39 and +0.02 on the two sides).
+
+PD_DT = 0.0025
+
+
+@pytest.fixture(scope="module")
+def b_branch():
+    spec = BranchSpec(Params(tau=2.0, k=12.0), "b", PD_DT, True, 22.335, max_points=120)
+    branch, _ = start(spec)
+    for _ in walk(branch, lambda q: past_end(spec, branch.points[0].value, q), spec.max_points,
+                  MIN_STEP):
+        pass
+    return branch, bifurcations(branch)
+
+
+def test_a_period_doubling_is_found_and_located(b_branch):
+    _, found = b_branch
+    pds = [b for b in found if b.type == "period-doubling"]
+    assert [b.type for b in found if b.type not in ("period-doubling",)] == []
+    assert len(pds) == 2  # there and back: a bubble of period-doubled orbits
+    first, back = pds
+    assert abs(first.value - 22.32519) < 2e-5 and abs(first.period - 4.01147) < 1e-4
+    assert abs(first.multiplier + 1) < 1e-6
+    assert abs(back.value - 22.33167) < 5e-5
+    assert "located within" in first.reason
+
+
+def _maxima(p: Params, z, g, t_end: float) -> np.ndarray:
+    """The maxima of m_y (upper half of its range) over the last 60 time units of a direct
+    RK4 simulation from the reduced state z."""
+    traj = simulate_from(p, g, z, t_end)
+    my = traj[1, g.n_delay:]
+    late = my[-int(60 / g.dt):]
+    peak = (late[1:-1] > late[:-2]) & (late[1:-1] >= late[2:])
+    peak &= late[1:-1] > late.min() + 0.5 * np.ptp(late)
+    return late[1:-1][peak]
+
+
+def test_a_simulation_shows_the_simple_orbit_before_and_the_doubled_one_after(b_branch):
+    """Direct RK4 runs from the branch's orbit near b = 22.3255, at the same dt: 0.0012
+    before the period doubling the maxima of m_y are equal (to the 1e-5 of sampling them on
+    the grid), 0.0028 after it they alternate by 4.9e-4 (the period-doubled orbit, stable:
+    the simple one's multiplier is -1.23 there)."""
+    branch, found = b_branch
+    n = branch.g0.size
+    i = min(range(len(branch.points)), key=lambda j: abs(branch.points[j].value - 22.3255))
+    z = branch.states[i][0][:n]
+    pd = next(b for b in found if b.type == "period-doubling").value
+    before = _maxima(Params(tau=2.0, k=12.0, b=pd - 0.0012), z, branch.g0, 1500.0)
+    after = _maxima(Params(tau=2.0, k=12.0, b=pd + 0.0028), z, branch.g0, 1500.0)
+    assert np.ptp(before) < 5e-5
+    assert np.all(np.abs(np.diff(after)) > 3e-4)          # alternating heights
+    assert np.ptp(after[::2]) < 5e-5 and np.ptp(after[1::2]) < 5e-5
+
+
+def test_the_period_doubled_branch_leaves_the_doubled_orbit_as_a_square_root(b_branch):
+    """From the period doubling: orbits of period ~2T whose distance d to their own
+    half-period shift (0 on the old orbit traversed twice) grows as sqrt(b - b_PD) (a
+    log-log slope of 0.5 near the point, measured 0.45 over b - b_PD < 7e-4)."""
+    branch, found = b_branch
+    pd = next(b for b in found if b.type == "period-doubling")
+    new = period_doubled(branch, pd, step=0.02, max_step=0.05)
+    n = branch.g0.size
+    rows = []
+    for point in walk(new, lambda q: False, 7, MIN_STEP):
+        y, _ = new.states[-1]
+        rows.append((point.value - pd.value, point.period,
+                     half_shift(new.map_at(point.value), y[:n], point.period)))
+    assert all(abs(period / (2 * pd.period) - 1) < 2e-3 for _, period, _ in rows)
+    assert all(d > 1e-2 for _, _, d in rows)                # not the old orbit twice
+    grown = [(dp, d) for dp, _, d in rows[1:] if dp > 0]
+    assert len(grown) >= 4
+    slope = np.polyfit(np.log([dp for dp, _ in grown]), np.log([d for _, d in grown]), 1)[0]
+    assert 0.4 < slope < 0.6
+    assert new.points[1].stable  # supercritical: the simulation's doubled orbit
