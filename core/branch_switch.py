@@ -13,6 +13,7 @@ branch has left it (``half_shift``).
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -36,7 +37,7 @@ def orbit_at(branch: Branch, value: float) -> tuple[PeriodMap, np.ndarray, float
     """The orbit of ``branch`` at parameter ``value``: corrected (parameter fixed) from the
     linear interpolation of the two walked points around it, or OrbitError if none are."""
     n = branch.g0.size
-    for (ya, _), (yb, _) in zip(branch.states[:-1], branch.states[1:], strict=True):
+    for (ya, _), (yb, _) in itertools.pairwise(branch.states):
         pa, pb = float(ya[-1]), float(yb[-1])
         if (pa - value) * (pb - value) <= 0 and pa != pb:
             s = (value - pa) / (pb - pa)

@@ -32,10 +32,13 @@ from core.shooting import correct
 
 #: A crossing is real when |mu| - 1 lies beyond CLEAR times its multiplier's uncertainty
 #: on both sides. The uncertainty is itself an estimate (one halving of dt), good to a
-#: factor of a few; 10 keeps a factor 3 misestimate from deciding. Measured (tau = 10):
-#: on the upper N = 2 and N = 3 Hopf branches |mu| - 1 of the multipliers near the roots
-#: of unity is 1e-6 to 1e-5 against uncertainties of (figures in docs/orbits.md); a
-#: transversal crossing moves |mu| - 1 by 1e-2 per step against ~1e-8.
+#: factor of a few; 10 keeps a factor-3 misestimate from deciding. Measured (tau = 10,
+#: dt = 0.01): on the upper N = 2 and N = 3 Hopf branches, past k = 10, |mu| - 1 of the
+#: multipliers near the roots of unity is 1e-6 to 2e-5 and changes by 1e-7 to 2.5e-5 under
+#: dt -> dt/2 (each side of a flip lies 0.3 to 30 uncertainties out, never both beyond
+#: 10); the clear crossings measured lie 50 to 1600 uncertainties out on each side (N = 2
+#: at k = 5.26, N = 3 at 9.86) and, for the period doubling at b = 22.3252 (tau = 2,
+#: dt = 0.0025), 670 and 10.5 (the next point: 0.23 against ~1e-2).
 CLEAR = 10.0
 #: The located point's tolerance in the parameter, and the most orbits corrected to reach
 #: it (regula falsi takes 6 to 12 on the crossings measured).
@@ -137,11 +140,12 @@ def uncertainty(pm: PeriodMap, z: np.ndarray, period: float, m: Multipliers, mu:
 Corrector = Callable[[float, np.ndarray, float], Orbit]
 
 
-def locate(at: Corrector, a: Orbit, b: Orbit, mu_a: complex, mu_b: complex
-           ) -> tuple[float, float, complex, float]:
+def locate(at: Corrector, a: Orbit, b: Orbit, mu_a: complex, mu_b: complex,
+           seed: Seed | None = None) -> tuple[float, float, complex, float]:
     """The parameter where the multiplier followed from mu_a (at a) to mu_b (at b) has
     |mu| = 1: regula falsi (Illinois) on |mu| - 1, each evaluation an orbit corrected at
-    the secant's root from the nearer end's state. Returns the root of the last bracket's
+    the secant's root from ``seed``'s guess (default: interpolated between the bracket's
+    ends). Returns the root of the last bracket's
     secant (value, period), the multiplier at the evaluated orbit nearest the circle, and
     the last bracket's length."""
     lo, hi = (a, abs(mu_a) - 1.0, mu_a), (b, abs(mu_b) - 1.0, mu_b)
@@ -154,9 +158,11 @@ def locate(at: Corrector, a: Orbit, b: Orbit, mu_a: complex, mu_b: complex
         s = fa / (fa - fb)
         s = min(max(s, 0.02), 0.98)  # keep the new orbit inside the bracket
         value = oa.value + s * (ob.value - oa.value)
-        seed = oa if s < 0.5 else ob
-        z = oa.z + s * (ob.z - oa.z) if oa.z.size == ob.z.size else seed.z
-        orbit = at(value, z, oa.period + s * (ob.period - oa.period))
+        if seed is None:
+            z, period = oa.z + s * (ob.z - oa.z), oa.period + s * (ob.period - oa.period)
+        else:
+            z, period = seed(value)
+        orbit = at(value, z, period)
         mu = nearest(orbit.multipliers, (lo[2] if s < 0.5 else hi[2]))
         f = abs(mu) - 1.0
         point = (orbit, f, mu)
@@ -206,11 +212,59 @@ def resonance(mu: complex) -> str:
     return ""
 
 
-def judge(at: Corrector, a: Orbit, b: Orbit, ua: Callable[[complex], float],
-          ub: Callable[[complex], float]) -> Verdict | None:
-    """The crossing between branch orbits a and b, if a multiplier changed sides: real
-    (located, typed) when |mu| - 1 is beyond CLEAR uncertainties (``ua``, ``ub``: the
-    uncertainty of a multiplier at a and at b) on both sides, else undetermined."""
+#: A side of a crossing that is not clear at its nearest branch point is looked at up to
+#: this many points farther along (on the same stretch: no fold between): a point may land
+#: next to a real crossing (b at tau = 2, dt = 0.0025: |mu| - 1 = +0.02 at b = 22.3255,
+#: 6 e-5 past the period doubling, uncertain by 1.9e-3; +0.23 a point later).
+WIDEN = 2
+
+#: The uncertainty of a multiplier of a branch orbit: (orbit, mu) -> error.
+Uncertainty = Callable[[Orbit, complex], float]
+#: A seed for the orbit at a parameter value: value -> (z, period).
+Seed = Callable[[float], tuple[np.ndarray, float]]
+
+
+@dataclass(frozen=True)
+class Side:
+    """One side of a crossing as judged: the orbit looked at last, the multiplier followed
+    there, its uncertainty, and whether it is clear of the circle."""
+
+    orbit: Orbit
+    mu: complex
+    error: float
+    clear: bool
+
+    def __str__(self) -> str:
+        return (f"{abs(self.mu) - 1:+.1e} at {self.orbit.value:.6g} (uncertain by "
+                f"{self.error:.1e})")
+
+
+def clear_side(side: list[Orbit], mu: complex, error: Uncertainty) -> Side:
+    """The nearest orbit of ``side`` (nearest the crossing first) where the multiplier
+    followed from ``mu`` is beyond CLEAR uncertainties from the circle, on the side it was
+    at the first; the last one looked at (not clear) if there is none."""
+    outside = abs(mu) > 1.0
+    judged = Side(side[0], mu, math.inf, False)
+    for k, orbit in enumerate(side):
+        if k:
+            mu = nearest(orbit.multipliers, mu)
+            if (abs(mu) > 1.0) != outside:
+                break
+        u = error(orbit, mu)
+        judged = Side(orbit, mu, u, abs(abs(mu) - 1.0) > CLEAR * u)
+        if judged.clear:
+            break
+    return judged
+
+
+def judge(at: Corrector, a_side: list[Orbit], b_side: list[Orbit], error: Uncertainty,
+          seed: Seed | None = None) -> Verdict | None:
+    """The crossing between branch orbits a = a_side[0] and b = b_side[0] (each side
+    nearest first, up to WIDEN more), if a multiplier changed sides from a to b: real
+    (located, typed) when |mu| - 1 is beyond CLEAR uncertainties (``error``) on both
+    sides, else undetermined. ``seed`` gives the orbit's first guess at a parameter value
+    (default: interpolated between the bracket's ends)."""
+    a, b = a_side[0], b_side[0]
     found = crossing_multiplier(a.multipliers, b.multipliers)
     if found is None:
         return None
@@ -218,20 +272,21 @@ def judge(at: Corrector, a: Orbit, b: Orbit, ua: Callable[[complex], float],
     ea, eb = abs(mu_a) - 1.0, abs(mu_b) - 1.0
     s = ea / (ea - eb)
     rough = (a.value + s * (b.value - a.value), a.period + s * (b.period - a.period))
-    ua_, ub_ = ua(mu_a), ub(mu_b)
-    figures = (f"|mu| - 1 = {ea:+.1e} at {a.value:.6g} and {eb:+.1e} at {b.value:.6g}, the "
-               f"multiplier's uncertainty {ua_:.1e} and {ub_:.1e} (its change under dt -> dt/2)")
-    if abs(ea) <= CLEAR * ua_ or abs(eb) <= CLEAR * ub_:
+    sa = clear_side(a_side[:WIDEN + 1], mu_a, error)
+    sb = clear_side(b_side[:WIDEN + 1], mu_b, error)
+    figures = f"|mu| - 1 = {sa} and {sb} (uncertainty: the change under dt -> dt/2)"
+    if not (sa.clear and sb.clear):
         return Verdict("undetermined", *rough, mu_b, reason=(
             f"{figures}: not beyond {CLEAR:g} uncertainties on both sides"))
     try:
-        value, period, mu, bracket = locate(at, a, b, mu_a, mu_b)
+        value, period, mu, bracket = locate(at, sa.orbit, sb.orbit, sa.mu, sb.mu, seed)
     except OrbitError as exc:
         return Verdict("undetermined", *rough, mu_b, reason=f"{figures}; located by no orbit: {exc}")
     located = f"; located within {bracket:.1e}, where |mu| - 1 = {abs(mu) - 1:+.1e}"
-    return Verdict(kind_of(mu, max(ua_, ub_)), value, period, mu,
+    return Verdict(kind_of(mu, max(sa.error, sb.error)), value, period, mu,
                    reason=figures + located + resonance(mu))
 
 
-__all__ = ["CLEAR", "LOCATE_TOL", "Corrector", "Orbit", "Verdict", "corrected", "crossing_multiplier", "halved",
-           "judge", "uncertainty"]
+__all__ = ["CLEAR", "LOCATE_TOL", "WIDEN", "Corrector", "Orbit", "Seed", "Side", "Uncertainty",
+           "Verdict", "clear_side", "corrected", "crossing_multiplier", "halved", "judge",
+           "kind_of", "locate", "resonance", "uncertainty"]

@@ -5,7 +5,9 @@ On the upper Hopf branches at tau = 10 (d = 1e-4) the N-slip orbits keep 2 (N - 
 multipliers within ~1e-5 of the N-th roots of unity, in nearly defective clusters whose
 moduli move by more than that under dt -> dt/2: the continuation used to mark a period
 doubling or a torus wherever the last digits flipped (N = 2: at k = 9.03, 9.53, 10.01;
-N = 3: tori at 16.3, 17.95, 18.5). These are now undetermined, with the figures."""
+N = 3: tori at 16.3, 17.95, 18.5), and a period doubling at k = 3.95 on N = 2 and a torus
+at 4.49 on N = 3 where the fold's own multiplier crossed +1. These are now undetermined,
+with the figures, or not marked at all."""
 
 from __future__ import annotations
 
@@ -28,23 +30,28 @@ def _branch(n: int):
     return branch
 
 
+#: The one clear crossing on each branch: the N = 2 pair near -1 enters the circle as a
+#: complex pair (|mu| - 1 = +6.8e-4 at k = 4.86, -9.1e-5 at 5.36, uncertain by 5e-7 and
+#: 6e-8), the N = 3 pairs near the cube roots of unity (+2.3e-5 at 9.78, -1.1e-4 at 10.78,
+#: uncertain by 2e-7 and 2e-6): tori next to the strong resonances 1:2 and 1:3.
+CLEAR_CROSSING = {2: (5.2567, "1:2"), 3: (9.8623, "1:3")}
+
+
 @pytest.mark.parametrize("n", [2, 3])
 def test_the_upper_hopf_branches_mark_no_crossing_within_the_round_off(n):
     found = bifurcations(_branch(n))
     kinds = [b.type for b in found]
     assert kinds.count("fold") == 1
     crossings = [b for b in found if b.type in ("period-doubling", "torus", "branch-point")]
-    # from k = 6 to 25 the near-neutral multipliers stay within 1e-4 of the circle
-    assert [b for b in crossings if b.value > 6.0] == []
+    (torus,) = crossings
+    value, resonance = CLEAR_CROSSING[n]
+    assert torus.type == "torus" and abs(torus.value - value) < 1e-3
+    assert abs(abs(torus.multiplier) - 1) < 1e-6 and f"{resonance} resonance" in torus.reason
+    # past it the near-neutral multipliers stay within ~1e-5 of the circle: every flip
+    # there is undetermined
     undetermined = [b for b in found if b.type == "undetermined"]
-    assert len(undetermined) >= 2
-    assert all(b.value > 6.0 and "dt -> dt/2" in b.reason for b in undetermined)
-    if n == 2:
-        # the pair near -1 does cross, clearly, as a complex pair next to the 1:2 resonance:
-        # |mu| - 1 = +6.8e-4 at k = 4.86 and -9.1e-5 at 5.36, uncertain by 5e-7 and 6e-8
-        (torus,) = crossings
-        assert torus.type == "torus" and abs(torus.value - 5.2567) < 1e-3
-        assert abs(abs(torus.multiplier) - 1) < 1e-6 and "1:2 resonance" in torus.reason
+    assert len(undetermined) >= 3
+    assert all(b.value > value and "dt -> dt/2" in b.reason for b in undetermined)
 
 
 # --- a real period doubling, and the branch born there -----------------------------------

@@ -59,7 +59,7 @@ def test_a_clear_crossing_is_located_to_the_tolerance(angle, kind):
     p0 = 1.234567891
     at = _line(p0, 0.05, angle)
     a, b = at(1.0, None, 0.0), at(1.5, None, 0.0)
-    v = judge(at, a, b, lambda m: 1e-8, lambda m: 1e-8)
+    v = judge(at, [a], [b], lambda o, m: 1e-8)
     assert v is not None and v.kind == kind
     assert abs(v.value - p0) < LOCATE_TOL
     assert abs(abs(v.multiplier) - 1) < 0.05 * LOCATE_TOL
@@ -75,20 +75,19 @@ def test_a_crossing_within_the_uncertainty_is_undetermined():
 
     a = Orbit(8.84, np.zeros(1), 5.27, Grid(0.01, 1), _m(-0.9999995, 0.73))
     b = Orbit(9.34, np.zeros(1), 5.26, Grid(0.01, 1), _m(-1.00000088, 0.73))
-    v = judge(at, a, b, lambda m: 2.7e-6, lambda m: 2.9e-6)
+    v = judge(at, [a], [b], lambda o, m: 2.7e-6 if o is a else 2.9e-6)
     assert v.kind == "undetermined"
-    assert "-5.0e-07" in v.reason and "+8.8e-07" in v.reason and "2.7e-06" in v.reason
+    assert "-5.0e-07 at 8.84 (uncertain by 2.7e-06)" in v.reason and "+8.8e-07" in v.reason
     assert 8.84 < v.value < 9.34
     # the same figures clear of CLEAR uncertainties are a real crossing
     at = _line(9.0, 1e-3, math.pi)
-    v = judge(at, at(8.84, None, 0.0), at(9.34, None, 0.0), lambda m: 1e-6 / CLEAR,
-              lambda m: 1e-6 / CLEAR)
+    v = judge(at, [at(8.84, None, 0.0)], [at(9.34, None, 0.0)], lambda o, m: 1e-6 / CLEAR)
     assert v.kind == "period-doubling" and abs(v.value - 9.0) < LOCATE_TOL
 
 
 def test_a_complex_pair_within_its_uncertainty_of_the_real_axis_is_not_a_torus():
     at = _line(1.2, 0.05, math.pi - 1e-7)
-    v = judge(at, at(1.0, None, 0.0), at(1.5, None, 0.0), lambda m: 1e-7, lambda m: 1e-7)
+    v = judge(at, [at(1.0, None, 0.0)], [at(1.5, None, 0.0)], lambda o, m: 1e-7)
     assert v.kind == "period-doubling"
 
 
@@ -113,3 +112,19 @@ def test_the_halved_state_samples_the_same_history():
     assert np.allclose(z2[4 + 1:104:2], np.sin(t))
     assert np.abs(z2[4:104] - np.sin(t2)).max() < 1e-7
     assert np.abs(z2[104:] - np.cos(t2)).max() < 1e-7
+
+
+def test_a_side_too_near_the_circle_is_judged_a_point_farther():
+    """The point after a real crossing can land next to it (b at tau = 2: +0.02 at 6e-5
+    past the period doubling, uncertain by 1.9e-3): the side is judged at the next point
+    (up to WIDEN), and the crossing located between the clear ends; a side whose next
+    point goes back across the circle stays undetermined."""
+    at = _line(1.2, 0.05, math.pi)
+    side_a = [at(1.0, None, 0.0)]
+    near, farther = at(1.2004, None, 0.0), at(1.3, None, 0.0)  # |mu| - 1 = 2e-5, 5e-3
+    v = judge(at, side_a, [near, farther], lambda o, m: 1e-5)
+    assert v.kind == "period-doubling" and abs(v.value - 1.2) < LOCATE_TOL
+    assert "+5.0e-03 at 1.3" in v.reason
+    assert judge(at, side_a, [near], lambda o, m: 1e-5).kind == "undetermined"
+    back = at(1.1, None, 0.0)  # inside again
+    assert judge(at, side_a, [near, back], lambda o, m: 1e-5).kind == "undetermined"
