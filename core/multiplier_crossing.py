@@ -272,8 +272,13 @@ def judge(at: Corrector, a_side: list[Orbit], b_side: list[Orbit], error: Uncert
     ea, eb = abs(mu_a) - 1.0, abs(mu_b) - 1.0
     s = ea / (ea - eb)
     rough = (a.value + s * (b.value - a.value), a.period + s * (b.period - a.period))
-    sa = clear_side(a_side[:WIDEN + 1], mu_a, error)
-    sb = clear_side(b_side[:WIDEN + 1], mu_b, error)
+    try:
+        sa = clear_side(a_side[:WIDEN + 1], mu_a, error)
+        sb = clear_side(b_side[:WIDEN + 1], mu_b, error)
+    except OrbitError as exc:
+        return Verdict("undetermined", *rough, mu_b, reason=(
+            f"|mu| - 1 = {ea:+.1e} at {a.value:.6g} and {eb:+.1e} at {b.value:.6g}; its "
+            f"uncertainty could not be measured (the orbit at dt/2: {exc})"))
     figures = f"|mu| - 1 = {sa} and {sb} (uncertainty: the change under dt -> dt/2)"
     if not (sa.clear and sb.clear):
         return Verdict("undetermined", *rough, mu_b, reason=(

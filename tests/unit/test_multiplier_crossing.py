@@ -20,7 +20,7 @@ from core.multiplier_crossing import (
     judge,
     resonance,
 )
-from core.orbit import Grid
+from core.orbit import Grid, OrbitError
 
 
 def _m(*others: complex) -> Multipliers:
@@ -128,3 +128,13 @@ def test_a_side_too_near_the_circle_is_judged_a_point_farther():
     assert judge(at, side_a, [near], lambda o, m: 1e-5).kind == "undetermined"
     back = at(1.1, None, 0.0)  # inside again
     assert judge(at, side_a, [near, back], lambda o, m: 1e-5).kind == "undetermined"
+
+
+def test_an_uncertainty_that_cannot_be_measured_leaves_the_crossing_undetermined():
+    at = _line(1.2, 0.05, math.pi)
+
+    def error(o: Orbit, mu: complex) -> float:
+        raise OrbitError("Newton did not converge")
+
+    v = judge(at, [at(1.0, None, 0.0)], [at(1.5, None, 0.0)], error)
+    assert v.kind == "undetermined" and "Newton did not converge" in v.reason
