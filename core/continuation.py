@@ -14,8 +14,10 @@ failed ones. Every point gets its Floquet multipliers (core.floquet); between tw
     - a complex pair crosses |mu| = 1: a torus (Neimark-Sacker);
     - a real multiplier crosses +1 while the parameter keeps its direction: a branch point,
 
-the last three located by linear interpolation of |mu| - 1 between the points. A branch
-whose amplitude vanishes has reached a Hopf point (reported as "hopf").
+the last three judged against the crossing multiplier's uncertainty and located on
+corrected orbits (core.multiplier_crossing), or "undetermined" where the crossing lies
+within that uncertainty. A branch whose amplitude vanishes has reached a Hopf point
+(reported as "hopf").
 
 A tau-continuation keeps N = tau / dt fixed and lets dt follow tau, so the state keeps its
 size.
@@ -23,14 +25,23 @@ size.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
 
-from core.floquet import UNIT_TOL, Multipliers, multipliers
+from core.floquet import Multipliers, multipliers
 from core.hopf_start import HopfPoint, hopf_point, small_orbit
+from core.multiplier_crossing import (
+    WIDEN,
+    Orbit,
+    corrected,
+    crossing_multiplier,
+    judge,
+    uncertainty,
+)
 from core.orbit import Grid, OrbitError, PeriodMap, Shot
 from core.params import ParameterError, Params
 from core.shooting import Solution, solve_krylov, weighted_dot
@@ -65,12 +76,15 @@ class BranchPoint:
 @dataclass(frozen=True)
 class Bifurcation:
     """A bifurcation located on a branch: its type (fold, period-doubling, torus,
-    branch-point, hopf), parameter value, period there, and the crossing multiplier."""
+    branch-point, hopf, or undetermined: a crossing within the multipliers' error),
+    parameter value, period there, the crossing multiplier, and for a multiplier's
+    crossing the figures that decided it (``reason``)."""
 
     type: str
     value: float
     period: float
     multiplier: complex
+    reason: str = ""
 
 
 def params_at(p: Params, name: str, value: float) -> Params:
@@ -244,28 +258,55 @@ def _fold_value(a: BranchPoint, b: BranchPoint, c: BranchPoint | None) -> tuple[
     return extreme.value, extreme.period
 
 
-def crossing(a: BranchPoint, b: BranchPoint) -> Bifurcation | None:
-    """A multiplier through the unit circle between two consecutive points, if any:
-    its type from where it crosses (see the module doc), located by interpolating
-    |mu| - 1 linearly in the parameter."""
-    ua, ub = a.multipliers.unstable_count, b.multipliers.unstable_count
-    if ua == ub:
+def _orbit(branch: Branch, i: int) -> Orbit:
+    y, _ = branch.states[i]
+    n = branch.g0.size
+    value = float(y[-1])
+    return Orbit(value, y[:n], float(y[n]), grid_at(branch.g0, params_at(branch.base, branch.name,
+                                                                           value), branch.name),
+                 branch.points[i].multipliers)
+
+
+def judged_crossing(branch: Branch, i: int, turns: set[int]) -> Bifurcation | None:
+    """A multiplier through the unit circle between points i - 1 and i, if any, judged
+    against its uncertainty and located on corrected orbits (core.multiplier_crossing):
+    a period doubling, torus or branch point where the crossing is real, "undetermined"
+    (with the reason) where it lies within the multipliers' error. Each side may be
+    judged up to WIDEN points farther, never across a fold (``turns``)."""
+    last = len(branch.points) - 1
+    before = [i - 1]
+    while len(before) <= WIDEN and before[-1] > 0 and before[-1] not in turns:
+        before.append(before[-1] - 1)
+    after = [i]
+    while len(after) <= WIDEN and after[-1] < last and after[-1] + 1 not in turns:
+        after.append(after[-1] + 1)
+    n = branch.g0.size
+    values = [float(y[-1]) for y, _ in branch.states]
+
+    def at(value: float, z: np.ndarray, period: float) -> Orbit:
+        orbit = corrected(branch.map_at(value), z, period)
+        return Orbit(value, orbit.z, orbit.period, orbit.grid, orbit.multipliers)
+
+    def error(o: Orbit, mu: complex) -> float:
+        return uncertainty(branch.map_at(o.value), o.z, o.period, o.multipliers, mu)
+
+    def seed(value: float) -> tuple[np.ndarray, float]:
+        """The branch's state interpolated between its two points around ``value``."""
+        span = sorted(before + after)
+        for j, k in itertools.pairwise(span):
+            if (values[j] - value) * (values[k] - value) <= 0 and values[j] != values[k]:
+                s = (value - values[j]) / (values[k] - values[j])
+                y = branch.states[j][0] + s * (branch.states[k][0] - branch.states[j][0])
+                return y[:n], float(y[n])
+        y = branch.states[i][0]
+        return y[:n], float(y[n])
+
+    verdict = judge(at, [_orbit(branch, j) for j in before], [_orbit(branch, j) for j in after],
+                    error, seed)
+    if verdict is None:
         return None
-    # the multiplier that crossed: the nontrivial one nearest the unit circle at b
-    mb = b.multipliers.nontrivial
-    mu = complex(mb[int(np.argmin(np.abs(np.abs(mb) - 1.0)))])
-    ma = a.multipliers.nontrivial
-    mu_a = complex(ma[int(np.argmin(np.abs(ma - mu)))])
-    s = (abs(mu_a) - 1.0) / ((abs(mu_a) - 1.0) - (abs(mu) - 1.0)) if abs(mu) != abs(mu_a) else 0.5
-    value = a.value + s * (b.value - a.value)
-    period = a.period + s * (b.period - a.period)
-    if abs(mu.imag) > 100 * UNIT_TOL:
-        kind = "torus"
-    elif mu.real < 0:
-        kind = "period-doubling"
-    else:
-        kind = "branch-point"  # through +1 while the parameter keeps its direction
-    return Bifurcation(kind, value, period, mu)
+    return Bifurcation(verdict.kind, verdict.value, verdict.period, verdict.multiplier,
+                       verdict.reason)
 
 
 #: The branch has reached the Hopf point when its amplitude (peak-to-peak m_y) falls below
@@ -407,16 +448,17 @@ def bifurcations(branch: Branch, min_step: float = 1e-9) -> list[Bifurcation]:
             value, period = locate_fold(branch, i, min_step)
             found.append((i, Bifurcation("fold", value, period, complex(1.0))))
             continue
-        bif = crossing(a, b)
-        if bif is None:
+        moved = crossing_multiplier(a.multipliers, b.multipliers)
+        if moved is None:
             continue
-        if bif.type == "branch-point" and (i - 1 in turns or i + 1 in turns):
-            continue  # the fold's own multiplier
-        found.append((i, bif))
+        if moved[1].real > 0 and (i - 1 in turns or i + 1 in turns):
+            continue  # the fold's own multiplier, through +1 beside the turn
+        if (bif := judged_crossing(branch, i, turns)) is not None:
+            found.append((i, bif))
     if at_hopf(points):
         found.append((len(points), _hopf_end(points[-2], points[-1])))
     return [b for _, b in sorted(found, key=lambda ib: ib[0])]
 
 
 __all__ = ["Bifurcation", "Branch", "BranchPoint", "bifurcations", "check_end", "criticality",
-           "crossing", "step", "walk"]
+           "judged_crossing", "step", "walk"]
