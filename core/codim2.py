@@ -10,6 +10,10 @@ found between two consecutive curve points:
     - fold-ns: a complex pair crosses it (a torus curve ends there);
     - resonance-1:1: a third multiplier reaches +1.
 
+Along a period-doubling curve (core.flip_continuation) the other multipliers are watched
+likewise, the flow's and the one at -1 left out: resonance-1:2 (a second through -1),
+flip-ns (a complex pair), fold-flip (one through +1).
+
 Multiplier crossings count only when the multiplier is off the circle by more than
 UNIT_MARGIN on both sides.
 """
@@ -48,11 +52,19 @@ class Codim2:
     note: str = ""
 
 
-def crossings(a: CurvePoint, b: CurvePoint, largest: float = 0.0) -> list[Codim2]:
-    """Codimension-two points between two consecutive curve points (see the module doc);
-    ``largest``: the largest amplitude on the curve (CUSP_AMPLITUDE)."""
+#: The kind of a multiplier crossing the circle along a curve of folds, or of period
+#: doublings: through -1, as a complex pair, through +1.
+KINDS = {"fold": ("fold-flip", "fold-ns", "resonance-1:1"),
+         "period-doubling": ("resonance-1:2", "flip-ns", "fold-flip")}
+
+
+def crossings(a: CurvePoint, b: CurvePoint, largest: float = 0.0, what: str = "fold"
+              ) -> list[Codim2]:
+    """Codimension-two points between two consecutive points of a curve of ``what`` (fold
+    or period-doubling; see the module doc); ``largest``: the largest amplitude on the curve
+    (CUSP_AMPLITUDE; a cusp is a fold curve's only)."""
     found: list[Codim2] = []
-    if a.curvature * b.curvature < 0:
+    if what == "fold" and a.curvature * b.curvature < 0:
         s = a.curvature / (a.curvature - b.curvature)
         if min(a.amplitude, b.amplitude) >= CUSP_AMPLITUDE * largest:
             found.append(_between("cusp", a, b, s, "the fold's quadratic coefficient vanishes"))
@@ -61,7 +73,9 @@ def crossings(a: CurvePoint, b: CurvePoint, largest: float = 0.0) -> list[Codim2
                 "the fold's quadratic coefficient changes sign where the fold degenerates "
                 f"towards the Hopf curve (amplitude {min(a.amplitude, b.amplitude):.3g}): "
                 "no cusp is claimed there")))
-    ma, mb = fold_others(a.multipliers), fold_others(b.multipliers)
+    others = fold_others if what == "fold" else flip_others
+    ma, mb = others(a.multipliers), others(b.multipliers)
+    at_minus_one, complex_pair, at_plus_one = KINDS[what]
     for mu_b in mb:
         if abs(abs(mu_b) - 1.0) < UNIT_MARGIN:
             continue
@@ -72,11 +86,11 @@ def crossings(a: CurvePoint, b: CurvePoint, largest: float = 0.0) -> list[Codim2
             continue
         s = (abs(mu_a) - 1.0) / ((abs(mu_a) - 1.0) - (abs(mu_b) - 1.0))
         if abs(mu_b.imag) > 1e-4:
-            kind = "fold-ns"
+            kind = complex_pair
         elif mu_b.real < 0:
-            kind = "fold-flip"
+            kind = at_minus_one
         else:
-            kind = "resonance-1:1"
+            kind = at_plus_one
         found.append(_between(kind, a, b, s, f"multiplier {mu_a:.6g} -> {mu_b:.6g}"))
     return found
 
@@ -86,6 +100,14 @@ def fold_others(m: Multipliers) -> np.ndarray:
     values = m.nontrivial
     if values.size:
         values = np.delete(values, int(np.argmin(np.abs(values - 1.0))))
+    return values
+
+
+def flip_others(m: Multipliers) -> np.ndarray:
+    """The multipliers but the flow's and the one at -1 a period doubling has."""
+    values = m.nontrivial
+    if values.size:
+        values = np.delete(values, int(np.argmin(np.abs(values + 1.0))))
     return values
 
 
@@ -100,7 +122,7 @@ def codim2_points(curve: FoldCurve) -> list[Codim2]:
     pts = curve.points
     largest = max((p.amplitude for p in pts), default=0.0)
     for a, b in itertools.pairwise(pts):
-        found.extend(crossings(a, b, largest))
+        found.extend(crossings(a, b, largest, curve.what))
     if curve.end.startswith("the amplitude vanished"):
         a, b = pts[-2], pts[-1]
         a2, b2 = a.amplitude ** 2, b.amplitude ** 2
@@ -110,4 +132,4 @@ def codim2_points(curve: FoldCurve) -> list[Codim2]:
     return found
 
 
-__all__ = ["Codim2", "codim2_points", "crossings", "fold_others"]
+__all__ = ["Codim2", "codim2_points", "crossings", "flip_others", "fold_others"]

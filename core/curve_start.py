@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from core.codim2 import Codim2, codim2_points
+from core.flip_continuation import FlipCurve, start_at_flip
 from core.floquet import Multipliers
 from core.fold_continuation import CurvePoint, FoldCurve, step
 from core.fold_start import start_at_fold
@@ -27,8 +28,8 @@ from core.lyapunov_coefficient import HopfCurvePoint, bautin, hopf_curve
 from core.orbit import Grid
 from core.params import Params
 
-#: The curves: from a fold of cycles, or the Hopf curve.
-STARTS = ("fold", "hopf")
+#: The curves: from a fold of cycles, the Hopf curve, from a period doubling.
+STARTS = ("fold", "hopf", "pd")
 #: Newton's last resort along a fold curve: a step shorter than this ends it.
 MIN_STEP = 1e-6
 
@@ -51,6 +52,9 @@ class CurveSpec:
     max_points: int
     max_step: float
     hopf_branch: int = 1
+    #: "pd": where the one-parameter branch from the Hopf point is followed to, at most,
+    #: looking for its first period doubling.
+    branch_end: float | None = None
 
 
 @dataclass(frozen=True)
@@ -154,6 +158,12 @@ def start(spec: CurveSpec) -> Walk:
     Raises OrbitError where there is no fold to start from."""
     if spec.start == "hopf":
         return HopfWalk(spec)
+    if spec.start == "pd":
+        if spec.branch_end is None:
+            raise ValueError("a period-doubling curve needs the branch's end (branch_end)")
+        return FoldWalk(spec, start_at_flip(spec.params, (spec.name, spec.second), spec.dt,
+                                            spec.branch_end, max_step=spec.max_step,
+                                            hopf_branch=spec.hopf_branch))
     curve = start_at_fold(spec.params, (spec.name, spec.second), spec.to, spec.dt,
                           max_step=spec.max_step, hopf_branch=spec.hopf_branch)
     return FoldWalk(spec, curve)
@@ -170,12 +180,14 @@ def resume(spec: CurveSpec, saved: list[SavedCurvePoint]) -> Walk:
     n_delay, dt0, direction = int(last.state[0]), float(last.state[1]), float(last.state[2])
     n = Grid(1.0, n_delay).size
     y = last.state[3:3 + n + 3].copy()
-    c = last.state[3 + n + 3:3 + n + 3 + n + 1].copy()
-    t = last.state[3 + 2 * n + 4:].copy()
     base = spec.params.with_(**{spec.name: float(y[-2]), spec.second: float(y[-1])})
-    curve = FoldCurve(base, (spec.name, spec.second), n_delay, dt0, y, c, y[:n].copy(),
-                      np.zeros(n), last.step, spec.max_step,
-                      t=None if np.isnan(t).any() else t, direction=direction)
+    kind = FlipCurve if spec.start == "pd" else FoldCurve
+    border = n if spec.start == "pd" else n + 1
+    c = last.state[3 + n + 3:3 + n + 3 + border].copy()
+    t = last.state[3 + n + 3 + border:].copy()
+    curve = kind(base, (spec.name, spec.second), n_delay, dt0, y, c, y[:n].copy(),
+                 np.zeros(n), last.step, spec.max_step,
+                 t=None if np.isnan(t).any() else t, direction=direction)
     _, shot, _ = curve._F(y)
     curve.zdot_ref = shot.d_dT.copy()
     curve.points = [CurvePoint(s.first, s.second, s.period, float(s.amplitude or 0.0),

@@ -338,7 +338,8 @@ def step(curve: FoldCurve, to: float, max_points: int, min_step: float = 1e-6
         curve.points.pop()
         point = curve._accept(*_fixed_at(curve, to))
         curve.end = f"reached {curve.names[1]} = {to:g}"
-    elif point.amplitude < BAUTIN_FRACTION * max(q.amplitude for q in curve.points):
+    elif curve.what == "fold" and \
+            point.amplitude < BAUTIN_FRACTION * max(q.amplitude for q in curve.points):
         curve.end = "the amplitude vanished: the fold curve reached the Hopf curve"
     return point
 

@@ -1,5 +1,5 @@
-"""Curves in two parameters as jobs: the fold of cycles and the Hopf curve, their points and
-their codimension-two points.
+"""Curves in two parameters as jobs: the fold of cycles, the Hopf curve and the period
+doubling, their points and their codimension-two points.
 
 Revision ID: 0016
 Revises: 0015
@@ -7,9 +7,9 @@ Create Date: 2026-12-03 23:30:00
 
 Only new tables (the runs, sweeps, continuations and hysteresis sweeps stored before are
 untouched):
-- ``curves``: what was asked (kind fold or hopf, the two parameters, the starting point,
-  dt, where param2 ends, the point budget, the largest step, the Hopf point it starts
-  from, the engine), the queue's
+- ``curves``: what was asked (kind fold, hopf or pd, the two parameters, the starting
+  point, dt, where param2 ends, the point budget, the largest step, the Hopf point it
+  starts from, where a pd curve's branch is followed to, the engine), the queue's
   columns as every job's, and why it ended; ids never reused (AUTOINCREMENT on SQLite, as
   0009 made the other job tables);
 - ``curve_points``: each point as computed, with what a resumption needs;
@@ -43,6 +43,7 @@ def upgrade() -> None:
         sa.Column("max_points", sa.Integer(), nullable=False),
         sa.Column("max_step", sa.Double(), nullable=False),
         sa.Column("hopf_branch", sa.Integer(), server_default="1", nullable=False),
+        sa.Column("branch_end", sa.Double(), nullable=True),
         sa.Column("engine", sa.String(length=16), nullable=False),
         sa.Column("end_reason", sa.Text(), nullable=True),
         sa.Column("n_points", sa.Integer(), server_default="0", nullable=False),
@@ -56,7 +57,7 @@ def upgrade() -> None:
         sa.Column("heartbeat_at", sa.DateTime(), nullable=True),
         sa.Column("finished_at", sa.DateTime(), nullable=True),
         sa.Column("error", sa.Text(), nullable=True),
-        sa.CheckConstraint("kind IN ('fold', 'hopf')", name=op.f("ck_curves_kind")),
+        sa.CheckConstraint("kind IN ('fold', 'hopf', 'pd')", name=op.f("ck_curves_kind")),
         sa.CheckConstraint("status IN ('queued', 'running', 'done', 'failed', 'cancelled')",
                            name=op.f("ck_curves_status")),
         sa.PrimaryKeyConstraint("id", name=op.f("pk_curves")),

@@ -69,13 +69,13 @@ def _submit(args: argparse.Namespace, spec: BranchSpec) -> int:
 
 
 def _curve(args: argparse.Namespace, params: Params, dt: float) -> int:
-    """A curve in two parameters (--param2), computed here."""
+    """A curve in two parameters (--param2), computed here or queued (--submit)."""
     start = ("fold" if args.from_fold is not None else "hopf" if args.from_hopf is not None else
              "pd" if args.from_pd else "ns" if args.from_ns else "")
     if not start:
         raise ParameterError("param2", args.param2, "given with --from-fold or --from-hopf")
     spec = curve_spec(params, dt, args.param, args.param2, start, args.to2, args.points,
-                      args.max_step, args.from_fold or args.from_hopf or 1)
+                      args.max_step, args.from_fold or args.from_hopf or 1, args.to)
     if args.submit:
         cid = submit_curve(open_db(args), spec)
         return say_queued(args.json, "curve", cid, f"slopetui curve {cid}")

@@ -42,7 +42,7 @@ def run_curve(args: argparse.Namespace, spec: CurveSpec) -> int:
         return 1
     points: list[dict[str, Any]] = []
     while (saved := walk.step()) is not None:
-        points.append(curve_record(spec.name, spec.second, saved))
+        points.append(curve_record(spec.name, spec.second, saved, spec.start))
         if not args.json:
             print_curve_point(spec.name, spec.second, points[-1])
     found = [codim2_record(spec.name, spec.second, c) for c in walk.found()]

@@ -10,7 +10,7 @@ from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
 from slopetui.provenance import computed_at
 from slopetui.sweeps.curve_records import curve_solver, print_codim2, print_curve_point
-from slopetui.sweeps.curves import StoredCurve, curve_of, listing
+from slopetui.sweeps.curves import CURVE_NAMES, StoredCurve, curve_of, listing
 
 
 class _Asked:
@@ -53,8 +53,8 @@ def _one(args: argparse.Namespace) -> int:
                          **computed_at(row, curve_solver(_Asked(curve)), row.engine,
                                        start=(curve.param, first))}))
         return 0
-    what = "fold of cycles" if row.kind == "fold" else "Hopf curve"
-    print(f"curve {curve.id}: the {what} in ({name}, {second}): {terminal_safe(row.status)}, "
+    what = CURVE_NAMES.get(str(row.kind), str(row.kind))
+    print(f"curve {curve.id}: the {terminal_safe(what)} in ({name}, {second}): {terminal_safe(row.status)}, "
           f"{row.n_points} points, {row.runtime_s:.1f} s")
     for point in curve.points:
         print_curve_point(curve.param, curve.second, point)

@@ -19,6 +19,7 @@ from slopetui.plots.branch_plot import BranchStyle
 from slopetui.plots.canvas import LegendEntry, Series, axis_label, message_block, render
 
 FOLD = BranchStyle("orange", "o", "fold of cycles")
+FLIP = BranchStyle("magenta", "o", "period doubling")
 SUBCRITICAL = BranchStyle("red", "+", "Hopf, l1 > 0")
 SUPERCRITICAL = BranchStyle("green", "-", "Hopf, l1 < 0")
 #: By codimension-two type (core.codim2, core.curve_start), in legend order.
@@ -27,6 +28,9 @@ CODIM2_STYLES: Mapping[str, BranchStyle] = MappingProxyType({
     "cusp": BranchStyle("cyan", "C", "cusp"),
     "fold-flip": BranchStyle("blue", "D", "fold-flip"),
     "fold-ns": BranchStyle("blue", "T", "fold-ns"),
+    "resonance-1:2": BranchStyle("default", "R", "resonance-1:2"),
+    "flip-ns": BranchStyle("blue", "T", "flip-ns"),
+    "undetermined": BranchStyle("default", "?", "undetermined"),
     "resonance-1:1": BranchStyle("default", "R", "resonance-1:1"),
 })
 OTHER = BranchStyle("default", "?", "other")
@@ -34,11 +38,12 @@ OTHER = BranchStyle("default", "?", "other")
 
 def render_curve(name: str, second: str, points: Sequence[Mapping[str, Any]],
                  found: Sequence[Mapping[str, Any]], *, title: str = "", width: int = 80,
-                 height: int = 24, color: bool = True) -> str:
+                 height: int = 24, color: bool = True, kind: str = "fold") -> str:
     """The curve's ``points`` (records keyed by ``name`` and ``second``, a Hopf point's
     with ``l1``) and its codimension-two points ``found`` (records with ``type`` and both
     parameters). Returns exactly ``height`` lines of at most ``width`` columns (a message
-    block with no point to draw); with ``color`` False, no ANSI escapes."""
+    block with no point to draw); with ``color`` False, no ANSI escapes. ``kind``: the
+    curve's (fold, hopf, pd), which names its points."""
     xs = np.array([_number(p.get(name)) for p in points], dtype=float)
     ys = np.array([_number(p.get(second)) for p in points], dtype=float)
     shown = np.isfinite(xs) & np.isfinite(ys)
@@ -49,7 +54,7 @@ def render_curve(name: str, second: str, points: Sequence[Mapping[str, Any]],
     l1 = np.array([_number(p.get("l1")) for p in points], dtype=float)
     series: list[Series] = []
     legend: list[LegendEntry] = []
-    groups = ((FOLD, shown & np.isnan(l1)), (SUBCRITICAL, shown & (l1 > 0)),
+    groups = ((FLIP if kind == "pd" else FOLD, shown & np.isnan(l1)), (SUBCRITICAL, shown & (l1 > 0)),
               (SUPERCRITICAL, shown & (l1 < 0)))
     for style, mask in groups:
         if mask.any():

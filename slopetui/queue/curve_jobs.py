@@ -56,7 +56,8 @@ def fields_of(spec: CurveSpec) -> dict[str, Any]:
     return {"kind": spec.start, "param": spec.name, "param2": spec.second,
             **{n: getattr(spec.params, n) for n in PARAM_NAMES}, "dt": spec.dt,
             "end_value": spec.to, "max_points": spec.max_points, "max_step": spec.max_step,
-            "hopf_branch": spec.hopf_branch, "engine": source_digest(), "status": "queued"}
+            "hopf_branch": spec.hopf_branch, "branch_end": spec.branch_end,
+            "engine": source_digest(), "status": "queued"}
 
 
 def submit(db: Database, spec: CurveSpec) -> int:
@@ -78,11 +79,16 @@ def spec_of(row: CurveRow) -> CurveSpec:
         raise ParameterError("kind", row.kind, " or ".join(STARTS))
     end = check_finite("end_value", row.end_value)
     params.with_(**{row.param2: end})  # raises ParameterError naming the parameter's range
+    branch_end = None
+    if row.kind == "pd":
+        if row.branch_end is None:
+            raise ParameterError("branch_end", None, "a value (the store holds NULL)")
+        branch_end = check_finite("branch_end", row.branch_end)
     return CurveSpec(params, row.param, row.param2, row.kind,
                      stored_inputs.orbit_step(params, row.dt), end,
                      stored_inputs.whole("max_points", row.max_points, 2),
                      check_positive("max_step", row.max_step),
-                     stored_inputs.whole("hopf_branch", row.hopf_branch, 1))
+                     stored_inputs.whole("hopf_branch", row.hopf_branch, 1), branch_end)
 
 
 def claim(db: Database, worker_id: str) -> CurveJob | None:

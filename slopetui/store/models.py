@@ -473,7 +473,8 @@ class Curve(LeasedJob, Base):
     __tablename__ = "curves"
 
     id: Mapped[int] = mapped_column(primary_key=True)
-    #: "fold" (the fold of cycles of the branch in ``param``) or "hopf" (the Hopf curve).
+    #: "fold" (the fold of cycles of the branch in ``param``), "hopf" (the Hopf curve) or
+    #: "pd" (the first period doubling of that branch up to ``branch_end``).
     kind: Mapped[str] = mapped_column(String(8))
     #: The parameter of the fold or Hopf point, and the one the curve follows it in.
     param: Mapped[str] = mapped_column(String(8))
@@ -495,6 +496,8 @@ class Curve(LeasedJob, Base):
     #: Which Hopf point the curve starts from (the n-th root pair's crossing): its Hopf
     #: curve, or the fold of the branch born there.
     hopf_branch: Mapped[int] = mapped_column(default=1, server_default="1")
+    #: A "pd" curve: where its branch is followed to, looking for the period doubling.
+    branch_end: Mapped[float | None] = mapped_column(Double)
     engine: Mapped[str] = mapped_column(String(16))
 
     # The queue: status, worker_id, attempts and the times from LeasedJob.
@@ -506,7 +509,7 @@ class Curve(LeasedJob, Base):
     runtime_s: Mapped[float] = mapped_column(Double, default=0.0, server_default="0")
 
     __table_args__ = LeasedJob.queue_args(
-        CheckConstraint(_one_of("kind", ("fold", "hopf")), name="kind"))
+        CheckConstraint(_one_of("kind", ("fold", "hopf", "pd")), name="kind"))
 
 
 class CurvePoint(Base):

@@ -17,26 +17,28 @@ def curve_solver(spec: Any) -> dict[str, Any]:
             "max_step": spec.max_step, "to2": spec.to}
 
 
-def curve_record(name: str, second: str, point: Any) -> dict[str, Any]:
+def curve_record(name: str, second: str, point: Any, kind: str = "fold") -> dict[str, Any]:
     """One point of the curve: both parameters by name and the period; a fold's amplitude
     (peak to peak of m_y) and its largest multiplier but the two a fold has at +1 (inside
     the circle: the fold's orbit is otherwise stable; its own stability changes there); a
-    Hopf point's l1 and criticality."""
+    Hopf point's l1 and criticality; a period doubling's like a fold's, its own multiplier
+    being the one at -1."""
     out: dict[str, Any] = {name: point.first, second: point.second, "period": point.period}
     if point.l1 is not None:
         out["l1"] = point.l1
         out["criticality"] = "supercritical" if point.l1 < 0 else "subcritical"
         return out
-    lead = leading_at_fold(point.multipliers)
+    lead = leading_other(point.multipliers, kind)
     out.update({"amplitude": point.amplitude, "leading_multiplier": [lead.real, lead.imag]})
     return out
 
 
-def leading_at_fold(m: Any) -> complex:
-    """The largest multiplier but the two a fold has at +1 (the flow's and the fold's)."""
-    from core.codim2 import fold_others  # numpy: module docstring
+def leading_other(m: Any, kind: str) -> complex:
+    """The largest multiplier but the bifurcation's own: a fold's two at +1 (the flow's and
+    the fold's), a period doubling's flow multiplier and -1."""
+    from core.codim2 import flip_others, fold_others  # numpy: module docstring
 
-    others = fold_others(m)
+    others = flip_others(m) if kind == "pd" else fold_others(m)
     return complex(others[0]) if others.size else 0j
 
 

@@ -25,26 +25,35 @@ if TYPE_CHECKING:
 #: (core.hopf_start: k, tau and the friction parameters a, b, c). A fold curve starts in any
 #: (core.fold_start reaches a fold in d or v along the fold surface from one in k).
 STARTS_IN = ("k", "tau", "a", "b", "c")
-#: The curves a request may start (core.curve_start.STARTS, not imported: numpy).
-STARTS = ("fold", "hopf")
+#: The curves a request may start (core.curve_start.STARTS, not imported: numpy); a torus
+#: curve ("ns") is refused with the reason.
+STARTS = ("fold", "hopf", "pd")
 #: The most Hopf-curve points: each is four corrected small orbits (~0.1 to 0.3 s).
 MAX_HOPF_POINTS = 400
 
 
 def curve_spec(params: Params, dt: float, param: str, param2: str, start: str,
-               to2: str | None, points: str, step: str, hopf_branch: int = 1) -> CurveSpec:
+               to2: str | None, points: str, step: str, hopf_branch: int = 1,
+               to: str | None = None) -> CurveSpec:
     """The request, checked: ParameterError naming the flag (param2, to2, from-..., points,
-    max-step) and what it allows."""
+    max-step, to) and what it allows. ``to``: a period-doubling curve's branch end (where
+    the branch from the Hopf point is followed to, looking for its period doubling)."""
     if param2 not in CONTINUABLE or param2 == param:
         raise ParameterError("param2", param2,
                              f"one of {', '.join(n for n in CONTINUABLE if n != param)}")
     if start not in STARTS:
-        raise ParameterError(f"from-{start}", "", "--from-fold or --from-hopf: a period-doubling "
-                             "or torus curve needs a crossing to start from, and this model has "
-                             "none known (docs/orbits.md)")
-    if start == "hopf" and param not in STARTS_IN:
+        raise ParameterError(f"from-{start}", "", "--from-fold, --from-hopf or --from-pd: a "
+                             "torus curve needs a torus to start from, and the tori this model "
+                             "has are born next to the 1:N resonances (docs/orbits.md)")
+    if start in ("hopf", "pd") and param not in STARTS_IN:
         raise ParameterError("param", param, f"one of {', '.join(STARTS_IN)} with --param2 "
-                             "--from-hopf (the curve of Hopf points in it)")
+                             f"--from-{start} (its branch starts at a Hopf point in it)")
+    branch_end = None
+    if start == "pd":
+        if to is None:
+            raise ParameterError("to", "", f"a value of {param}: how far the branch from the "
+                                 "Hopf point is followed, looking for its period doubling")
+        branch_end = number("to", to, params, param)
     if to2 is None:
         raise ParameterError("to2", "", f"a value of {param2} where the curve ends")
     end = number("to2", to2, params, param2)
@@ -52,11 +61,12 @@ def curve_spec(params: Params, dt: float, param: str, param2: str, start: str,
         raise ParameterError("to2", to2, f"a value other than the start, {param2} = {end:g}")
     if param2 == "tau" and end <= 0:
         raise ParameterError("to2", to2, "tau > 0: there is no Hopf point without a delay")
-    n = whole("points", points, 2, MAX_POINTS if start == "fold" else MAX_HOPF_POINTS)
+    n = whole("points", points, 2, MAX_HOPF_POINTS if start == "hopf" else MAX_POINTS)
     largest = max_step(step)
     from core.curve_start import CurveSpec, hopf_count  # numpy: module docstring
     if start == "hopf" and hopf_count(getattr(params, param2), end, largest) > n:
         raise ParameterError("max-step", step, f"at least {abs(end - getattr(params, param2)) / (n - 1):.4g} "
                              f"(the Hopf curve's {n} points, --points, span {param2} "
                              f"from {getattr(params, param2):g} to {end:g})")
-    return CurveSpec(params, param, param2, start, dt, end, n, largest, hopf_branch)
+    return CurveSpec(params, param, param2, start, dt, end, n, largest, hopf_branch,
+                     branch_end)

@@ -18,13 +18,18 @@ if TYPE_CHECKING:
     from core.curve_start import CurveSpec
 
 
+#: What each kind of curve is a curve of, in words.
+CURVE_NAMES = {"fold": "fold of cycles", "hopf": "Hopf curve", "pd": "period doubling"}
+
+
 @dataclass(frozen=True)
 class StoredCurve(StoredJob[CurveRow]):
     """A curve as stored: its row (parameters, status, why it ended), its points so far
     and, once done, its codimension-two points; records keyed by the parameters' names, as
     ``continue --param2 --json`` prints them."""
 
-    SUMMARY_KEYS = ("id", "kind", "param", "param2", "hopf_branch", "status", "dt", "end_value",
+    SUMMARY_KEYS = ("id", "kind", "param", "param2", "hopf_branch", "branch_end", "status", "dt",
+                    "end_value",
                     "max_points", "max_step", "end_reason", "n_points", "runtime_s", "error", "attempts",
                     "a", "b", "c", "d", "k", "v", "tau", "delta")
 
@@ -46,23 +51,25 @@ def listing(db: Database) -> list[StoredCurve]:
     return [StoredCurve(row, [], []) for row in curves.curves(db)]
 
 
-def point_record(name: str, second: str, p: CurvePointRow) -> dict[str, Any]:
+def point_record(name: str, second: str, p: CurvePointRow, kind: str = "fold"
+                 ) -> dict[str, Any]:
     """A stored point as ``continue --param2 --json`` prints a computed one (the largest
-    multiplier but the fold's two at +1 is read from the stored ones)."""
+    multiplier but the bifurcation's own, read from the stored ones)."""
     out: dict[str, Any] = {name: p.first, second: p.second, "period": p.period}
     if p.l1 is not None:
         return {**out, "l1": p.l1, "criticality": "supercritical" if p.l1 < 0 else "subcritical"}
-    lead = _leading(p)
+    lead = _leading(p, -1.0 if kind == "pd" else 1.0)
     return {**out, "amplitude": p.amplitude, "leading_multiplier": [lead.real, lead.imag]}
 
 
-def _leading(p: CurvePointRow) -> complex:
-    """The largest stored multiplier but the flow's and the one nearest +1 (the fold's)."""
+def _leading(p: CurvePointRow, own: float) -> complex:
+    """The largest stored multiplier but the flow's and the one nearest ``own`` (+1 a
+    fold's, -1 a period doubling's)."""
     values = [complex(re, im) for re, im in (p.multipliers or [])]
     if p.flow_index is not None and 0 <= p.flow_index < len(values):
         values.pop(p.flow_index)
     if values:
-        values.pop(min(range(len(values)), key=lambda i: abs(values[i] - 1.0)))
+        values.pop(min(range(len(values)), key=lambda i: abs(values[i] - own)))
     return max(values, key=abs) if values else 0j
 
 
@@ -72,7 +79,7 @@ def curve_of(db: Database, cid: int) -> StoredCurve | None:
     if row is None:
         return None
     name, second = row.param, row.param2
-    points = [point_record(name, second, p) for p in curves.points(db, cid)]
+    points = [point_record(name, second, p, row.kind) for p in curves.points(db, cid)]
     found = [{"type": b.type, name: b.first, second: b.second, "period": b.period,
               "note": b.note} for b in curves.bifurcations(db, cid)]
     return StoredCurve(row, points, found)

@@ -34,10 +34,14 @@ def declare(sub: argparse._SubParsersAction) -> None:
                        help="with --param2: the fold of cycles of the branch in --param born "
                             "at the N-th Hopf point (default 1), continued as a curve in "
                             "(--param, --param2)")
-    for kind, what in (("pd", "period-doubling"), ("ns", "torus (Neimark-Sacker)")):
-        start.add_argument(f"--from-{kind}", dest=f"from_{kind}", action="store_true",
-                           help=f"with --param2: a {what} curve (refused: no real crossing "
-                                "of this model is known to start from)")
+    start.add_argument("--from-pd", dest="from_pd", action="store_true",
+                       help="with --param2: the first period doubling on the branch in "
+                            "--param from the Hopf point, followed up to --to (real: the "
+                            "multiplier through -1 beyond its uncertainty), continued as a "
+                            "curve in (--param, --param2)")
+    start.add_argument("--from-ns", dest="from_ns", action="store_true",
+                       help="with --param2: a torus curve (refused: the tori of this model are "
+                            "born next to the 1:N resonances)")
     p.add_argument("--param2", choices=CONTINUABLE, metavar="Q",
                    help="a second parameter: continue a curve in (--param, Q) from "
                         "--from-fold (the fold of cycles, with its codimension-two points) or "

@@ -42,6 +42,7 @@ class CurveRow(LeasedRow):
     max_points: int
     max_step: float
     hopf_branch: int
+    branch_end: float | None
     engine: str
     end_reason: str | None
     n_points: int

@@ -26,7 +26,7 @@ from slopetui.plots.curve_plot import render_curve
 from slopetui.plots.hysteresis_plot import render_hysteresis
 from slopetui.sweeps.branch_records import BifurcationRecord
 from slopetui.sweeps.branches import ContinuationRow, StoredBranch, branch_of, listing, start_name
-from slopetui.sweeps.curves import StoredCurve, curve_of
+from slopetui.sweeps.curves import CURVE_NAMES, StoredCurve, curve_of
 from slopetui.sweeps.curves import listing as curve_listing
 from slopetui.sweeps.hysteresis_runs import (
     HysteresisRow,
@@ -207,13 +207,13 @@ def curve_detail(curve: StoredCurve) -> Text:
 
 def curve_renderer(curve: StoredCurve) -> Renderer:
     """Draws the curve in its plane at the PlotView's size (a pure function of records)."""
-    what = "fold of cycles" if curve.row.kind == "fold" else "Hopf curve"
-    title = f"curve {curve.id}: {what} in ({curve.param}, {curve.second})"
+    kind = str(curve.row.kind)
+    title = f"curve {curve.id}: {CURVE_NAMES.get(kind, kind)} in ({curve.param}, {curve.second})"
     points, found = list(curve.points), list(curve.bifurcations)
 
     def draw(width: int, height: int, color: bool) -> str:
         return render_curve(curve.param, curve.second, points, found, title=title,
-                            width=width, height=height, color=color)
+                            width=width, height=height, color=color, kind=kind)
     return draw
 
 

@@ -1,0 +1,141 @@
+"""The period doubling (flip) of cycles continued as a curve in two parameters, by the fold
+curve's machinery (core.fold_continuation) with its own test function.
+
+At a period doubling the monodromy dP/dz has the multiplier -1: dP/dz + I is singular,
+while the orbit's own Jacobian F_x stays regular. The test function g is the last unknown of
+
+    [ dP/dz + I   c ] [v]   [0]
+    [ c^T         0 ] [g] = [1]                               (minimally augmented)
+
+with c the flip eigenvector at the previous point (its left eigenvector is not orthogonal to
+it where -1 is simple, so the border is regular); g vanishes exactly where -1 is a
+multiplier. The orbit's rows are solved with F_x itself:
+
+    d0 = F_x^-1 (-F),   phi1 = (F_x^-1 (-F_p), 1, 0),   phi2 = (F_x^-1 (-F_q), 0, 1),
+
+and Newton, the steps and the resume are the fold curve's. Products with dP/dz only, as
+there. Its ``curvature`` is Dg.phi1: how fast the multiplier moves through -1 along p.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import ClassVar
+
+import numpy as np
+
+from core.branch_switch import flip_vector, orbit_at
+from core.continuation import judged_crossing
+from core.fold_continuation import BORDER_RTOL, FoldCurve, LinearParts
+from core.multiplier_crossing import crossing_multiplier
+from core.orbit import OrbitError, PeriodMap, Shot
+from core.params import Params
+from core.shooting import solve_krylov, weighted_dot
+
+
+class FlipCurve(FoldCurve):
+    """The period doubling in ``names[0]`` continued in ``names[1]``; ``c`` is the flip
+    eigenvector (the reduced state's size)."""
+
+    what: ClassVar[str] = "period-doubling"
+
+    def _orbit_solve(self, pm: PeriodMap, shot: Shot, rhs: np.ndarray) -> np.ndarray:
+        """F_x x = rhs for x = (dz, dT): the orbit's Jacobian with its phase row."""
+        n = self.size
+        w = np.concatenate((pm.g.weights, [1.0]))
+        sw = np.sqrt(w)
+
+        def apply(x: np.ndarray) -> np.ndarray:
+            d = x / sw
+            dz, dT = d[:n], d[n]
+            top = pm.tangent(shot, dz) - dz + shot.d_dT * dT
+            return np.concatenate((sw[:n] * top,
+                                   [weighted_dot(self.zdot_ref, dz, pm.g.weights)]))
+
+        x, _ = solve_krylov(apply, np.concatenate((sw[:n] * rhs[:n], rhs[n:])), BORDER_RTOL)
+        return x / sw
+
+    def _g(self, y: np.ndarray, x0: np.ndarray | None = None) -> tuple[float, np.ndarray]:
+        """g at y, and the bordered solution (v, g), v the flip eigenvector's estimate."""
+        n = self.size
+        _, shot, pm = self._F(y)
+        w = np.concatenate((pm.g.weights, [1.0]))
+        sw = np.sqrt(w)
+        c = self.c
+
+        def apply(x: np.ndarray) -> np.ndarray:
+            d = x / sw
+            v, gg = d[:n], d[n]
+            top = pm.tangent(shot, v) + v + c * gg
+            return np.concatenate((sw[:n] * top, [weighted_dot(c, v, pm.g.weights)]))
+
+        rhs = np.zeros(n + 1)
+        rhs[-1] = 1.0
+        guess = None if x0 is None else x0 * sw
+        x, _ = solve_krylov(apply, rhs, BORDER_RTOL, x0=guess)
+        x = x / sw
+        return float(x[-1]), x
+
+    def _linear(self, y: np.ndarray, free_q: bool) -> LinearParts:
+        n = self.size
+        F, shot, pm = self._F(y)
+        d0 = np.concatenate((self._orbit_solve(pm, shot, -F), [0.0, 0.0]))
+        f_p = self._dF(y, n + 1)
+        phi1 = np.concatenate((self._orbit_solve(pm, shot, -f_p), [1.0, 0.0]))
+        phi2 = None
+        if free_q:
+            f_q = self._dF(y, n + 2)
+            phi2 = np.concatenate((self._orbit_solve(pm, shot, -f_q), [0.0, 1.0]))
+        g, null = self._g(y)
+        return LinearParts(F, g, d0, phi1, phi2, shot, null)
+
+    def _border(self, null: np.ndarray, pm: PeriodMap) -> np.ndarray:
+        v = null[:self.size]
+        return v / math.sqrt(weighted_dot(v, v, pm.g.weights))
+
+
+
+
+def start_at_flip(spec_params: Params, names: tuple[str, str], dt: float, end: float,
+                  step: float = 0.05, max_step: float = 0.5, hopf_branch: int = 1,
+                  max_points: int = 400, branch_step: float = 0.5) -> FlipCurve:
+    """The curve's start: the one-parameter branch in names[0] from the Hopf point at
+    ``spec_params`` walked towards ``end`` until a multiplier crosses -1 for real
+    (core.continuation.judged_crossing: beyond the multipliers' uncertainty, located on
+    corrected orbits), that orbit (core.branch_switch.orbit_at) with its flip eigenvector
+    as the border, corrected onto the period doubling with names[1] fixed. OrbitError when
+    the branch ends, or passes ``end``, with none."""
+    from core.branch_start import BranchSpec, past_end, start  # the one-parameter walk
+
+    name, second = names
+    spec = BranchSpec(spec_params, name, dt, True, end, max_points, branch_step, hopf_branch)
+    branch, _ = start(spec)
+    branch.first()
+    turns: set[int] = set()
+    for _ in range(max_points):
+        try:
+            point = branch.advance(1e-9)
+        except OrbitError as exc:
+            raise OrbitError(f"no period doubling on the branch in {name}: {exc}") from None
+        i = len(branch.points) - 1
+        if branch.points[i - 1].tangent_p * point.tangent_p < 0:
+            turns.add(i)
+        moved = crossing_multiplier(branch.points[i - 1].multipliers, point.multipliers)
+        if moved is not None and moved[1].real < 0 and abs(moved[1].imag) < 1e-6:
+            found = judged_crossing(branch, i, turns)
+            if found is not None and found.type == "period-doubling":
+                break
+        if past_end(spec, branch.points[0].value, point):
+            raise OrbitError(f"no period doubling on the branch in {name} up to {end:g}")
+    else:
+        raise OrbitError(f"no period doubling on the branch in {name} within {max_points} "
+                         "points")
+    pm, z, period, shot = orbit_at(branch, found.value)
+    _, v = flip_vector(pm, shot)
+    q = pm.p
+    y0 = np.concatenate((z, [period, found.value, getattr(q, second)]))
+    return FlipCurve(q, names, branch.g0.n_delay, pm.g.dt, y0, v, z.copy(), shot.d_dT.copy(),
+                     step, max_step)
+
+
+__all__ = ["FlipCurve", "start_at_flip"]
