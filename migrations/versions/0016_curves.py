@@ -15,7 +15,12 @@ untouched):
 - ``curve_points``: each point as computed, with what a resumption needs;
 - ``curve_bifurcations``: the codimension-two points of a finished curve.
 
-The downgrade drops the three tables: their curves are lost (downgrade_losses names them).
+New column of ``bifurcations``: ``reason`` (text, NULL for none): what decided a
+multiplier's crossing on a continuation's branch (real against its uncertainty, or
+undetermined); plain ADD COLUMN, in place on SQLite.
+
+The downgrade drops the three tables (their curves are lost) and the column (the reasons
+are lost; the bifurcations stay): downgrade_losses names both.
 """
 
 from __future__ import annotations
@@ -30,6 +35,7 @@ depends_on = None
 
 
 def upgrade() -> None:
+    op.add_column("bifurcations", sa.Column("reason", sa.Text(), nullable=True))
     op.create_table(
         "curves",
         sa.Column("id", sa.Integer(), nullable=False),
@@ -106,3 +112,4 @@ def downgrade() -> None:
     op.drop_table("curve_points")
     op.drop_index(op.f("ix_curves_status_id"), table_name="curves")
     op.drop_table("curves")
+    op.drop_column("bifurcations", "reason")

@@ -22,6 +22,7 @@ def print_bifurcations(param: str, found: Sequence[Mapping[str, Any]]) -> None:
         mu = b["multiplier"]
         print(f"{terminal_safe(b['type']):<16} {param} = {b['value']:.8g}, period {b['period']:.8g}"
               + (f", multiplier {mu[0]:+.6f}{mu[1]:+.6f}i"
-                 if b["type"] not in ("fold", "hopf") else ""))
+                 if b["type"] not in ("fold", "hopf") else "")
+              + (f"\n{'':<16} {terminal_safe(b['reason'])}" if b.get("reason") else ""))
     if not found:
         print("no bifurcation on this branch")

@@ -60,7 +60,7 @@ def _point_record(p: BranchPoint) -> dict[str, object]:
 
 
 def _bif_record(b: Bifurcation) -> dict[str, object]:
-    return bifurcation_record(b.type, b.value, b.period, b.multiplier)
+    return bifurcation_record(b.type, b.value, b.period, b.multiplier, b.reason)
 
 
 def _submit(args: argparse.Namespace, spec: BranchSpec) -> int:

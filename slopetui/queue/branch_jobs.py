@@ -131,7 +131,8 @@ def saved_of(row: SavedBranchPoint) -> SavedPoint:
 
 def bifurcation_fields(bif: Any) -> dict[str, Any]:
     return {"type": bif.type, "value": bif.value, "period": bif.period,
-            "mu_re": bif.multiplier.real, "mu_im": bif.multiplier.imag}
+            "mu_re": bif.multiplier.real, "mu_im": bif.multiplier.imag,
+            "reason": bif.reason or None}
 
 
 def _no_branch(error: BaseException) -> str | None:

@@ -342,12 +342,16 @@ class Bifurcation(Base):
     continuation_id: Mapped[int] = mapped_column(
         ForeignKey("continuations.id", ondelete="CASCADE"), primary_key=True)
     idx: Mapped[int] = mapped_column(primary_key=True)
-    #: fold, period-doubling, torus, branch-point or hopf (core.continuation.Bifurcation).
+    #: fold, period-doubling, torus, branch-point, hopf or undetermined
+    #: (core.continuation.Bifurcation).
     type: Mapped[str] = mapped_column(String(16))
     value: Mapped[float] = mapped_column(Double)
     period: Mapped[float] = mapped_column(Double)
     mu_re: Mapped[float] = mapped_column(Double)
     mu_im: Mapped[float] = mapped_column(Double)
+    #: What decided a multiplier's crossing (its figures against its uncertainty); NULL for
+    #: a fold or a Hopf end, and for a branch stored before migration 0016.
+    reason: Mapped[str | None] = mapped_column(Text)
 
 
 class HysteresisSweep(LeasedJob, Base):

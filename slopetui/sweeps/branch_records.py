@@ -8,7 +8,8 @@ from typing import Any
 
 #: value, period, amplitude (peak to peak of m_y), stable, leading_multiplier [re, im].
 PointRecord = dict[str, Any]
-#: type, value, period, multiplier [re, im].
+#: type, value, period, multiplier [re, im], reason (what decided a multiplier's crossing,
+#: "" where nothing had to: a fold, a Hopf end).
 BifurcationRecord = dict[str, Any]
 
 
@@ -19,6 +20,6 @@ def point_record(value: float, period: float, amplitude: float, stable: bool,
 
 
 def bifurcation_record(kind: str, value: float, period: float,
-                       multiplier: complex) -> BifurcationRecord:
+                       multiplier: complex, reason: str | None = "") -> BifurcationRecord:
     return {"type": kind, "value": value, "period": period,
-            "multiplier": [multiplier.real, multiplier.imag]}
+            "multiplier": [multiplier.real, multiplier.imag], "reason": reason or ""}

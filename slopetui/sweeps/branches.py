@@ -61,6 +61,6 @@ def branch_of(db: Database, cid: int) -> StoredBranch | None:
     points = [point_record(p.value, p.period, p.amplitude, p.stable,
                            complex(p.leading_re, p.leading_im))
               for p in continuations.points(db, cid)]
-    bifs = [bifurcation_record(b.type, b.value, b.period, complex(b.mu_re, b.mu_im))
+    bifs = [bifurcation_record(b.type, b.value, b.period, complex(b.mu_re, b.mu_im), b.reason)
             for b in continuations.bifurcations(db, cid)]
     return StoredBranch(row, points, bifs)

@@ -191,3 +191,22 @@ def test_a_computed_continuation_names_the_engine_that_computed_it(store):
     assert continuations.save_point(store, other, "w1", _point(0), 0.1, engine="aaaaaaaaaaaaaaaa")
     assert continuations.finish(store, other, "w1", "end", None, 0.0, [], "bbbbbbbbbbbbbbbb")
     assert continuations.continuation(store, other).engine == MIXED_ENGINES
+
+
+def test_a_crossing_s_reason_is_stored_and_read_back(store):
+    """An undetermined crossing is stored with what decided it (migration 0016's column),
+    and `branch --json` reads it back as `continue --json` printed it."""
+    from core.continuation import Bifurcation
+
+    cid = branch_jobs.submit(store, SPEC)
+    continuations.claim(store, "w1")
+    assert continuations.save_point(store, cid, "w1", _point(0), 0.1)
+    why = "|mu| - 1 = 3e-7 beyond the circle, within its uncertainty 5e-6"
+    found = [Bifurcation("undetermined", 9.03, 5.0, complex(-1.0, 0.0), why),
+             Bifurcation("fold", 2.95, 5.5, complex(1.0, 0.0))]
+    assert continuations.finish(store, cid, "w1", "end", None, 0.0,
+                                [branch_jobs.bifurcation_fields(b) for b in found])
+    stored = branch_of(store, cid)
+    assert stored is not None
+    assert [(b["type"], b["reason"]) for b in stored.bifurcations] == [
+        ("undetermined", why), ("fold", "")]

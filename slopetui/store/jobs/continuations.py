@@ -88,6 +88,7 @@ class BifurcationRow:
     period: float
     mu_re: float
     mu_im: float
+    reason: str | None
 
 
 _JOBS = PointJobs(Continuation, BranchPoint, parent="continuation_id", counter="n_points",
