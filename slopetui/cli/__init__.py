@@ -28,7 +28,7 @@ from slopetui.store.url_text import holds_password
 #: order ``slopetui --help`` lists the commands (imported by name: bound here, `run` or
 #: `sql` would hide the handlers' modules of the same names).
 ARGUMENTS = ("run", "orbit", "roots", "continuation", "branch", "curve", "hysteresis", "submit", "example",
-             "status", "show", "figure", "runs", "control", "delete", "sql", "worker",
+             "rerun", "status", "show", "figure", "runs", "control", "delete", "sql", "worker",
              "workers", "db", "cluster", "nblock", "reproduce", "completion", "annotate",
              "compare")
 
@@ -43,6 +43,7 @@ HANDLERS = {
     "hysteresis": "slopetui.cli.hysteresis:handle",
     "submit": "slopetui.cli.submit:handle",
     "example": "slopetui.cli.example:handle",
+    "rerun": "slopetui.cli.rerun:handle",
     "status": "slopetui.cli.status:handle",
     "show": "slopetui.cli.show:handle",
     "figure": "slopetui.cli.figure:handle",
