@@ -4,9 +4,10 @@ for the faces to draw beside the exact Hopf curve (``render_sweep(fold=...)``).
 The curve is continued (core.fold_continuation): the fold of the branch from the Hopf point
 at the top tau of the sweep's axis, followed as a curve down to its bottom tau, or to the
 Bautin point where it ends on the Hopf curve (below it the Hopf point is supercritical and
-no band of bistability exists). At the defaults that is 9 s CPU from tau = 10 to 2, where
-the fold found tau by tau (core.fold_curve, one branch from the Hopf point each) took
-0.3-8 s a tau; a face still computes it on request, never on a redraw. Where the curve
+no band of bistability exists). At the defaults that is 6.4 s CPU from tau = 10 to 2 for 33
+points, where the fold found tau by tau (core.fold_curve, one branch from the Hopf point
+each) takes 0.8 s a tau (benchmarks/bench_fold_curve.py); a face still computes it on
+request, never on a redraw. Where the curve
 cannot start (no subcritical fold at the top tau) the fold is looked for tau by tau, as
 before. Planes with tau across (x) are not drawn: the sweeps and the paper put tau up the
 y axis.
