@@ -6,9 +6,9 @@ the stable steady state coexist: the outcome depends on the initial state, the p
 parameter (tau by default): at each value the branch is continued from the Hopf point
 (core.continuation.Branch.from_hopf) until the parameter turns, and the fold is located
 (core.continuation.locate_fold: the fold's minimally augmented system from the point before
-the turn). core.fold_continuation continues the fold as one curve instead: from tau = 10
-to 2, 33 points in 6.4 s CPU where nine of these take 7.2 s (benchmarks/bench_fold_curve.py). Each point is an independent continuation, so
-one failure leaves the others standing.
+the turn). Each point is an independent continuation, so one failure leaves the others
+standing. core.fold_continuation continues the fold as one curve instead: from tau = 10 to
+2, 33 points in 6.4 s CPU where nine of these take 7.2 s (benchmarks/bench_fold_curve.py).
 """
 
 from __future__ import annotations
