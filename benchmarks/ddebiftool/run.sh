@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Cross-check of slopetui's periodic-orbit continuation with DDE-BIFTOOL in GNU Octave.
-# Usage: DDEBIFTOOL=/path/to/DDE-Biftool bash run.sh [all|tau10|folds]   (needs: apt-get install octave)
-#    or: bash run.sh /path/to/DDE-Biftool [all|tau10|folds]
+# Usage: DDEBIFTOOL=/path/to/DDE-Biftool bash run.sh [all|tau10|folds|hopfcurve|pofoldcurve|threeslip]
+#    or: bash run.sh /path/to/DDE-Biftool [all|...]   (needs: apt-get install octave)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 if [[ $# -ge 1 && -d "$1" ]]; then export DDEBIFTOOL="$1"; shift; fi
@@ -21,4 +21,18 @@ if [[ "$what" == all || "$what" == folds ]]; then
   for spec in "2,8.0" "5,5.5" "20,5.0"; do
     oct "setup_path(); fold_tau(${spec},4,60)" 2>&1 | tee "fold_tau${spec%%,*}.log"
   done
+fi
+if [[ "$what" == all || "$what" == hopfcurve ]]; then
+  # first Hopf curve in (k, tau), l1 along it, the Bautin point; l1 checked on orbit amplitudes
+  octave --no-gui --quiet mfderi_check.m 2>&1 | tee mfderi_check.log
+  oct "hopf_curve(0.1,20)" 2>&1 | grep -v '^BR_CONTN' | tee hopf_curve.log
+  for spec in "0.5,35" "2,8.0" "10,4.0"; do oct "l1_check($spec)"; done 2>&1 \
+    | grep -v '^BR_CONTN' | tee l1_check.log
+fi
+if [[ "$what" == all || "$what" == pofoldcurve ]]; then
+  # fold of cycles continued in (k, tau) from tau = 10, down to 2 and up to 20
+  oct "pofold_curve(2,20)" 2>&1 | grep -v '^BR_CONTN' | tee pofold_curve.log
+fi
+if [[ "$what" == all || "$what" == threeslip ]]; then
+  oct "threeslip(60)" 2>&1 | tee threeslip.log
 fi
