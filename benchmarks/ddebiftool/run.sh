@@ -34,5 +34,10 @@ if [[ "$what" == all || "$what" == pofoldcurve ]]; then
   oct "pofold_curve(2,20)" 2>&1 | grep -v '^BR_CONTN' | tee pofold_curve.log
 fi
 if [[ "$what" == all || "$what" == threeslip ]]; then
-  oct "threeslip(60)" 2>&1 | tee threeslip.log
+  # the seed (Newton's starting guess only) is slopetui's 3-slip seed; it is tracked,
+  # rewrite it with the repository's venv: PYSEED=1 bash run.sh <dir> threeslip
+  if [[ -n "${PYSEED:-}" ]]; then
+    ../../.venv/bin/python write_seed.py 18 10 1e-6 3 threeslip_seed.txt
+  fi
+  for n in 60 120; do oct "threeslip($n)"; done 2>&1 | tee threeslip.log
 fi
