@@ -1,5 +1,5 @@
-function hopf_curve(tau_lo,tau_hi)
-%% The first Hopf curve in (k, tau) with its first Lyapunov coefficient,
+function hopf_curve(tau_lo,tau_hi,which)
+%% The first (which = 1) or second (which = 2) Hopf curve in (k, tau) with its first Lyapunov coefficient,
 % and the Bautin (generalised Hopf) points where l1 changes sign.
 % The curve is continued in (tau, k, c) from the Hopf point at tau = 2 (c is
 % the drift of the co-moving frame, slaved by the pinning z(0)=0; see
@@ -11,9 +11,16 @@ function hopf_curve(tau_lo,tau_hi)
 % differences (FD) as a check of slope_mfderi in place.
 if nargin<1, tau_lo=0.1; end
 if nargin<2, tau_hi=20; end
+if nargin<3, which=1; end
 setup_path(); addpath(fullfile(getenv('DDEBIFTOOL'),'ddebiftool_extra_nmfm'));
 t0=tic;
-[hopf,~,funcs,ip,hbr]=hopf_point(2,8.0);
+if which==1
+    [hopf,~,funcs,ip,hbr]=hopf_point(2,8.0);
+else
+    % the sweep from k = 6 to 66 at tau = 2 passes the first pair at 9.13 and the
+    % second at 19.97 (and a third near 40)
+    [hopf,~,funcs,ip,hbr]=hopf_point(2,6,true,which,60);
+end
 funcs.sys_mfderi=@slope_mfderi;
 funcs_fd=funcs; funcs_fd.sys_mfderi={};
 hbr.method.point.extra_condition=1;
@@ -26,7 +33,8 @@ hbr.parameter.max_step=[ip.tau,0.25;ip.k,2];
 curve=[];
 for dir=[-1,1]
     br=hbr; br.point=hopf;
-    [p2,ok]=hopf_at_tau(funcs,ip,hbr,hopf,2+dir*0.02);
+    % first step in tau: Newton (5 iterations) failed from 0.02 on the second curve
+    [p2,ok]=hopf_at_tau(funcs,ip,hbr,hopf,2+dir*0.02/which^2);
     if ~ok, error('second Hopf point failed'); end
     br.point(2)=p2;
     br=br_contn(funcs,br,400);
@@ -37,6 +45,7 @@ tau=arrayfun(@(p)p.parameter(ip.tau),curve); [tau,o]=sort(tau); curve=curve(o);
 k=arrayfun(@(p)p.parameter(ip.k),curve);
 om=arrayfun(@(p)abs(p.omega),curve);
 l1=arrayfun(@(p)slope_lyap(funcs,p),curve);
+if which>1, fprintf('HOPFCURVE below: the Hopf curve number %d\n',which); end
 fprintf('HOPFCURVE %d points, tau in [%.4g, %.4g], k in [%.4g, %.4g], %.0fs\n',...
     numel(curve),tau(1),tau(end),min(k),max(k),toc(t0));
 for i=1:numel(curve)
@@ -72,7 +81,7 @@ for tt=[0.5,0.6,0.7,1,2,5,10,20]
         l1fd,abs(l1fd/l1t-1),st.nmfm.L1,cond(ch_matrix(funcs,pt.x,pt.parameter,0)));
 end
 fprintf('RUNTIME hopf_curve %.0fs\n',toc(t0));
-save('-mat','hopf_curve_results.mat','curve','tau','k','om','l1');
+save('-mat',sprintf('hopf_curve%d_results.mat',which),'curve','tau','k','om','l1');
 end
 function l1=l1_at_tau(funcs,ip,hbr,curve,tau)
 [pt,ok]=hopf_at_tau(funcs,ip,hbr,curve,tau);

@@ -26,6 +26,7 @@ if [[ "$what" == all || "$what" == hopfcurve ]]; then
   # first Hopf curve in (k, tau), l1 along it, the Bautin point; l1 checked on orbit amplitudes
   octave --no-gui --quiet mfderi_check.m 2>&1 | tee mfderi_check.log
   oct "hopf_curve(0.1,20)" 2>&1 | grep -v '^BR_CONTN' | tee hopf_curve.log
+  oct "hopf_curve(0.3,20,2)" 2>&1 | grep -v '^BR_CONTN' | tee hopf2_curve.log
   for spec in "0.5,35" "2,8.0" "10,4.0"; do oct "l1_check($spec)"; done 2>&1 \
     | grep -v '^BR_CONTN' | tee l1_check.log
 fi
