@@ -1,4 +1,4 @@
-function l1_check(tau,kstart)
+function l1_check(tau,kstart,which,krange)
 %% Independent check of slope_lyap's l1: the amplitude of the periodic orbits
 % near the Hopf point. Normal form z' = (mu(k) + i omega) z + c1 z|z|^2 gives
 % orbits with |z|^2 = -mu'(k_H) (k-k_H) / Re(c1), and m_y(t) = 2 Re(z q_my e^{i omega t})
@@ -8,10 +8,12 @@ function l1_check(tau,kstart)
 % mu' = d Re(lambda)/dk comes from Delta(i omega) at equilibria corrected at
 % k_H +- h (dlambda/dk = -p dDelta/dk q with p Delta' q = 1). Only the
 % normalisation |q| = 1 is shared with slope_lyap; the nonlinear terms are
-% not used.
+% not used. which, krange: which Hopf crossing of the sweep in k (hopf_point.m).
+if nargin<3, which=1; end
+if nargin<4, krange=3; end
 setup_path(); addpath(fullfile(getenv('DDEBIFTOOL'),'ddebiftool_extra_nmfm'));
 t0=tic;
-[hopf,stbr,funcs,ip,hbr]=hopf_point(tau,kstart);
+[hopf,stbr,funcs,ip,hbr]=hopf_point(tau,kstart,true,which,krange);
 funcs.sys_mfderi=@slope_mfderi;
 [L1,~,info]=slope_lyap(funcs,hopf);
 kH=hopf.parameter(ip.k); om=info.omega; q=info.q; p=info.p;
@@ -56,7 +58,8 @@ use=find(abs(dk)>=1e-5); [~,o]=sort(abs(dk(use))); o=use(o(1:min(6,numel(o))));
 cf=polyfit(dk(o),est(o),1);
 fprintf('L1CHECK tau=%g l1 from amplitudes (k-k_H -> 0)=%.6e, normal form %.6e, rel.diff %.1e, orbits on the %s side (%s)  %.0fs\n',...
     tau,cf(2),L1,abs(cf(2)/L1-1),ifelse(mean(dk)>0,'k>k_H','k<k_H'),...
-    ifelse(sign(mup*mean(dk))>0,'where the equilibrium is unstable: supercritical','where the equilibrium is stable: subcritical'),toc(t0));
+    ifelse(sign(mup*mean(dk))>0,'where the crossing pair has Re(lambda) > 0: supercritical',...
+    'where the crossing pair has Re(lambda) < 0: subcritical'),toc(t0));
 end
 function r=ifelse(c,a,b)
 if c, r=a; else, r=b; end

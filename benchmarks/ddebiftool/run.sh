@@ -29,6 +29,7 @@ if [[ "$what" == all || "$what" == hopfcurve ]]; then
   oct "hopf_curve(0.3,20,2)" 2>&1 | grep -v '^BR_CONTN' | tee hopf2_curve.log
   for spec in "0.5,35" "2,8.0" "10,4.0"; do oct "l1_check($spec)"; done 2>&1 \
     | grep -v '^BR_CONTN' | tee l1_check.log
+  oct "l1_check(5,6,2,10)" 2>&1 | grep -v '^BR_CONTN' | tee l1_check2.log   # second Hopf curve
 fi
 if [[ "$what" == all || "$what" == pofoldcurve ]]; then
   # fold of cycles continued in (k, tau) from tau = 10, down to 2 and up to 20
