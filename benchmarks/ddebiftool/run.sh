@@ -34,6 +34,10 @@ fi
 if [[ "$what" == all || "$what" == pofoldcurve ]]; then
   # fold of cycles continued in (k, tau) from tau = 10, down to 2 and up to 20
   oct "pofold_curve(2,20)" 2>&1 | grep -v '^BR_CONTN' | tee pofold_curve.log
+  # and down to the Bautin point, where it meets the Hopf curve (needs hopfcurve's .mat)
+  oct "pofold_curve(0.6,10)" 2>&1 | grep -v '^BR_CONTN' | tee pofold_curve_low.log
+  oct "fold_meets_hopf('pofold_curve_0.6_10.mat','hopf_curve1_results.mat')" 2>&1 \
+    | grep -v '^BR_CONTN' | tee fold_meets_hopf.log
 fi
 if [[ "$what" == all || "$what" == threeslip ]]; then
   # the seed (Newton's starting guess only) is slopetui's 3-slip seed; it is tracked,
