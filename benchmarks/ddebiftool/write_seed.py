@@ -2,8 +2,8 @@
 
 The seed is core.orbit_seed.n_slip_seed, exactly as `slopetui orbit --slips N` builds it
 (RK4 dt = 0.01 from eq. 19, 3000 time units, one slip cycle tiled over the delay and
-integrated): Octave's own RK4 (simulate_seed.m) is too slow for the 3000 time units the
-unequal slip spacing needs. What is written is the seed integrated over one period T/n,
+integrated): an RK4 loop in Octave took 134 s for 600 time units on the shared machine,
+too slow for the 3000 the unequal slip spacing needs. What is written is the seed integrated over one period T/n,
 not slopetui's Newton-corrected orbit. Columns: t, m_x, m_y, s_x, s_y, u.
 
 Usage: .venv/bin/python benchmarks/ddebiftool/write_seed.py K TAU DELTA N OUT
