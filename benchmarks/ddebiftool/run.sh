@@ -38,6 +38,9 @@ if [[ "$what" == all || "$what" == pofoldcurve ]]; then
   oct "pofold_curve(0.6,10)" 2>&1 | grep -v '^BR_CONTN' | tee pofold_curve_low.log
   oct "fold_meets_hopf('pofold_curve_0.6_10.mat','hopf_curve1_results.mat')" 2>&1 \
     | grep -v '^BR_CONTN' | tee fold_meets_hopf.log
+  # mesh check on the curve's low part: the fold at tau = 1 on 60 and 120 intervals
+  for n in 60 120; do oct "setup_path(); fold_tau(1,13,4,$n)"; done 2>&1 \
+    | grep -v '^BR_CONTN' | tee fold_tau1_mesh.log
 fi
 if [[ "$what" == all || "$what" == threeslip ]]; then
   # the seed (Newton's starting guess only) is slopetui's 3-slip seed; it is tracked,
