@@ -23,8 +23,10 @@ symmetry and drops out of this reading, where the textbook formula for c1 would 
 solve with the singular Delta(0).
 
 Checked: the sign against the branches' stability on either side of the switch of
-criticality (tau = 0.6 supercritical, tau = 0.7 subcritical in k), and the Bautin point
-against DDE-BIFTOOL (benchmarks/ddebiftool).
+criticality (tau = 0.6 supercritical, tau = 0.7 subcritical in k); l1 and the Bautin point
+against DDE-BIFTOOL's normal form (benchmarks/ddebiftool; its stock nmfm_hopf divides by the
+singular Delta(0) too, so the harness solves the frequency-0 terms around the drift): l1 to
+5e-6 for tau <= 10, the Bautin point to 2.4e-6 in k and 1.9e-6 in tau.
 """
 
 from __future__ import annotations
@@ -41,8 +43,12 @@ from core.orbit import Shot
 from core.params import Params
 
 #: The orbits' amplitudes (of m_x along the critical eigenvector, core.hopf_start's
-#: small_orbit). Measured at tau = 10 in k: l1 from these four and from half of each
-#: agree to 2e-4 relative (the fit's r^6 remainder).
+#: small_orbit). Measured against DDE-BIFTOOL's normal form with exact multilinear forms
+#: (benchmarks/ddebiftool, Kuznetsov's normalisation as here): l1 within 5e-6 absolute and
+#: 2.3e-4 relative at tau = 0.5 to 10 on the first Hopf curve (1e-5 to 3e-5 relative but
+#: next to the Bautin point, where l1 is 0.02), 1e-3 relative at tau = 20. At tau = 10 twice these
+#: amplitudes moved l1 by 1.3e-3 (the fit's r^6 remainder) and half of them by 2.6e-3 (Newton's
+#: tolerance over the smaller p - p_H).
 AMPLITUDES = (0.0025, 0.005, 0.0075, 0.01)
 #: The relative step of the finite differences of the characteristic determinant.
 CHAR_STEP = 1e-6

@@ -9,6 +9,7 @@ import time
 from typing import TYPE_CHECKING
 
 from core.branch_start import MIN_STEP, past_end, start
+from core.branch_switch import half_shift, period_doubled
 from core.continuation import bifurcations, criticality, walk
 from core.lyapunov_coefficient import first_lyapunov
 from core.orbit import OrbitError
@@ -30,7 +31,7 @@ from slopetui.sweeps.curves import submit as submit_curve
 
 if TYPE_CHECKING:
     from core.branch_start import BranchSpec
-    from core.continuation import Bifurcation, BranchPoint
+    from core.continuation import Bifurcation, Branch, BranchPoint
 
 
 def _check(args: argparse.Namespace) -> None:
@@ -99,6 +100,10 @@ def handle(args: argparse.Namespace) -> int:
         print(f"slopetui continue: error: {exc}", file=sys.stderr)
         return 2
     if args.submit:
+        if args.switch_pd:
+            print("slopetui continue: error: switch-pd is computed here, not with --submit",
+                  file=sys.stderr)
+            return 2
         return _submit(args, spec)
     say_if_compiling("continue")
     t0 = time.process_time()
@@ -144,6 +149,8 @@ def handle(args: argparse.Namespace) -> int:
                                        f"{ly.l1:.3g} decides")
         critical = ly.criticality
         out["criticality"] = critical
+    if args.switch_pd:
+        out["doubled"] = _doubled(args, spec, branch, found)
     if quiet:
         print(json_text(out))
         return 0
@@ -153,4 +160,37 @@ def handle(args: argparse.Namespace) -> int:
               f"{hopf.omega:.10g}, period {hopf.period:.10g}; {critical} (l1 = "
               f"{out['l1']:.6g})")
     print_bifurcations(args.param, bif_records)
+    doubled = out.get("doubled")
+    if isinstance(doubled, dict):
+        print(f"period-doubled branch: {doubled['note']}")
+        for point in doubled["branch"]:
+            print_point(args.param, point)
+        if doubled["branch"]:
+            print(f"end: {doubled['end']}")
+            print_bifurcations(args.param, doubled["bifurcations"])
     return 0
+
+
+def _doubled(args: argparse.Namespace, spec: BranchSpec, branch: Branch,
+             found: list[Bifurcation]) -> dict[str, object]:
+    """The branch of period-2T orbits born at ``branch``'s first period doubling
+    (core.branch_switch), walked as the branch was; each point with ``half_shift``, its
+    distance from its own half-period shift (zero on the old orbit traversed twice)."""
+    pd = next((b for b in found if b.type == "period-doubling"), None)
+    if pd is None:
+        return {"note": "no period doubling on this branch to switch at", "branch": [],
+                "bifurcations": [], "end": ""}
+    try:
+        new = period_doubled(branch, pd)
+    except OrbitError as exc:
+        return {"note": f"no switch at {args.param} = {pd.value:.8g}: {exc}", "branch": [],
+                "bifurcations": [], "end": ""}
+    points = []
+    for point in walk(new, lambda q: past_end(spec, pd.value, q), spec.max_points, MIN_STEP):
+        record = _point_record(point)
+        pm = new.map_at(point.value)
+        record["half_shift"] = half_shift(pm, point.z, point.period)
+        points.append(record)
+    return {"note": f"switched at the period doubling {args.param} = {pd.value:.8g} "
+                    f"(period {pd.period:.8g})", "at": _bif_record(pd), "branch": points,
+            "bifurcations": [_bif_record(b) for b in bifurcations(new)], "end": new.end}

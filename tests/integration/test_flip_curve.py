@@ -42,3 +42,27 @@ def test_the_period_doubling_curve_keeps_a_multiplier_at_minus_one(capsys):
         assert np.min(np.abs(mu + 1.0)) < 1e-6, (p.first, p.second, mu)
         assert p.first == shown["b"]
     assert walk.found() == []
+
+
+def test_continue_switches_onto_the_period_doubled_branch(capsys):
+    """`continue --switch-pd`: at the branch's period doubling the orbits of twice the period
+    (period ~2T), which leave the old orbit traversed twice (their distance to their own
+    half-period shift grows from zero) and come back to it where the doubling is undone
+    (b = 22.33167: the bubble test_real_crossings.py finds)."""
+    assert main(["continue", "--param", "b", "--from-hopf", "--tau", "2", "--k", "12",
+                 "--to", "22.335", "--dt", "0.0025", "--points", "120", "--switch-pd",
+                 "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    pds = [b for b in rec["bifurcations"] if b["type"] == "period-doubling"]
+    doubled = rec["doubled"]
+    assert doubled["at"] == pds[0] and abs(pds[0]["value"] - 22.32519) < 2e-5
+    points = doubled["branch"]
+    assert len(points) > 5
+    assert abs(points[0]["period"] - 2 * pds[0]["period"]) < 1e-2
+    shifts = [p["half_shift"] for p in points]
+    assert shifts[0] < 0.1 and max(shifts) > 1.0  # it leaves the doubled orbit ...
+    top = shifts.index(max(shifts))
+    i = next(j for j in range(top, len(points)) if shifts[j] < 0.1 * max(shifts))
+    # ... and comes back to it between the last point away from it and the first near it
+    lo, hi = sorted((points[i - 1]["value"], points[i]["value"]))
+    assert lo - 1e-3 < 22.33167 < hi + 1e-3, (points[i - 1], points[i])

@@ -81,6 +81,19 @@ def test_l1_has_the_sign_of_the_branch_s_criticality():
         assert criticality(branch.points) == ly.criticality
 
 
+#: DDE-BIFTOOL's l1 on the first Hopf curve (benchmarks/ddebiftool/hopf_curve.log: its normal
+#: form with exact multilinear forms, the frequency-0 terms solved around the drift;
+#: Kuznetsov's normalisation, |q| = 1 over the five variables, as here) and its Bautin point.
+BIFTOOL_L1 = {0.6: -2.204670e-02, 2.0: 8.329209e-01, 10.0: 7.470152e-01}
+BIFTOOL_BAUTIN = (26.22480669, 0.64995021)
+
+
+@pytest.mark.parametrize("tau", sorted(BIFTOOL_L1))
+def test_l1_agrees_with_ddebiftool_s_normal_form(tau):
+    ly = first_lyapunov(Params().with_(tau=tau), "k")
+    assert abs(ly.l1 - BIFTOOL_L1[tau]) < 1e-5 + 1e-4 * abs(BIFTOOL_L1[tau])  # 5e-6, 2.5e-5 of 0.02
+
+
 def test_the_fold_curve_ends_at_the_bautin_point():
     """Continued below tau = 2 the fold curve's amplitude vanishes on the Hopf curve; where
     it ends (extrapolated in amplitude^2) is where l1 = 0 on the Hopf curve: two different
@@ -89,6 +102,8 @@ def test_the_fold_curve_ends_at_the_bautin_point():
     a, b = hopf_curve(p, ("k", "tau"), [0.6, 0.7])
     point = bautin(p, ("k", "tau"), a, b)
     assert abs(point.l1) < 1e-6
+    assert abs(point.first / BIFTOOL_BAUTIN[0] - 1) < 1e-5  # the issue's target: 1e-3
+    assert abs(point.second / BIFTOOL_BAUTIN[1] - 1) < 1e-5
     assert point.first == pytest.approx(hopf_k(point.second, p.F1), rel=1e-3)  # noise: 1e-4
     curve = start_at_fold(p.with_(tau=1.0), ("k", "tau"), 0.3)
     list(walk(curve, 0.3, 200))

@@ -56,6 +56,10 @@ def declare(sub: argparse._SubParsersAction) -> None:
                    help="at most N points (default 300, from 2 to 5000)")
     p.add_argument("--max-step", dest="max_step", default="0.5", metavar="X",
                    help=f"largest step along the branch (default 0.5, at most {MAX_STEP:g})")
+    p.add_argument("--switch-pd", dest="switch_pd", action="store_true",
+                   help="at the branch's first period doubling, switch onto the branch of "
+                        "orbits of twice the period born there and follow it too (the same "
+                        "--points and --to); computed here, not with --submit")
     p.add_argument("--submit", action="store_true",
                    help="queue the continuation for the workers (`slopetui worker`, the "
                         "application's pool) instead of computing it here; it is stored point "
