@@ -24,6 +24,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from core.branch_start import BranchSpec, past_end, start
 from core.branch_switch import flip_vector, orbit_at
 from core.continuation import judged_crossing
 from core.fold_continuation import BORDER_RTOL, FoldCurve, LinearParts
@@ -105,8 +106,6 @@ def start_at_flip(spec_params: Params, names: tuple[str, str], dt: float, end: f
     corrected orbits), that orbit (core.branch_switch.orbit_at) with its flip eigenvector
     as the border, corrected onto the period doubling with names[1] fixed. OrbitError when
     the branch ends, or passes ``end``, with none."""
-    from core.branch_start import BranchSpec, past_end, start  # the one-parameter walk
-
     name, second = names
     spec = BranchSpec(spec_params, name, dt, True, end, max_points, branch_step, hopf_branch)
     branch, _ = start(spec)

@@ -3,7 +3,8 @@
 (``--from-fold``) the fold curve with its codimension-two points (cusp, Bautin at its end
 on the Hopf curve, fold-flip, fold-torus, 1:1 resonance); from the Hopf point
 (``--from-hopf``) the Hopf curve with its first Lyapunov coefficient l1 and the Bautin
-points where l1 changes sign."""
+points where l1 changes sign; from a branch's first real period doubling (``--from-pd``)
+the period-doubling curve (resonance-1:2, flip-torus, fold-flip along it)."""
 
 from __future__ import annotations
 
