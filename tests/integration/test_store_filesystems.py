@@ -44,7 +44,9 @@ def test_a_read_only_file_system_is_named(tmpfs, capsys):
 
 
 def test_a_full_disk_is_named_and_nothing_is_half_written(tmpfs, capsys):
-    point = tmpfs("full", "size=200k")
+    # room for a new store (168 KiB at revision 0016, with its journal while it migrates)
+    # and not for 4000 runs
+    point = tmpfs("full", "size=400k")
     url = f"sqlite:///{point / 'x.db'}"
     assert main(["status", "--db", url]) == 0
     capsys.readouterr()

@@ -43,8 +43,8 @@ from slopetui.tui.widgets.steady_footer import SteadyFooter
 #: The bifurcations column is cut to this many characters, so the table fits 80 columns.
 FOUND_WIDTH = 24
 EMPTY_HINT = ("No continuations yet: c queues one (from the Hopf point or an orbit), h a "
-              "hysteresis sweep (slopetui continue --param2 ... --submit a curve in two "
-              "parameters); the pool computes them point by point.")
+              "hysteresis sweep; the pool computes them point by point. Curves in two "
+              "parameters, queued from the command line, show here too.")
 #: What is highlighted: ("branch", continuation id), ("hysteresis", sweep id) or
 #: ("curve", curve id).
 Selection = tuple[str, int]
