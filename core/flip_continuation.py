@@ -26,7 +26,7 @@ import numpy as np
 
 from core.branch_start import BranchSpec, past_end, start
 from core.branch_switch import flip_vector, orbit_at
-from core.continuation import judged_crossing
+from core.continuation import Bifurcation, Branch, judged_crossing
 from core.fold_continuation import BORDER_RTOL, FoldCurve, LinearParts
 from core.multiplier_crossing import crossing_multiplier
 from core.orbit import OrbitError, PeriodMap, Shot
@@ -100,13 +100,20 @@ class FlipCurve(FoldCurve):
 def start_at_flip(spec_params: Params, names: tuple[str, str], dt: float, end: float,
                   step: float = 0.05, max_step: float = 0.5, hopf_branch: int = 1,
                   max_points: int = 400, branch_step: float = 0.5) -> FlipCurve:
-    """The curve's start: the one-parameter branch in names[0] from the Hopf point at
-    ``spec_params`` walked towards ``end`` until a multiplier crosses -1 for real
+    """The curve's start: the first real period doubling on the branch in names[0] from
+    the Hopf point (``first_flip``), continued in names[1] (``flip_curve_at``)."""
+    branch, pd = first_flip(spec_params, names[0], dt, end, hopf_branch, max_points,
+                            branch_step)
+    return flip_curve_at(branch, pd, names[1], step, max_step)
+
+
+def first_flip(spec_params: Params, name: str, dt: float, end: float, hopf_branch: int = 1,
+               max_points: int = 400, branch_step: float = 0.5) -> tuple[Branch, Bifurcation]:
+    """The one-parameter branch in ``name`` from the Hopf point at ``spec_params`` walked
+    towards ``end`` (steps of at most ``branch_step``) until a multiplier crosses -1 for real
     (core.continuation.judged_crossing: beyond the multipliers' uncertainty, located on
-    corrected orbits), that orbit (core.branch_switch.orbit_at) with its flip eigenvector
-    as the border, corrected onto the period doubling with names[1] fixed. OrbitError when
-    the branch ends, or passes ``end``, with none."""
-    name, second = names
+    corrected orbits): the branch and that period doubling. OrbitError when the branch
+    ends, or passes ``end``, with none."""
     spec = BranchSpec(spec_params, name, dt, True, end, max_points, branch_step, hopf_branch)
     branch, _ = start(spec)
     branch.first()
@@ -123,18 +130,23 @@ def start_at_flip(spec_params: Params, names: tuple[str, str], dt: float, end: f
         if moved is not None and moved[1].real < 0 and abs(moved[1].imag) < 1e-6:
             found = judged_crossing(branch, i, turns)
             if found is not None and found.type == "period-doubling":
-                break
+                return branch, found
         if past_end(spec, branch.points[0].value, point):
             raise OrbitError(f"no period doubling on the branch in {name} up to {end:g}")
-    else:
-        raise OrbitError(f"no period doubling on the branch in {name} within {max_points} "
-                         "points")
-    pm, z, period, shot = orbit_at(branch, found.value)
+    raise OrbitError(f"no period doubling on the branch in {name} within {max_points} points")
+
+
+def flip_curve_at(branch: Branch, pd: Bifurcation, second: str, step: float = 0.05,
+                  max_step: float = 0.5) -> FlipCurve:
+    """The period doubling ``pd`` of ``branch`` as the start of its curve in (branch.name,
+    ``second``): its orbit (core.branch_switch.orbit_at) with the flip eigenvector as the
+    border; ``first()`` corrects it onto the period doubling with ``second`` fixed."""
+    pm, z, period, shot = orbit_at(branch, pd.value)
     _, v = flip_vector(pm, shot)
     q = pm.p
-    y0 = np.concatenate((z, [period, found.value, getattr(q, second)]))
-    return FlipCurve(q, names, branch.g0.n_delay, pm.g.dt, y0, v, z.copy(), shot.d_dT.copy(),
-                     step, max_step)
+    y0 = np.concatenate((z, [period, pd.value, getattr(q, second)]))
+    return FlipCurve(q, (branch.name, second), branch.g0.n_delay, pm.g.dt, y0, v, z.copy(),
+                     shot.d_dT.copy(), step, max_step)
 
 
-__all__ = ["FlipCurve", "start_at_flip"]
+__all__ = ["FlipCurve", "first_flip", "flip_curve_at", "start_at_flip"]

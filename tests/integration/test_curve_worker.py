@@ -75,8 +75,8 @@ def test_no_fold_to_start_from_fails_at_once_with_the_reason(store):
 
 
 #: ~0.15 s a point at tau = 10 after a first point of ~4 s; the two interruptions take
-#: about ten points, so 40 leave thirty to spare.
-POOLED = CurveSpec(Params(tau=10.0), "k", "tau", "fold", 0.01, 2.0, 40, 0.05)
+#: about ten points (5 saved, then 3 more), so 30 leave twenty to spare.
+POOLED = CurveSpec(Params(tau=10.0), "k", "tau", "fold", 0.01, 2.0, 30, 0.05)
 
 
 def test_a_curve_survives_kill_9_and_a_stop_and_finishes_once(tmp_path, db, db_url):

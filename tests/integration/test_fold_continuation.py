@@ -105,7 +105,7 @@ def test_the_fold_curve_ends_at_the_bautin_point():
     assert abs(point.first / BIFTOOL_BAUTIN[0] - 1) < 1e-5  # the target: 1e-3
     assert abs(point.second / BIFTOOL_BAUTIN[1] - 1) < 1e-5
     assert point.first == pytest.approx(hopf_k(point.second, p.F1), rel=1e-3)  # noise: 1e-4
-    curve = start_at_fold(p.with_(tau=1.0), ("k", "tau"), 0.3)
+    curve = start_at_fold(p.with_(tau=0.8), ("k", "tau"), 0.3)
     list(walk(curve, 0.3, 200))
     assert curve.end.startswith("the amplitude vanished")
     (end,) = [c for c in codim2_points(curve) if c.type == "bautin"]

@@ -12,6 +12,7 @@ with the figures, or not marked at all."""
 from __future__ import annotations
 
 import functools
+import itertools
 
 import numpy as np
 import pytest
@@ -192,3 +193,45 @@ def test_the_period_doubled_branch_leaves_the_doubled_orbit_as_a_square_root(b_b
     slope = np.polyfit(np.log([db for db, _ in grown]), np.log([d for _, d in grown]), 1)[0]
     assert 0.42 < slope < 0.55
     assert new.points[1].stable  # supercritical: the simulation's doubled orbit
+
+
+def test_the_period_doubling_continued_in_k_keeps_a_multiplier_at_minus_one(b_branch):
+    """The period doubling as a curve in (b, k) (core.flip_continuation), from the one this
+    branch locates by regula falsi on the multiplier: its first point, corrected by Newton
+    on the bordered test function instead, is the same period doubling, and at every point
+    the Floquet solver (ARPACK, apart from the bordered system) finds a multiplier at -1."""
+    from core.flip_continuation import flip_curve_at
+    from core.fold_continuation import walk as walk_curve
+
+    branch, found = b_branch
+    pd = next(b for b in found if b.type == "period-doubling")
+    curve = flip_curve_at(branch, pd, "k", max_step=0.05)
+    points = list(walk_curve(curve, 12.1, 20))
+    assert curve.end == "reached k = 12.1" and len(points) >= 3
+    assert abs(points[0].first - pd.value) < 1e-6 and points[0].second == 12.0
+    assert points[-1].second == 12.1
+    bs = [p.first for p in points]
+    assert all(a < b for a, b in itertools.pairwise(bs))  # b rises with k along it
+    for p in points:
+        assert np.min(np.abs(p.multipliers.nontrivial + 1.0)) < 1e-6, (p.first, p.second)
+        assert abs(p.period - pd.period) < 1e-2
+
+
+def test_continue_switch_pd_follows_the_doubled_branch(b_branch):
+    """What `continue --switch-pd` adds to its JSON (slopetui.cli.continuation._doubled), on
+    this branch: the period-2T orbits from its first period doubling, each with its
+    half-period shift, which grows from zero as the orbits leave the doubled old one."""
+    import argparse
+
+    from slopetui.cli.continuation import _doubled
+
+    branch, found = b_branch
+    spec = BranchSpec(Params(tau=2.0, k=12.0), "b", PD_DT, True, 22.335, max_points=12)
+    out = _doubled(argparse.Namespace(param="b"), spec, branch, found)
+    pd = next(b for b in found if b.type == "period-doubling")
+    assert out["at"]["value"] == pd.value and "switched at the period doubling" in out["note"]
+    points = out["branch"]
+    assert 3 <= len(points) <= 12
+    assert abs(points[0]["period"] - 2 * pd.period) < 1e-2
+    shifts = [p["half_shift"] for p in points]
+    assert shifts[0] < 0.1 < max(shifts)
