@@ -17,10 +17,13 @@ untouched):
 
 New column of ``bifurcations``: ``reason`` (text, NULL for none): what decided a
 multiplier's crossing on a continuation's branch (real against its uncertainty, or
-undetermined); plain ADD COLUMN, in place on SQLite.
+undetermined). New column of ``continuations``: ``l1`` (real, NULL for an orbit start and
+for the branches stored before): the first Lyapunov coefficient at the Hopf point, whose
+sign the criticality now is. Plain ADD COLUMNs, in place on SQLite.
 
-The downgrade drops the three tables (their curves are lost) and the column (the reasons
-are lost; the bifurcations stay): downgrade_losses names both.
+The downgrade drops the three tables (their curves are lost) and the columns (the reasons
+and the l1 values are lost; the bifurcations and continuations stay): downgrade_losses
+names them.
 """
 
 from __future__ import annotations
@@ -36,6 +39,7 @@ depends_on = None
 
 def upgrade() -> None:
     op.add_column("bifurcations", sa.Column("reason", sa.Text(), nullable=True))
+    op.add_column("continuations", sa.Column("l1", sa.Double(), nullable=True))
     op.create_table(
         "curves",
         sa.Column("id", sa.Integer(), nullable=False),
@@ -113,3 +117,4 @@ def downgrade() -> None:
     op.drop_index(op.f("ix_curves_status_id"), table_name="curves")
     op.drop_table("curves")
     op.drop_column("bifurcations", "reason")
+    op.drop_column("continuations", "l1")

@@ -84,7 +84,8 @@ def _one(args: argparse.Namespace) -> int:
     if row.hopf_value is not None:
         print(f"{hopf}: {param} = {row.hopf_value:.10g}, period "
               f"{row.hopf_period:.10g}" + (f"; {terminal_safe(row.criticality)}"
-                                              if row.criticality else ""))
+                                              if row.criticality else "")
+              + (f" (l1 = {row.l1:.6g})" if row.l1 is not None else ""))
     if row.status == "done":
         print(f"end: {terminal_safe(row.end_reason)}")
         print_bifurcations(param, branch.bifurcations)

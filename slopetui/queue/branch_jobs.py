@@ -146,7 +146,8 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
     """Compute the claimed continuation to its end, saving each point (see the module
     docstring for stops, aborts and errors)."""
     from core.branch_start import MIN_STEP, past_end, resume, start
-    from core.continuation import bifurcations, check_end, criticality, step
+    from core.continuation import bifurcations, check_end, step
+    from core.lyapunov_coefficient import first_lyapunov
     spec = job.spec
     rows = continuations.saved_points(db, job.id)
     try:  # in this thread: a point that cannot be read back would kill the worker
@@ -193,9 +194,15 @@ def compute(db: Database, wid: str, job: BranchJob, run: Runner, control: Stops,
     if (located := held.step(lambda: bifurcations(branch))) is None:
         return
     found, took = located
-    critical = criticality(branch.points) if spec.from_hopf else None
+    critical, l1 = None, None
+    if spec.from_hopf:  # the normal form decides, as `continue --json` says it
+        if (read := held.step(lambda: first_lyapunov(spec.params, spec.name, spec.dt,
+                                                     spec.hopf_branch))) is None:
+            return
+        ly, more = read
+        critical, l1, took = ly.criticality, ly.l1, took + more
     if continuations.finish(db, job.id, wid, branch.end, critical, spent + took,
-                            [bifurcation_fields(b) for b in found], engine_digest()):
+                            [bifurcation_fields(b) for b in found], engine_digest(), l1):
         log.info("continuation %d done: %d points, %s", job.id, len(branch.points),
                  ", ".join(f"{b.type} at {spec.name} = {b.value:.6g}" for b in found)
                  or "no bifurcation")

@@ -43,7 +43,8 @@ DROPS: dict[str, tuple[Dropped, ...]] = {
                      (Dropped("point", "points", "SELECT count(*) FROM curve_points"),
                       Dropped("codimension-two point", "codimension-two points",
                               "SELECT count(*) FROM curve_bifurcations"))),
-             _values("reason", "bifurcations", "reason IS NOT NULL AND reason <> ''")),
+             _values("reason", "bifurcations", "reason IS NOT NULL AND reason <> ''"),
+             _values("first Lyapunov coefficient", "continuations", "l1 IS NOT NULL")),
     # a continuation from a later Hopf point reads as one from the first: its points stay;
     # a queued or running one is failed first (an older worker would start at the first)
     "0015": (_values("Hopf point (a later one than the first)", "continuations",

@@ -297,6 +297,10 @@ class Continuation(LeasedJob, Base):
     hopf_value: Mapped[float | None] = mapped_column(Double)
     hopf_period: Mapped[float | None] = mapped_column(Double)
     criticality: Mapped[str | None] = mapped_column(String(16))
+    #: The first Lyapunov coefficient at the Hopf point (core.lyapunov_coefficient), whose
+    #: sign the criticality is; NULL for an orbit start, and for a branch stored before
+    #: migration 0016 (whose criticality was read from its first orbits).
+    l1: Mapped[float | None] = mapped_column(Double)
     end_reason: Mapped[str | None] = mapped_column(Text)
     n_points: Mapped[int] = mapped_column(default=0, server_default="0")
     runtime_s: Mapped[float] = mapped_column(Double, default=0.0, server_default="0")

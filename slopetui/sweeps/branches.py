@@ -28,7 +28,7 @@ class StoredBranch(StoredJob[ContinuationRow]):
     why it ended), its points so far and, once done, its bifurcations."""
 
     SUMMARY_KEYS = ("id", "param", "start", "hopf_branch", "status", "from_run", "dt", "end_value",
-                    "max_points", "max_step", "hopf_value", "hopf_period", "criticality",
+                    "max_points", "max_step", "hopf_value", "hopf_period", "criticality", "l1",
                     "end_reason", "n_points", "runtime_s", "error", "attempts", "a", "b", "c",
                     "d", "k", "v", "tau", "delta")
 

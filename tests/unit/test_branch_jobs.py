@@ -13,6 +13,7 @@ import pytest
 
 from core.branch_start import MIN_STEP, BranchSpec, past_end, resume, start
 from core.continuation import bifurcations, step
+from core.lyapunov_coefficient import first_lyapunov
 from core.params import Params
 from slopetui.queue import branch_jobs, registry
 from slopetui.store.jobs import continuations
@@ -116,8 +117,12 @@ def test_a_stopped_continuation_resumes_and_ends_as_an_uninterrupted_one(store, 
     branch_jobs.compute(store, "w2", job, inline, Never(), max_attempts=3)
     stored = branch_of(store, cid)
     assert stored is not None and stored.row.status == "done"
-    if hopf_branch == 1:  # (a later branch's orbits are born beside an unstable rest state)
-        assert stored.row.criticality == "subcritical"
+    # the worker reads the criticality from l1, as `continue --json` does: the 2nd Hopf
+    # point at tau = 2 is supercritical (l1 = -0.061: its orbits grow towards larger k),
+    # which its first orbits, born beside an already unstable rest state, did not say
+    local = first_lyapunov(spec.params, "k", spec.dt, hopf_branch)
+    assert stored.row.l1 == pytest.approx(local.l1, rel=1e-9)
+    assert stored.row.criticality == ("subcritical" if hopf_branch == 1 else "supercritical")
     assert stored.row.hopf_branch == hopf_branch
     got = [(p["value"], p["period"], p["amplitude"]) for p in stored.points]
     assert len(got) == len(reference) == SPEC.max_points

@@ -47,6 +47,7 @@ class ContinuationRow(LeasedRow):
     hopf_value: float | None
     hopf_period: float | None
     criticality: str | None
+    l1: float | None
     end_reason: str | None
     n_points: int
 
@@ -127,13 +128,13 @@ def save_point(db: Database, cid: int, worker_id: str, point: Mapping[str, Any],
 
 def finish(db: Database, cid: int, worker_id: str, end_reason: str, criticality: str | None,
            spent_s: float, bifurcations: Sequence[Mapping[str, Any]],
-           engine: str | None = None) -> bool:
+           engine: str | None = None, l1: float | None = None) -> bool:
     """Mark a held continuation done, with why its branch ended and the bifurcations found
     on it by a worker of ``engine`` (save_point). False if the lease was lost (nothing is
     written)."""
     with db.transaction() as s:
         if not _JOBS.mark_done(s, cid, worker_id, spent_s, engine, end_reason=end_reason,
-                               criticality=criticality):
+                               criticality=criticality, l1=l1):
             return False
         s.execute(delete(Bifurcation).where(Bifurcation.continuation_id == cid))
         for i, bif in enumerate(bifurcations):
