@@ -421,7 +421,7 @@ def _augmented_fold(branch: Branch, i: int) -> tuple[float, float]:
     curve = FoldCurve(q, (branch.name, other), branch.g0.n_delay, pm.g.dt,
                       np.concatenate((y, [getattr(q, other)])), border, y[:n].copy(),
                       shot.d_dT.copy(), 0.0, 0.0)
-    fold, _, _ = curve.correct(curve.y, None)
+    fold, _, _, _ = curve.correct(curve.y, None)
     values = [p.value for p in branch.points[max(i - 2, 0):i + 2]]
     reach = max(values) - min(values)
     value = float(fold[-2])

@@ -228,9 +228,11 @@ class FoldCurve:
 
     # -- one corrected point --
 
-    def correct(self, y_pred: np.ndarray, t: np.ndarray | None) -> tuple[np.ndarray, int, float]:
+    def correct(self, y_pred: np.ndarray, t: np.ndarray | None
+                ) -> tuple[np.ndarray, int, float, LinearParts]:
         """Newton on (F, g) from y_pred: with the arclength row along t, or with q fixed
-        (t None). Returns the point, the steps taken and Dg.phi1 there."""
+        (t None). Returns the point, the steps taken, Dg.phi1 there and the bordered solves
+        there (its shot and test function's solution, which accepting it reuses)."""
         y = y_pred.copy()
         w = self.weights()
         curvature = math.nan
@@ -243,7 +245,7 @@ class FoldCurve:
             dg1 = self._dg(y, lin.g, lin.phi1, x0)
             curvature = dg1
             if res < CURVE_TOL and abs(lin.g) < G_TOL:
-                return y, step, curvature
+                return y, step, curvature, lin
             if step == CURVE_NEWTON:
                 break
             dg0 = self._dg(y, lin.g, lin.d0, x0)
@@ -262,11 +264,13 @@ class FoldCurve:
         raise OrbitError(f"the {self.what} curve's Newton did not converge at {self.names[0]} = "
                          f"{float(y[-2]):.6g}, {self.names[1]} = {float(y[-1]):.6g}")
 
-    def _accept(self, y: np.ndarray, steps: int, curvature: float) -> CurvePoint:
+    def _accept(self, y: np.ndarray, steps: int, curvature: float,
+                lin: LinearParts) -> CurvePoint:
+        """Take the corrected point y (``lin``: correct's solves there): the next border
+        from its test function's solution, the phase reference, its multipliers."""
         n = self.size
-        _, shot, pm = self._F(y)
-        _, null = self._g(y)
-        self.c = self._border(null, pm)
+        shot, pm = lin.shot, self.map_at(y)
+        self.c = self._border(lin.null, pm)
         self.z_ref, self.zdot_ref = y[:n].copy(), shot.d_dT.copy()
         m_y = shot.traj[1, self.n_delay:shot.col + 1]
         point = CurvePoint(float(y[-2]), float(y[-1]), float(y[n]), float(np.ptp(m_y)),
@@ -282,8 +286,7 @@ class FoldCurve:
 
     def first(self) -> CurvePoint:
         """The fold at the start's q: Newton from the start with q fixed."""
-        y, steps, curvature = self.correct(self.y, None)
-        return self._accept(y, steps, curvature)
+        return self._accept(*self.correct(self.y, None))
 
     def advance(self, min_step: float) -> CurvePoint:
         """The next point along the curve (shrinking the step until Newton converges)."""
@@ -292,7 +295,7 @@ class FoldCurve:
         while True:
             y_pred = self.y + self.h * self.t
             try:
-                y, steps, curvature = self.correct(y_pred, self.t)
+                y, steps, curvature, lin = self.correct(y_pred, self.t)
                 break
             except (OrbitError, ParameterError, np.linalg.LinAlgError) as exc:
                 self.h *= 0.5
@@ -306,7 +309,7 @@ class FoldCurve:
             self.h = min(self.h * GROW, self.max_step)
         elif steps >= HARD:
             self.h *= 0.5
-        return self._accept(y, steps, curvature)
+        return self._accept(y, steps, curvature, lin)
 
     def _first_tangent(self) -> np.ndarray:
         """The curve's direction at the first point: the null vector of (F, g)'s Jacobian,
@@ -356,7 +359,7 @@ def walk(curve: FoldCurve, to: float, max_points: int, min_step: float = 1e-6
         yield point
 
 
-def _fixed_at(curve: FoldCurve, to: float) -> tuple[np.ndarray, int, float]:
+def _fixed_at(curve: FoldCurve, to: float) -> tuple[np.ndarray, int, float, LinearParts]:
     """The fold at names[1] = to exactly, from the last step's chord back to ``to``."""
     y = curve.y.copy()
     if curve.t is not None and curve.t[-1] != 0.0:
