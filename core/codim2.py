@@ -73,8 +73,7 @@ def crossings(a: CurvePoint, b: CurvePoint, largest: float = 0.0, what: str = "f
                 "the fold's quadratic coefficient changes sign where the fold degenerates "
                 f"towards the Hopf curve (amplitude {min(a.amplitude, b.amplitude):.3g}): "
                 "no cusp is claimed there")))
-    others = fold_others if what == "fold" else flip_others
-    ma, mb = others(a.multipliers), others(b.multipliers)
+    ma, mb = others(a.multipliers, what), others(b.multipliers, what)
     at_minus_one, complex_pair, at_plus_one = KINDS[what]
     for mu_b in mb:
         if abs(abs(mu_b) - 1.0) < UNIT_MARGIN:
@@ -95,19 +94,16 @@ def crossings(a: CurvePoint, b: CurvePoint, largest: float = 0.0, what: str = "f
     return found
 
 
-def fold_others(m: Multipliers) -> np.ndarray:
-    """The multipliers but the two at +1 a fold of cycles has (the flow's and the fold's)."""
-    values = m.nontrivial
-    if values.size:
-        values = np.delete(values, int(np.argmin(np.abs(values - 1.0))))
-    return values
+#: The multiplier a curve's own bifurcation puts on the circle, besides the flow's.
+OWN_MULTIPLIER = {"fold": 1.0, "period-doubling": -1.0}
 
 
-def flip_others(m: Multipliers) -> np.ndarray:
-    """The multipliers but the flow's and the one at -1 a period doubling has."""
+def others(m: Multipliers, what: str = "fold") -> np.ndarray:
+    """The multipliers but the flow's and the one nearest the bifurcation's own
+    (OWN_MULTIPLIER: a fold's second +1, a period doubling's -1)."""
     values = m.nontrivial
     if values.size:
-        values = np.delete(values, int(np.argmin(np.abs(values + 1.0))))
+        values = np.delete(values, int(np.argmin(np.abs(values - OWN_MULTIPLIER[what]))))
     return values
 
 
@@ -132,4 +128,4 @@ def codim2_points(curve: FoldCurve) -> list[Codim2]:
     return found
 
 
-__all__ = ["Codim2", "codim2_points", "crossings", "flip_others", "fold_others"]
+__all__ = ["OWN_MULTIPLIER", "Codim2", "codim2_points", "crossings", "others"]

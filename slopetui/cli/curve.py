@@ -50,7 +50,8 @@ def run_curve(args: argparse.Namespace, spec: CurveSpec) -> int:
     took = time.process_time() - t0
     record = {"param": spec.name, "param2": spec.second, "start": spec.start,
               "curve": points, "bifurcations": found, "end": walk.end, "runtime_s": took,
-              **computed_at(spec.params, curve_solver(spec),
+              **computed_at(spec.params, curve_solver(spec.dt, spec.start, spec.max_points,
+                                                         spec.max_step, spec.to),
                             start=(spec.name, points[0][spec.name] if points else None))}
     if args.json:
         print(json_text(record))

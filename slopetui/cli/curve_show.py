@@ -10,16 +10,7 @@ from slopetui.display_text import terminal_safe
 from slopetui.json_text import json_text
 from slopetui.provenance import computed_at
 from slopetui.sweeps.curve_records import curve_solver, print_codim2, print_curve_point
-from slopetui.sweeps.curves import CURVE_NAMES, StoredCurve, curve_of, listing
-
-
-class _Asked:
-    """A stored row as curve_solver reads a spec."""
-
-    def __init__(self, curve: StoredCurve) -> None:
-        row = curve.row
-        self.dt, self.start, self.max_points = row.dt, row.kind, row.max_points
-        self.max_step, self.to = row.max_step, row.end_value
+from slopetui.sweeps.curves import CURVE_NAMES, curve_of, listing
 
 
 def _listing(args: argparse.Namespace) -> int:
@@ -50,7 +41,8 @@ def _one(args: argparse.Namespace) -> int:
         first = curve.points[0][curve.param] if curve.points else None
         print(json_text({**curve.summary(), "curve": curve.points,
                          "bifurcations": curve.bifurcations,
-                         **computed_at(row, curve_solver(_Asked(curve)), row.engine,
+                         **computed_at(row, curve_solver(row.dt, row.kind, row.max_points, row.max_step,
+                                                   row.end_value), row.engine,
                                        start=(curve.param, first))}))
         return 0
     what = CURVE_NAMES.get(str(row.kind), str(row.kind))

@@ -11,10 +11,12 @@ from typing import Any
 from slopetui.display_text import terminal_safe
 
 
-def curve_solver(spec: Any) -> dict[str, Any]:
-    """The solver facts of a curve (a core.curve_start.CurveSpec or its stored row)."""
-    return {"method": "rk4", "dt": spec.dt, "curve": spec.start, "points": spec.max_points,
-            "max_step": spec.max_step, "to2": spec.to}
+def curve_solver(dt: float, kind: str, max_points: int, max_step: float,
+                 to2: float) -> dict[str, Any]:
+    """The solver facts of a curve, as asked (a core.curve_start.CurveSpec's, or a stored
+    row's)."""
+    return {"method": "rk4", "dt": dt, "curve": kind, "points": max_points,
+            "max_step": max_step, "to2": to2}
 
 
 def curve_record(name: str, second: str, point: Any, kind: str = "fold") -> dict[str, Any]:
@@ -35,11 +37,12 @@ def curve_record(name: str, second: str, point: Any, kind: str = "fold") -> dict
 
 def leading_other(m: Any, kind: str) -> complex:
     """The largest multiplier but the bifurcation's own: a fold's two at +1 (the flow's and
-    the fold's), a period doubling's flow multiplier and -1."""
-    from core.codim2 import flip_others, fold_others  # numpy: module docstring
+    the fold's), a period doubling's flow multiplier and -1 (core.codim2.others; ``kind``
+    a curve's, fold or pd)."""
+    from core.codim2 import others  # numpy: module docstring
 
-    others = flip_others(m) if kind == "pd" else fold_others(m)
-    return complex(others[0]) if others.size else 0j
+    rest = others(m, "period-doubling" if kind == "pd" else "fold")
+    return complex(rest[0]) if rest.size else 0j
 
 
 def codim2_record(name: str, second: str, c: Any) -> dict[str, Any]:

@@ -12,6 +12,7 @@ from slopetui.queue import curve_jobs
 from slopetui.store.database import Database
 from slopetui.store.jobs import curves
 from slopetui.store.jobs.curves import CurvePointRow, CurveRow
+from slopetui.sweeps.curve_records import leading_other
 from slopetui.sweeps.stored_jobs import StoredJob
 
 if TYPE_CHECKING:
@@ -58,19 +59,17 @@ def point_record(name: str, second: str, p: CurvePointRow, kind: str = "fold"
     out: dict[str, Any] = {name: p.first, second: p.second, "period": p.period}
     if p.l1 is not None:
         return {**out, "l1": p.l1, "criticality": "supercritical" if p.l1 < 0 else "subcritical"}
-    lead = _leading(p, -1.0 if kind == "pd" else 1.0)
+    lead = leading_other(_multipliers(p), kind) if p.multipliers else 0j
     return {**out, "amplitude": p.amplitude, "leading_multiplier": [lead.real, lead.imag]}
 
 
-def _leading(p: CurvePointRow, own: float) -> complex:
-    """The largest stored multiplier but the flow's and the one nearest ``own`` (+1 a
-    fold's, -1 a period doubling's)."""
-    values = [complex(re, im) for re, im in (p.multipliers or [])]
-    if p.flow_index is not None and 0 <= p.flow_index < len(values):
-        values.pop(p.flow_index)
-    if values:
-        values.pop(min(range(len(values)), key=lambda i: abs(values[i] - own)))
-    return max(values, key=abs) if values else 0j
+def _multipliers(p: CurvePointRow) -> Any:
+    """The stored multipliers as core.floquet.Multipliers (by modulus, as saved)."""
+    import numpy as np  # light at start: only a stored fold's or period doubling's point
+
+    from core.floquet import Multipliers
+    values = np.array([complex(re, im) for re, im in (p.multipliers or [])])
+    return Multipliers(values, int(p.flow_index or 0), float(p.translation or 1.0))
 
 
 def curve_of(db: Database, cid: int) -> StoredCurve | None:

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core.codim2 import crossings, fold_others
+from core.codim2 import crossings, others
 from core.floquet import Multipliers
 from core.fold_continuation import CurvePoint
 
@@ -22,7 +22,8 @@ def _point(k: float, curvature: float, others: list[complex], amplitude: float =
 
 def test_the_fold_s_two_multipliers_at_one_are_left_out():
     m = _point(1.0, 1.0, [0.5, -0.2]).multipliers
-    assert sorted(fold_others(m).real) == [-0.2, 0.5]
+    assert sorted(others(m).real) == [-0.2, 0.5]
+    assert sorted(others(m, "period-doubling").real) == [0.5, 1.0 - 1e-9]
 
 
 def test_a_cusp_where_the_quadratic_coefficient_changes_sign():
