@@ -360,70 +360,57 @@ class BranchesScreen(SlopeScreen[None]):
             self.query_one("#branch-detail", Static).update(EMPTY_HINT)
         self._show(message.chosen)
 
-    def _place_cursor(self, table: DataTable[Any], kind: str, ids: list[int],
-                      keep: int) -> None:
-        """Keep the table's cursor on the selected row (its own kind), else where it was."""
-        if not ids:
-            return
-        ident = self.selected[1] if self.selected and self.selected[0] == kind else None
-        row_index = ids.index(ident) if ident in ids else min(keep, len(ids) - 1)
-        table.move_cursor(row=row_index, animate=False)
+    def _refill(self, kind: str, rows: list[tuple[int, tuple[Any, ...]]]) -> None:
+        """Fill the table of ``kind`` with ``rows`` ((id, cells), the cells of stored text
+        escaped Text: a str cell would be read as markup), its cursor kept on the selected
+        row (its own kind), else where it was.
+
+        Refilled without RowHighlighted: putting the cursor back on the selected row is no
+        choice of the user's. clear() puts the cursor on row 0 and the first row added is
+        announced as highlighted; _row_highlighted took it for a choice (the table has the
+        focus) and loaded the first continuation, then the selected one again
+        (move_cursor): with any row but the first selected, every load refilled the table
+        and started two more, a whole core on an idle screen (as on the sweeps screen,
+        SweepsScreen._fill_table)."""
+        table = self.query_one(TABLES[kind], DataTable)
+        keep = table.cursor_row
+        with table.prevent(DataTable.RowHighlighted):
+            table.clear()
+            for ident, cells in rows:
+                table.add_row(*cells, key=str(ident))
+            if not rows:
+                return
+            ids = [ident for ident, _ in rows]
+            selected = self.selected[1] if self.selected and self.selected[0] == kind else None
+            row_index = ids.index(selected) if selected in ids else min(keep, len(ids) - 1)
+            table.move_cursor(row=row_index, animate=False)
 
     def _fill_table(self, branches: list[StoredBranch],
                     found: dict[int, list[BifurcationRecord]]) -> None:
-        table = self.query_one("#branch-table", DataTable)
-        keep = table.cursor_row
-        # Refilled without RowHighlighted: putting the cursor back on the selected row is
-        # no choice of the user's. clear() puts the cursor on row 0 and the first row
-        # added is announced as highlighted; _row_highlighted took it for a choice (the
-        # table has the focus) and loaded the first continuation, then the selected one
-        # again (move_cursor): with any row but the first selected, every load refilled
-        # the table and started two more, a whole core on an idle screen (as on the
-        # sweeps screen, SweepsScreen._fill_table).
-        with table.prevent(DataTable.RowHighlighted):
-            table.clear()
-            for b in branches:
-                row = b.row
-                # stored text as escaped Text: a str cell would be read as markup
-                table.add_row(str(b.id), Text(axis_label(terminal_safe(b.param))),
-                              Text(start_text(row)), Text(terminal_safe(str(row.status))),
-                              str(row.n_points),
-                              Text(terminal_safe(str(row.criticality or ""))),
-                              Text(cut(found_text(b.param, found.get(b.id, [])),
-                                       FOUND_WIDTH)),
-                              key=str(b.id))
-            self._place_cursor(table, "branch", [b.id for b in branches], keep)
+        self._refill("branch", [
+            (b.id, (str(b.id), Text(axis_label(terminal_safe(b.param))),
+                    Text(start_text(b.row)), Text(terminal_safe(str(b.row.status))),
+                    str(b.row.n_points), Text(terminal_safe(str(b.row.criticality or ""))),
+                    Text(cut(found_text(b.param, found.get(b.id, [])), FOUND_WIDTH))))
+            for b in branches])
 
     def _fill_sweeps(self, sweeps: list[StoredHysteresis]) -> None:
-        table = self.query_one("#hyst-table", DataTable)
-        keep = table.cursor_row
-        with table.prevent(DataTable.RowHighlighted):  # as in _fill_table: not a choice
-            table.clear()
-            for h in sweeps:
-                row = h.row
-                table.add_row(str(h.id), Text(axis_label(terminal_safe(h.param))),
-                              Text(range_text(row)), Text(terminal_safe(str(row.status))),
-                              f"{row.n_done}/{2 * row.n_points}",
-                              _value(row.onset_up), _value(row.offset_down),
-                              key=str(h.id))
-            self._place_cursor(table, "hysteresis", [h.id for h in sweeps], keep)
+        self._refill("hysteresis", [
+            (h.id, (str(h.id), Text(axis_label(terminal_safe(h.param))),
+                    Text(range_text(h.row)), Text(terminal_safe(str(h.row.status))),
+                    f"{h.row.n_done}/{2 * h.row.n_points}", _value(h.row.onset_up),
+                    _value(h.row.offset_down)))
+            for h in sweeps])
 
     def _fill_curves(self, curves: list[StoredCurve],
                      found: dict[int, list[dict[str, Any]]]) -> None:
-        table = self.query_one("#curve-table", DataTable)
-        keep = table.cursor_row
-        with table.prevent(DataTable.RowHighlighted):  # as in _fill_table: not a choice
-            table.clear()
-            for c in curves:
-                row = c.row
-                plane = f"({axis_label(c.param)}, {axis_label(c.second)})"
-                table.add_row(str(c.id), Text(terminal_safe(str(row.kind))),
-                              Text(terminal_safe(plane)), Text(terminal_safe(str(row.status))),
-                              str(row.n_points),
-                              Text(cut(curve_found_text(row.param, row.param2,
-                                                        found.get(c.id, [])), FOUND_WIDTH)),
-                              key=str(c.id))
-            self._place_cursor(table, "curve", [c.id for c in curves], keep)
+        self._refill("curve", [
+            (c.id, (str(c.id), Text(terminal_safe(str(c.row.kind))),
+                    Text(terminal_safe(f"({axis_label(c.param)}, {axis_label(c.second)})")),
+                    Text(terminal_safe(str(c.row.status))), str(c.row.n_points),
+                    Text(cut(curve_found_text(c.row.param, c.row.param2, found.get(c.id, [])),
+                             FOUND_WIDTH))))
+            for c in curves])
 
     def analysis_point(self) -> tuple[Params, str] | None:
         """Where an analysis opened from here starts (SlopeApp.analysis_point): the point
