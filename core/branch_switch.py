@@ -33,11 +33,17 @@ SWITCH_EPS = 1e-2
 SWITCH_MULTIPLIERS = 6
 
 
-def orbit_at(branch: Branch, value: float) -> tuple[PeriodMap, np.ndarray, float, Shot]:
+def orbit_at(branch: Branch, value: float, after: int | None = None
+             ) -> tuple[PeriodMap, np.ndarray, float, Shot]:
     """The orbit of ``branch`` at parameter ``value``: corrected (parameter fixed) from the
-    linear interpolation of the two walked points around it, or OrbitError if none are."""
+    linear interpolation of the two walked points around it (the first such pair, or the
+    points ``after`` - 1 and ``after``: a branch past a fold passes a value more than
+    once), or OrbitError if none are."""
     n = branch.g0.size
-    for (ya, _), (yb, _) in itertools.pairwise(branch.states):
+    pairs = list(itertools.pairwise(branch.states))
+    if after is not None:
+        pairs = pairs[after - 1:after]
+    for (ya, _), (yb, _) in pairs:
         pa, pb = float(ya[-1]), float(yb[-1])
         if (pa - value) * (pb - value) <= 0 and pa != pb:
             s = (value - pa) / (pb - pa)
@@ -49,9 +55,10 @@ def orbit_at(branch: Branch, value: float) -> tuple[PeriodMap, np.ndarray, float
     raise OrbitError(f"the branch does not pass {branch.name} = {value:.6g}")
 
 
-def flip_vector(pm: PeriodMap, shot: Shot) -> tuple[complex, np.ndarray]:
-    """The multiplier nearest -1 of the orbit through ``shot`` and its eigenvector (real,
-    unit in the weighted norm, sign fixed by its largest entry)."""
+def multiplier_vector(pm: PeriodMap, shot: Shot, target: complex
+                      ) -> tuple[complex, np.ndarray]:
+    """The multiplier nearest ``target`` of the orbit through ``shot`` and its eigenvector
+    (complex, unit in the weighted norm, phase fixed by its largest entry: real there)."""
     n = pm.g.size
     sw = np.sqrt(pm.g.weights)
 
@@ -66,12 +73,19 @@ def flip_vector(pm: PeriodMap, shot: Shot) -> tuple[complex, np.ndarray]:
                                ncv=min(n - 1, max(3 * k, ARNOLDI_VECTORS)), v0=start)
     except ArpackNoConvergence as exc:
         raise OrbitError("Arnoldi did not converge on the monodromy operator") from exc
-    i = int(np.argmin(np.abs(values + 1.0)))
-    v = np.real(vectors[:, i]) / sw
-    v /= math.sqrt(weighted_dot(v, v, pm.g.weights))
-    if v[int(np.argmax(np.abs(v)))] < 0:
-        v = -v
+    i = int(np.argmin(np.abs(values - target)))
+    v = vectors[:, i] / sw
+    v = v * np.exp(-1j * np.angle(v[int(np.argmax(np.abs(v)))]))
+    v /= math.sqrt(float(np.sum(pm.g.weights * np.abs(v) ** 2)))
     return complex(values[i]), v
+
+
+def flip_vector(pm: PeriodMap, shot: Shot) -> tuple[complex, np.ndarray]:
+    """The multiplier nearest -1 of the orbit through ``shot`` and its eigenvector (real,
+    unit in the weighted norm, sign fixed by its largest entry)."""
+    mu, v = multiplier_vector(pm, shot, -1.0)
+    r = np.real(v)
+    return mu, r / math.sqrt(weighted_dot(r, r, pm.g.weights))
 
 
 def period_doubled(branch: Branch, pd: Bifurcation, eps: float = SWITCH_EPS,
@@ -109,4 +123,5 @@ def half_shift(pm: PeriodMap, z: np.ndarray, period: float) -> float:
     return math.sqrt(weighted_dot(d, d, pm.g.weights))
 
 
-__all__ = ["SWITCH_EPS", "flip_vector", "half_shift", "orbit_at", "period_doubled"]
+__all__ = ["SWITCH_EPS", "flip_vector", "half_shift", "multiplier_vector", "orbit_at",
+           "period_doubled"]

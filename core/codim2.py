@@ -14,6 +14,13 @@ Along a period-doubling curve (core.flip_continuation) the other multipliers are
 likewise, the flow's and the one at -1 left out: resonance-1:2 (a second through -1),
 flip-ns (a complex pair), fold-flip (one through +1).
 
+Along a torus curve (core.torus_continuation) the pair's kappa = cos(arg mu) marks the
+strong resonances: resonance-1:4 where it passes 0, resonance-1:3 at -1/2, and
+resonance-1:2 / resonance-1:1 where it leaves (-1, 1) at -1 / +1 (the walk ends there);
+the other multipliers, the pair on the circle left out: flip-ns (one through -1), double-ns
+(another complex pair), fold-ns (one through +1). The Chenciner point (the torus's own
+normal-form coefficient vanishing) is not looked for: that coefficient is not computed.
+
 Multiplier crossings count only when the multiplier is off the circle by more than
 UNIT_MARGIN on both sides.
 """
@@ -55,7 +62,12 @@ class Codim2:
 #: The kind of a multiplier crossing the circle along a curve of folds, or of period
 #: doublings: through -1, as a complex pair, through +1.
 KINDS = {"fold": ("fold-flip", "fold-ns", "resonance-1:1"),
-         "period-doubling": ("resonance-1:2", "flip-ns", "fold-flip")}
+         "period-doubling": ("resonance-1:2", "flip-ns", "fold-flip"),
+         "torus": ("flip-ns", "double-ns", "fold-ns")}
+#: The strong resonances a torus curve's kappa = cos(arg mu) passes: 1:4 at 0, 1:3 at
+#: -1/2; at -1 and +1 the pair meets on the real axis (1:2, 1:1), where the curve ends.
+RESONANCES = {0.0: "resonance-1:4", -0.5: "resonance-1:3", -1.0: "resonance-1:2",
+              1.0: "resonance-1:1"}
 
 
 def crossings(a: CurvePoint, b: CurvePoint, largest: float = 0.0, what: str = "fold"
@@ -73,6 +85,12 @@ def crossings(a: CurvePoint, b: CurvePoint, largest: float = 0.0, what: str = "f
                 "the fold's quadratic coefficient changes sign where the fold degenerates "
                 f"towards the Hopf curve (amplitude {min(a.amplitude, b.amplitude):.3g}): "
                 "no cusp is claimed there")))
+    if what == "torus":
+        for at, kind in RESONANCES.items():
+            if (a.kappa - at) * (b.kappa - at) < 0:
+                s = (a.kappa - at) / (a.kappa - b.kappa)
+                found.append(_between(kind, a, b, s, f"kappa = cos(arg mu) passes {at:g} "
+                                      f"({a.kappa:.8g} -> {b.kappa:.8g})"))
     ma, mb = others(a.multipliers, what), others(b.multipliers, what)
     at_minus_one, complex_pair, at_plus_one = KINDS[what]
     for mu_b in mb:
@@ -100,8 +118,11 @@ OWN_MULTIPLIER = {"fold": 1.0, "period-doubling": -1.0}
 
 def others(m: Multipliers, what: str = "fold") -> np.ndarray:
     """The multipliers but the flow's and the one nearest the bifurcation's own
-    (OWN_MULTIPLIER: a fold's second +1, a period doubling's -1)."""
+    (OWN_MULTIPLIER: a fold's second +1, a period doubling's -1; a torus's pair: the two
+    nearest the unit circle)."""
     values = m.nontrivial
+    if what == "torus":
+        return values[np.sort(np.argsort(np.abs(np.abs(values) - 1.0))[2:])]
     if values.size:
         values = np.delete(values, int(np.argmin(np.abs(values - OWN_MULTIPLIER[what]))))
     return values

@@ -2,10 +2,12 @@
 walk point by point (start, then ``step``), the same walk rebuilt from the points already
 computed (resume), and its codimension-two points once it has ended (``found``).
 
-Two curves: the fold of cycles (core.fold_continuation, started by core.fold_start; its
+The curves: the fold of cycles (core.fold_continuation, started by core.fold_start; its
 points carry the state a resumption predicts from: the unknowns, the border, the secant and
-the next step) and the Hopf curve with its first Lyapunov coefficient
-(core.lyapunov_coefficient: the Hopf point in the first parameter at values of the second
+the next step), the period doubling and the torus bifurcation the same way
+(core.flip_continuation, core.torus_continuation; a torus point's border holds its
+kappa), and the Hopf curve with its first Lyapunov coefficient (core.lyapunov_coefficient:
+the Hopf point in the first parameter at values of the second
 ``max_step`` apart; a resumption takes up the next value). A worker saves each point as it
 comes (slopetui.queue.curve_jobs); one that takes over a curve whose worker died rebuilds it
 from those and goes on as if never stopped.
@@ -27,9 +29,16 @@ from core.fold_start import start_at_fold
 from core.lyapunov_coefficient import HopfCurvePoint, bautin, hopf_curve
 from core.orbit import Grid
 from core.params import Params
+from core.torus_continuation import TorusCurve, start_at_torus
 
-#: The curves: from a fold of cycles, the Hopf curve, from a period doubling.
-STARTS = ("fold", "hopf", "pd")
+#: The curves: from a fold of cycles, the Hopf curve, from a period doubling, from a torus
+#: bifurcation.
+STARTS = ("fold", "hopf", "pd", "ns")
+#: Each curve from a bifurcation of cycles: its class, how it starts (from the branch's
+#: first such crossing up to the spec's branch_end), and its border's length in units of
+#: the reduced state's size n, plus extra numbers (a fold's border has the period too, a
+#: torus's two columns and kappa).
+CROSSING_STARTS = {"pd": (FlipCurve, start_at_flip, 1, 0), "ns": (TorusCurve, start_at_torus, 2, 1)}
 #: Newton's last resort along a fold curve: a step shorter than this ends it.
 MIN_STEP = 1e-6
 
@@ -52,8 +61,8 @@ class CurveSpec:
     max_points: int
     max_step: float
     hopf_branch: int = 1
-    #: "pd": where the one-parameter branch from the Hopf point is followed to, at most,
-    #: looking for its first period doubling.
+    #: "pd", "ns": where the one-parameter branch from the Hopf point is followed to, at
+    #: most, looking for its first period doubling or torus bifurcation.
     branch_end: float | None = None
 
 
@@ -106,8 +115,9 @@ class FoldWalk:
         c = self.curve
         t = c.t if c.t is not None else np.full(c.y.size, np.nan)
         state = np.concatenate(([c.n_delay, c.dt0, c.direction], c.y, c.c, t))
+        curvature = None if math.isnan(point.curvature) else point.curvature  # a torus's
         return SavedCurvePoint(point.first, point.second, point.period, point.amplitude,
-                               None, point.curvature, point.multipliers, point.newton_steps,
+                               None, curvature, point.multipliers, point.newton_steps,
                                c.h, state)
 
     def found(self) -> list[Codim2]:
@@ -158,12 +168,13 @@ def start(spec: CurveSpec) -> Walk:
     Raises OrbitError where there is no fold to start from."""
     if spec.start == "hopf":
         return HopfWalk(spec)
-    if spec.start == "pd":
+    if spec.start in CROSSING_STARTS:
         if spec.branch_end is None:
-            raise ValueError("a period-doubling curve needs the branch's end (branch_end)")
-        return FoldWalk(spec, start_at_flip(spec.params, (spec.name, spec.second), spec.dt,
-                                            spec.branch_end, max_step=spec.max_step,
-                                            hopf_branch=spec.hopf_branch))
+            raise ValueError(f"a {spec.start} curve needs the branch's end (branch_end)")
+        begin = CROSSING_STARTS[spec.start][1]
+        return FoldWalk(spec, begin(spec.params, (spec.name, spec.second), spec.dt,
+                                    spec.branch_end, max_step=spec.max_step,
+                                    hopf_branch=spec.hopf_branch))
     curve = start_at_fold(spec.params, (spec.name, spec.second), spec.to, spec.dt,
                           max_step=spec.max_step, hopf_branch=spec.hopf_branch)
     return FoldWalk(spec, curve)
@@ -181,8 +192,8 @@ def resume(spec: CurveSpec, saved: list[SavedCurvePoint]) -> Walk:
     n = Grid(1.0, n_delay).size
     y = last.state[3:3 + n + 3].copy()
     base = spec.params.with_(**{spec.name: float(y[-2]), spec.second: float(y[-1])})
-    kind = FlipCurve if spec.start == "pd" else FoldCurve
-    border = n if spec.start == "pd" else n + 1
+    kind, _, columns, extra = CROSSING_STARTS.get(spec.start, (FoldCurve, None, 1, 1))
+    border = columns * n + extra
     c = last.state[3 + n + 3:3 + n + 3 + border].copy()
     t = last.state[3 + n + 3 + border:].copy()
     curve = kind(base, (spec.name, spec.second), n_delay, dt0, y, c, y[:n].copy(),
@@ -192,8 +203,16 @@ def resume(spec: CurveSpec, saved: list[SavedCurvePoint]) -> Walk:
     curve.zdot_ref = shot.d_dT.copy()
     curve.points = [CurvePoint(s.first, s.second, s.period, float(s.amplitude or 0.0),
                                float(s.curvature if s.curvature is not None else math.nan),
-                               _multipliers(s), int(s.newton_steps or 0)) for s in saved]
+                               _multipliers(s), int(s.newton_steps or 0),
+                               _kappa(s, n, border)) for s in saved]
     return FoldWalk(spec, curve)
+
+
+def _kappa(s: SavedCurvePoint, n: int, border: int) -> float:
+    """A torus point's kappa: its border's last number (NaN for the other curves)."""
+    if s.state is None or border != 2 * n + 1:
+        return math.nan
+    return float(s.state[3 + n + 3 + border - 1])
 
 
 def _multipliers(s: SavedCurvePoint) -> Multipliers:

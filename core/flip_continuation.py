@@ -24,12 +24,12 @@ from typing import ClassVar
 
 import numpy as np
 
-from core.branch_start import BranchSpec, past_end, start
+from core.branch_start import BranchSpec
 from core.branch_switch import flip_vector, orbit_at
-from core.continuation import Bifurcation, Branch, judged_crossing
-from core.fold_continuation import BORDER_RTOL, FoldCurve, LinearParts
-from core.multiplier_crossing import crossing_multiplier
-from core.orbit import OrbitError, PeriodMap, Shot
+from core.continuation import Bifurcation, Branch
+from core.first_crossing import first_crossing
+from core.fold_continuation import BORDER_RTOL, CurvePoint, FoldCurve, LinearParts
+from core.orbit import PeriodMap, Shot
 from core.params import Params
 from core.shooting import solve_krylov, weighted_dot
 
@@ -90,6 +90,10 @@ class FlipCurve(FoldCurve):
         g, null = self._g(y)
         return LinearParts(F, g, d0, phi1, phi2, shot, null)
 
+    def ended(self, point: CurvePoint) -> str:
+        """A period-doubling curve goes on at any amplitude (it has no Hopf end)."""
+        return ""
+
     def _border(self, null: np.ndarray, pm: PeriodMap) -> np.ndarray:
         v = null[:self.size]
         return v / math.sqrt(weighted_dot(v, v, pm.g.weights))
@@ -111,29 +115,12 @@ def first_flip(spec_params: Params, name: str, dt: float, end: float, hopf_branc
                max_points: int = 400, branch_step: float = 0.5) -> tuple[Branch, Bifurcation]:
     """The one-parameter branch in ``name`` from the Hopf point at ``spec_params`` walked
     towards ``end`` (steps of at most ``branch_step``) until a multiplier crosses -1 for real
-    (core.continuation.judged_crossing: beyond the multipliers' uncertainty, located on
-    corrected orbits): the branch and that period doubling. OrbitError when the branch
+    (core.first_crossing): the branch and that period doubling. OrbitError when the branch
     ends, or passes ``end``, with none."""
     spec = BranchSpec(spec_params, name, dt, True, end, max_points, branch_step, hopf_branch)
-    branch, _ = start(spec)
-    branch.first()
-    turns: set[int] = set()
-    for _ in range(max_points):
-        try:
-            point = branch.advance(1e-9)
-        except OrbitError as exc:
-            raise OrbitError(f"no period doubling on the branch in {name}: {exc}") from None
-        i = len(branch.points) - 1
-        if branch.points[i - 1].tangent_p * point.tangent_p < 0:
-            turns.add(i)
-        moved = crossing_multiplier(branch.points[i - 1].multipliers, point.multipliers)
-        if moved is not None and moved[1].real < 0 and abs(moved[1].imag) < 1e-6:
-            found = judged_crossing(branch, i, turns)
-            if found is not None and found.type == "period-doubling":
-                return branch, found
-        if past_end(spec, branch.points[0].value, point):
-            raise OrbitError(f"no period doubling on the branch in {name} up to {end:g}")
-    raise OrbitError(f"no period doubling on the branch in {name} within {max_points} points")
+    branch, pd, _ = first_crossing(spec, "period-doubling",
+                                   lambda mu: mu.real < 0 and abs(mu.imag) < 1e-6)
+    return branch, pd
 
 
 def flip_curve_at(branch: Branch, pd: Bifurcation, second: str, step: float = 0.05,

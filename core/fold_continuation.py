@@ -89,6 +89,8 @@ class CurvePoint:
     curvature: float
     multipliers: Multipliers
     newton_steps: int
+    #: A torus point's kappa = cos(arg mu) of its pair on the circle (NaN on other curves).
+    kappa: float = math.nan
 
 
 @dataclass
@@ -113,6 +115,8 @@ class FoldCurve:
 
     #: What the curve is a curve of, for messages.
     what: ClassVar[str] = "fold"
+    #: Newton steps within which a point counts as easy (the next step grows: EASY).
+    easy: ClassVar[int] = EASY
 
     base: Params
     names: tuple[str, str]
@@ -284,6 +288,13 @@ class FoldCurve:
         v = null[:self.size + 1]
         return v / math.sqrt(weighted_dot(v, v, np.concatenate((pm.g.weights, [1.0]))))
 
+    def ended(self, point: CurvePoint) -> str:
+        """Why the curve ends at its new ``point`` ("" if it goes on): a fold curve where
+        the amplitude vanishes (the Hopf curve: a Bautin point)."""
+        if point.amplitude < BAUTIN_FRACTION * max(q.amplitude for q in self.points):
+            return "the amplitude vanished: the fold curve reached the Hopf curve"
+        return ""
+
     def first(self) -> CurvePoint:
         """The fold at the start's q: Newton from the start with q fixed."""
         return self._accept(*self.correct(self.y, None))
@@ -305,7 +316,7 @@ class FoldCurve:
                                      f"{self.names[1]} = {float(self.y[-1]):.6g}: {exc}") from None
         step = y - self.y
         self.t = step / math.sqrt(weighted_dot(step, step, self.weights()))
-        if steps <= EASY:
+        if steps <= self.easy:
             self.h = min(self.h * GROW, self.max_step)
         elif steps >= HARD:
             self.h *= 0.5
@@ -346,9 +357,8 @@ def step(curve: FoldCurve, to: float, max_points: int, min_step: float = 1e-6
         curve.points.pop()
         point = curve._accept(*_fixed_at(curve, to))
         curve.end = f"reached {curve.names[1]} = {to:g}"
-    elif curve.what == "fold" and \
-            point.amplitude < BAUTIN_FRACTION * max(q.amplitude for q in curve.points):
-        curve.end = "the amplitude vanished: the fold curve reached the Hopf curve"
+    else:
+        curve.end = curve.ended(point)
     return point
 
 

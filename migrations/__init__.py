@@ -8,4 +8,4 @@ revision: change ``slopetui/store/models.py``, then
 #: The newest revision. Opening a store compares it with the store's alembic_version in
 #: plain SQL, so that a command on an up-to-date store never imports Alembic (~0.3 s).
 #: A new revision must update it (tests/unit/test_store.py checks it against Alembic's head).
-HEAD = "0016"
+HEAD = "0017"

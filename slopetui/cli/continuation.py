@@ -35,16 +35,18 @@ if TYPE_CHECKING:
 
 
 def _check(args: argparse.Namespace) -> None:
-    """--from-hopf, --from-run and --from-fold as numbers (one line naming a bad one; the
+    """--from-hopf, --from-run, --from-fold, --from-pd and --from-ns as numbers (one line naming a bad one; the
     rest are continuation_spec's and curve_spec's)."""
     if args.from_hopf is not None:
         args.from_hopf = int_arg("from-hopf", args.from_hopf, 1, MAX_HOPF_BRANCH,
                                  note=" (the Hopf branch: 1 the first root crossing)")
     if args.from_run is not None:
         args.from_run = int_arg("from-run", args.from_run, 1, note=" (a run id)")
-    if args.from_fold is not None:
-        args.from_fold = int_arg("from-fold", args.from_fold, 1, MAX_HOPF_BRANCH,
-                                 note=" (the Hopf branch whose fold starts the curve)")
+    for flag, what in (("fold", "fold"), ("pd", "period doubling"), ("ns", "torus")):
+        if getattr(args, f"from_{flag}") is not None:
+            setattr(args, f"from_{flag}", int_arg(
+                f"from-{flag}", getattr(args, f"from_{flag}"), 1, MAX_HOPF_BRANCH,
+                note=f" (the Hopf branch whose {what} starts the curve)"))
 
 
 def _params_of_run(args: argparse.Namespace, params: Params) -> Params:
@@ -71,12 +73,14 @@ def _submit(args: argparse.Namespace, spec: BranchSpec) -> int:
 
 def _curve(args: argparse.Namespace, params: Params, dt: float) -> int:
     """A curve in two parameters (--param2), computed here or queued (--submit)."""
-    start = ("fold" if args.from_fold is not None else "hopf" if args.from_hopf is not None else
-             "pd" if args.from_pd else "ns" if args.from_ns else "")
-    if not start:
-        raise ParameterError("param2", args.param2, "given with --from-fold or --from-hopf")
+    chosen = [(s, getattr(args, f"from_{s}")) for s in ("fold", "hopf", "pd", "ns")
+              if getattr(args, f"from_{s}") is not None]
+    if not chosen:
+        raise ParameterError("param2", args.param2, "given with --from-fold, --from-hopf, "
+                             "--from-pd or --from-ns")
+    start, hopf_branch = chosen[0]
     spec = curve_spec(params, dt, args.param, args.param2, start, args.to2, args.points,
-                      args.max_step, args.from_fold or args.from_hopf or 1, args.to)
+                      args.max_step, hopf_branch, args.to)
     if args.submit:
         cid = submit_curve(open_db(args), spec)
         return say_queued(args.json, "curve", cid, f"slopetui curve {cid}")
@@ -89,7 +93,8 @@ def handle(args: argparse.Namespace) -> int:
         _check(args)
         if args.param2 is not None:
             return _curve(args, params, dt)
-        if args.from_fold is not None or args.from_pd or args.from_ns or args.to2 is not None:
+        if args.from_fold is not None or args.from_pd is not None or \
+                args.from_ns is not None or args.to2 is not None:
             raise ParameterError("param2", "", "a second parameter: --from-fold, --from-pd, "
                                  "--from-ns and --to2 continue a curve in (--param, --param2)")
         if args.from_run is not None:

@@ -1,5 +1,5 @@
-"""A curve in two parameters (core.curve_start) in its plane: the fold of cycles or the
-Hopf curve as points, the first parameter across and the second up (the phase diagrams'
+"""A curve in two parameters (core.curve_start) in its plane: the fold of cycles, period
+doubling, torus bifurcation or Hopf curve as points, the first parameter across and the second up (the phase diagrams'
 orientation: k across, tau up), and its codimension-two points marked by a capital letter
 of their own, so that the plane reads with colour off. A Hopf curve's points are drawn by
 the sign of l1: '+' subcritical, '-' supercritical.
@@ -20,6 +20,10 @@ from slopetui.plots.canvas import LegendEntry, Series, axis_label, message_block
 
 FOLD = BranchStyle("orange", "o", "fold of cycles")
 FLIP = BranchStyle("magenta", "o", "period doubling")
+TORUS = BranchStyle("blue", "o", "torus")
+#: How each kind of curve from a bifurcation of cycles draws its points.
+KIND_STYLES: Mapping[str, BranchStyle] = MappingProxyType({"fold": FOLD, "pd": FLIP,
+                                                           "ns": TORUS})
 SUBCRITICAL = BranchStyle("red", "+", "Hopf, l1 > 0")
 SUPERCRITICAL = BranchStyle("green", "-", "Hopf, l1 < 0")
 #: By codimension-two type (core.codim2, core.curve_start), in legend order.
@@ -32,6 +36,9 @@ CODIM2_STYLES: Mapping[str, BranchStyle] = MappingProxyType({
     "flip-ns": BranchStyle("blue", "T", "flip-ns"),
     "undetermined": BranchStyle("default", "?", "undetermined"),
     "resonance-1:1": BranchStyle("default", "R", "resonance-1:1"),
+    "resonance-1:3": BranchStyle("default", "R", "resonance-1:3"),
+    "resonance-1:4": BranchStyle("default", "R", "resonance-1:4"),
+    "double-ns": BranchStyle("blue", "T", "double-ns"),
 })
 OTHER = BranchStyle("default", "?", "other")
 
@@ -43,7 +50,7 @@ def render_curve(name: str, second: str, points: Sequence[Mapping[str, Any]],
     with ``l1``) and its codimension-two points ``found`` (records with ``type`` and both
     parameters). Returns exactly ``height`` lines of at most ``width`` columns (a message
     block with no point to draw); with ``color`` False, no ANSI escapes. ``kind``: the
-    curve's (fold, hopf, pd), which names its points."""
+    curve's (fold, hopf, pd, ns), which names its points."""
     xs = np.array([_number(p.get(name)) for p in points], dtype=float)
     ys = np.array([_number(p.get(second)) for p in points], dtype=float)
     shown = np.isfinite(xs) & np.isfinite(ys)
@@ -54,8 +61,8 @@ def render_curve(name: str, second: str, points: Sequence[Mapping[str, Any]],
     l1 = np.array([_number(p.get("l1")) for p in points], dtype=float)
     series: list[Series] = []
     legend: list[LegendEntry] = []
-    groups = ((FLIP if kind == "pd" else FOLD, shown & np.isnan(l1)), (SUBCRITICAL, shown & (l1 > 0)),
-              (SUPERCRITICAL, shown & (l1 < 0)))
+    groups = ((KIND_STYLES.get(kind, FOLD), shown & np.isnan(l1)),
+              (SUBCRITICAL, shown & (l1 > 0)), (SUPERCRITICAL, shown & (l1 < 0)))
     for style, mask in groups:
         if mask.any():
             series.append(Series(xs[mask], ys[mask], style.marker, style.color))

@@ -80,7 +80,7 @@ def spec_of(row: CurveRow) -> CurveSpec:
     end = check_finite("end_value", row.end_value)
     params.with_(**{row.param2: end})  # raises ParameterError naming the parameter's range
     branch_end = None
-    if row.kind == "pd":
+    if row.kind in ("pd", "ns"):
         if row.branch_end is None:
             raise ParameterError("branch_end", None, "a value (the store holds NULL)")
         branch_end = check_finite("branch_end", row.branch_end)

@@ -39,6 +39,12 @@ def _values(what: str, table: str, where: str) -> Dropped:
 
 #: Each revision's downgrade (to the one before it): what it drops.
 DROPS: dict[str, tuple[Dropped, ...]] = {
+    "0017": (Dropped("torus curve", "torus curves", "SELECT count(*) FROM curves WHERE kind = 'ns'",
+                     (Dropped("point", "points", "SELECT count(*) FROM curve_points WHERE curve_id "
+                                                 "IN (SELECT id FROM curves WHERE kind = 'ns')"),
+                      Dropped("codimension-two point", "codimension-two points",
+                              "SELECT count(*) FROM curve_bifurcations WHERE curve_id IN "
+                              "(SELECT id FROM curves WHERE kind = 'ns')"))),),
     "0016": (Dropped("curve", "curves", "SELECT count(*) FROM curves",
                      (Dropped("point", "points", "SELECT count(*) FROM curve_points"),
                       Dropped("codimension-two point", "codimension-two points",

@@ -481,8 +481,9 @@ class Curve(LeasedJob, Base):
     __tablename__ = "curves"
 
     id: Mapped[int] = mapped_column(primary_key=True)
-    #: "fold" (the fold of cycles of the branch in ``param``), "hopf" (the Hopf curve) or
-    #: "pd" (the first period doubling of that branch up to ``branch_end``).
+    #: "fold" (the fold of cycles of the branch in ``param``), "hopf" (the Hopf curve),
+    #: "pd" (the first period doubling of that branch up to ``branch_end``) or "ns" (its
+    #: first torus bifurcation up to ``branch_end``; migration 0017).
     kind: Mapped[str] = mapped_column(String(8))
     #: The parameter of the fold or Hopf point, and the one the curve follows it in.
     param: Mapped[str] = mapped_column(String(8))
@@ -504,7 +505,8 @@ class Curve(LeasedJob, Base):
     #: Which Hopf point the curve starts from (the n-th root pair's crossing): its Hopf
     #: curve, or the fold of the branch born there.
     hopf_branch: Mapped[int] = mapped_column(default=1, server_default="1")
-    #: A "pd" curve: where its branch is followed to, looking for the period doubling.
+    #: A "pd" or "ns" curve: where its branch is followed to, looking for the period
+    #: doubling or the torus.
     branch_end: Mapped[float | None] = mapped_column(Double)
     engine: Mapped[str] = mapped_column(String(16))
 
@@ -517,7 +519,7 @@ class Curve(LeasedJob, Base):
     runtime_s: Mapped[float] = mapped_column(Double, default=0.0, server_default="0")
 
     __table_args__ = LeasedJob.queue_args(
-        CheckConstraint(_one_of("kind", ("fold", "hopf", "pd")), name="kind"))
+        CheckConstraint(_one_of("kind", ("fold", "hopf", "pd", "ns")), name="kind"))
 
 
 class CurvePoint(Base):

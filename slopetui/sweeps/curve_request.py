@@ -2,12 +2,13 @@
 --param2 Q``'s flags, each refusal a ParameterError naming the flag and its range. No UI
 here, and no numpy: the command line imports it at start.
 
-Two curves start here: the fold of cycles (``--from-fold``: the fold of the branch in P born
-at the first Hopf point, continued in (P, Q) by core.fold_continuation's minimally augmented
-system) and the Hopf curve with its first Lyapunov coefficient (``--from-hopf``: the Hopf
-point in P at values of Q --max-step apart, core.lyapunov_coefficient, and the Bautin points
-where l1 changes sign). Period-doubling and torus curves need a crossing to start from:
-no real one is known in this model yet, so they are refused with that reason.
+Four curves start here: the fold of cycles (``--from-fold``: the fold of the branch in P
+born at the N-th Hopf point, continued in (P, Q) by core.fold_continuation's minimally
+augmented system), the Hopf curve with its first Lyapunov coefficient (``--from-hopf``: the
+Hopf point in P at values of Q --max-step apart, core.lyapunov_coefficient, and the Bautin
+points where l1 changes sign), and the period-doubling and torus curves (``--from-pd``,
+``--from-ns``: from the first real such crossing on the branch in P from the N-th Hopf
+point, followed up to --to; core.flip_continuation, core.torus_continuation).
 """
 
 from __future__ import annotations
@@ -25,9 +26,11 @@ if TYPE_CHECKING:
 #: (core.hopf_start: k, tau and the friction parameters a, b, c). A fold curve starts in any
 #: (core.fold_start reaches a fold in d or v along the fold surface from one in k).
 STARTS_IN = ("k", "tau", "a", "b", "c")
-#: The curves a request may start (core.curve_start.STARTS, not imported: numpy); a torus
-#: curve ("ns") is refused with the reason.
-STARTS = ("fold", "hopf", "pd")
+#: The curves a request may start (core.curve_start.STARTS, not imported: numpy).
+STARTS = ("fold", "hopf", "pd", "ns")
+#: The curves that start from a crossing found on the branch from a Hopf point: --to is
+#: where that branch is followed to, looking for it.
+FROM_BRANCH = {"pd": "period doubling", "ns": "torus bifurcation"}
 #: The most Hopf-curve points: each is four corrected small orbits (~0.1 to 0.3 s).
 MAX_HOPF_POINTS = 400
 
@@ -36,23 +39,21 @@ def curve_spec(params: Params, dt: float, param: str, param2: str, start: str,
                to2: str | None, points: str, step: str, hopf_branch: int = 1,
                to: str | None = None) -> CurveSpec:
     """The request, checked: ParameterError naming the flag (param2, to2, from-..., points,
-    max-step, to) and what it allows. ``to``: a period-doubling curve's branch end (where
-    the branch from the Hopf point is followed to, looking for its period doubling)."""
+    max-step, to) and what it allows. ``to``: a period-doubling or torus curve's branch
+    end (where the branch from the Hopf point is followed to, looking for that crossing)."""
     if param2 not in CONTINUABLE or param2 == param:
         raise ParameterError("param2", param2,
                              f"one of {', '.join(n for n in CONTINUABLE if n != param)}")
     if start not in STARTS:
-        raise ParameterError(f"from-{start}", "", "--from-fold, --from-hopf or --from-pd: a "
-                             "torus curve needs a torus to start from, and the tori this model "
-                             "has are born next to the 1:N resonances (docs/orbits.md)")
-    if start in ("hopf", "pd") and param not in STARTS_IN:
+        raise ParameterError("from", start, "--from-fold, --from-hopf, --from-pd or --from-ns")
+    if start != "fold" and param not in STARTS_IN:
         raise ParameterError("param", param, f"one of {', '.join(STARTS_IN)} with --param2 "
                              f"--from-{start} (its branch starts at a Hopf point in it)")
     branch_end = None
-    if start == "pd":
+    if start in FROM_BRANCH:
         if to is None:
             raise ParameterError("to", "", f"a value of {param}: how far the branch from the "
-                                 "Hopf point is followed, looking for its period doubling")
+                                 f"Hopf point is followed, looking for its {FROM_BRANCH[start]}")
         branch_end = number("to", to, params, param)
     if to2 is None:
         raise ParameterError("to2", "", f"a value of {param2} where the curve ends")

@@ -12,7 +12,7 @@ from slopetui.queue import curve_jobs
 from slopetui.store.database import Database
 from slopetui.store.jobs import curves
 from slopetui.store.jobs.curves import CurvePointRow, CurveRow
-from slopetui.sweeps.curve_records import leading_other
+from slopetui.sweeps.curve_records import multiplier_fields
 from slopetui.sweeps.stored_jobs import StoredJob
 
 if TYPE_CHECKING:
@@ -20,7 +20,8 @@ if TYPE_CHECKING:
 
 
 #: What each kind of curve is a curve of, in words.
-CURVE_NAMES = {"fold": "fold of cycles", "hopf": "Hopf curve", "pd": "period doubling"}
+CURVE_NAMES = {"fold": "fold of cycles", "hopf": "Hopf curve", "pd": "period doubling",
+               "ns": "torus (Neimark-Sacker)"}
 
 
 @dataclass(frozen=True)
@@ -59,8 +60,8 @@ def point_record(name: str, second: str, p: CurvePointRow, kind: str = "fold"
     out: dict[str, Any] = {name: p.first, second: p.second, "period": p.period}
     if p.l1 is not None:
         return {**out, "l1": p.l1, "criticality": "supercritical" if p.l1 < 0 else "subcritical"}
-    lead = leading_other(_multipliers(p), kind) if p.multipliers else 0j
-    return {**out, "amplitude": p.amplitude, "leading_multiplier": [lead.real, lead.imag]}
+    return {**out, **multiplier_fields(p.amplitude, _multipliers(p) if p.multipliers else None,
+                                       kind)}
 
 
 def _multipliers(p: CurvePointRow) -> Any:

@@ -21,6 +21,9 @@ from tests.unit.test_branch_jobs import Never, inline
 
 FOLD = CurveSpec(Params(tau=2.0), "k", "tau", "fold", 0.01, 1.5, 6, 0.2)
 HOPF = CurveSpec(Params(tau=0.8), "k", "tau", "hopf", 0.01, 0.5, 10, 0.1)
+#: The torus of the 2-slip branch (core.torus_continuation): its border holds kappa.
+TORUS = CurveSpec(Params(tau=10.0), "k", "tau", "ns", 0.01, 10.4, 5, 0.25, hopf_branch=2,
+                  branch_end=25.0)
 
 
 class StopAfter:
@@ -42,7 +45,7 @@ def _uninterrupted(spec: CurveSpec) -> tuple[list[tuple[float, float, float]], l
     return points, [c.type for c in walk.found()]
 
 
-@pytest.mark.parametrize("spec", [FOLD, HOPF], ids=["fold", "hopf"])
+@pytest.mark.parametrize("spec", [FOLD, HOPF, TORUS], ids=["fold", "hopf", "ns"])
 def test_a_stopped_curve_resumes_and_ends_as_an_uninterrupted_one(store, spec):
     reference, found = _uninterrupted(spec)
     cid = curve_jobs.submit(store, spec)

@@ -52,3 +52,43 @@ def test_a_multiplier_through_the_circle_names_its_kind(before, after, kind):
 def test_a_multiplier_on_the_circle_within_the_margin_is_no_crossing():
     assert crossings(_point(1.0, 1.0, [-1.0 + 2e-6]), _point(2.0, 1.0, [-1.0 - 2e-6]),
                      largest=1.0) == []
+
+
+def _torus(k: float, kappa: float, rest: list[complex]) -> CurvePoint:
+    """A torus curve's point: the flow's multiplier, the pair exp(+-i theta) on the circle
+    (cos theta = kappa, or a neutral saddle's mu, 1/mu past -1 or +1), and ``rest``."""
+    if abs(kappa) <= 1:
+        pair = [complex(kappa, np.sqrt(1 - kappa ** 2)), complex(kappa, -np.sqrt(1 - kappa ** 2))]
+    else:
+        mu = kappa + np.sign(kappa) * np.sqrt(kappa ** 2 - 1)
+        pair = [complex(mu), complex(1 / mu)]
+    values = np.array([1.0 + 0j, *pair, *rest])
+    return CurvePoint(k, 10.0, 5.0, 2.0, float("nan"), Multipliers(values, 0, 1.0), 3, kappa)
+
+
+def test_a_torus_s_own_pair_is_left_out_and_the_rest_watched():
+    m = _torus(1.0, -0.5, [0.999 + 0.01j, 0.3]).multipliers
+    assert sorted(others(m, "torus").real) == pytest.approx([0.3, 0.999])
+    (c,) = crossings(_torus(1.0, -0.4, [-0.98]), _torus(2.0, -0.4, [-1.02]), what="torus")
+    assert c.type == "flip-ns"
+
+
+@pytest.mark.parametrize(("before", "after", "kind", "at"), [
+    (-0.45, -0.55, "resonance-1:3", -0.5),
+    (0.1, -0.3, "resonance-1:4", 0.0),
+    (-0.99999, -1.00001, "resonance-1:2", -1.0),
+    (0.9999, 1.0003, "resonance-1:1", 1.0),
+])
+def test_a_torus_curve_marks_the_strong_resonance_its_kappa_passes(before, after, kind, at):
+    (c,) = crossings(_torus(1.0, before, []), _torus(2.0, after, []), what="torus")
+    assert c.type == kind
+    assert c.first == pytest.approx(1.0 + (before - at) / (before - after))
+
+
+def test_the_torus_walk_ends_where_its_pair_meets_on_the_real_axis():
+    from core.torus_continuation import TorusCurve
+
+    curve = TorusCurve.__new__(TorusCurve)
+    assert curve.ended(_torus(1.0, -0.9999999, [])) == ""
+    assert "1:2 resonance" in curve.ended(_torus(1.0, -1.0001, []))
+    assert "1:1 resonance" in curve.ended(_torus(1.0, 1.0001, []))

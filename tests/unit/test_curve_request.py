@@ -19,6 +19,8 @@ def _spec(**kw):
 def test_a_good_request_is_taken():
     spec = _spec()
     assert (spec.name, spec.second, spec.start, spec.to) == ("k", "tau", "fold", 2.0)
+    torus = _spec(start="ns", to="25", hopf_branch=2)
+    assert (torus.start, torus.branch_end, torus.hopf_branch) == ("ns", 25.0, 2)
 
 
 @pytest.mark.parametrize(("kw", "field"), [
@@ -28,7 +30,9 @@ def test_a_good_request_is_taken():
     ({"to2": "10"}, "to2"),
     ({"to2": "-1"}, "tau"),
     ({"to2": "nan"}, "to2"),
-    ({"start": "ns"}, "from-ns"),
+    ({"start": "torus"}, "from"),
+    ({"start": "ns"}, "to"),
+    ({"start": "ns", "param": "v", "to": "1"}, "param"),
     ({"start": "pd"}, "to"),
     ({"start": "pd", "param": "d", "to": "1"}, "param"),
     ({"param": "d", "start": "hopf"}, "param"),
@@ -46,6 +50,8 @@ def test_bad_requests_name_their_field(kw, field):
     ["--to2", "3"],
     ["--param2", "tau", "--to2", "3"],
     ["--param2", "tau", "--from-ns", "--to2", "3"],
+    ["--param2", "tau", "--from-ns", "0", "--to", "25", "--to2", "3"],
+    ["--param2", "tau", "--from-pd", "x", "--to", "25", "--to2", "3"],
     ["--param2", "tau", "--from-fold", "0", "--to2", "3"],
 ])
 def test_the_cli_refuses_before_computing(argv, capsys):

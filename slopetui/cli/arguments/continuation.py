@@ -34,19 +34,22 @@ def declare(sub: argparse._SubParsersAction) -> None:
                        help="with --param2: the fold of cycles of the branch in --param born "
                             "at the N-th Hopf point (default 1), continued as a curve in "
                             "(--param, --param2)")
-    start.add_argument("--from-pd", dest="from_pd", action="store_true",
+    start.add_argument("--from-pd", dest="from_pd", nargs="?", const="1", metavar="N",
                        help="with --param2: the first period doubling on the branch in "
-                            "--param from the Hopf point, followed up to --to (real: the "
-                            "multiplier through -1 beyond its uncertainty), continued as a "
-                            "curve in (--param, --param2)")
-    start.add_argument("--from-ns", dest="from_ns", action="store_true",
-                       help="with --param2: a torus curve (refused: the tori of this model are "
-                            "born next to the 1:N resonances)")
+                            "--param from the N-th Hopf point (default 1), followed up to --to "
+                            "(real: the multiplier through -1 beyond its uncertainty), "
+                            "continued as a curve in (--param, --param2)")
+    start.add_argument("--from-ns", dest="from_ns", nargs="?", const="1", metavar="N",
+                       help="with --param2: the first torus (Neimark-Sacker) bifurcation on "
+                            "the branch in --param from the N-th Hopf point (default 1), "
+                            "followed up to --to (real: a complex pair through the circle "
+                            "beyond its uncertainty), continued as a curve in (--param, "
+                            "--param2), with the strong resonances along it")
     p.add_argument("--param2", choices=CONTINUABLE, metavar="Q",
                    help="a second parameter: continue a curve in (--param, Q) from "
-                        "--from-fold (the fold of cycles, with its codimension-two points) or "
+                        "--from-fold (the fold of cycles, with its codimension-two points), "
                         "--from-hopf (the Hopf curve with its first Lyapunov coefficient l1 "
-                        "and Bautin points); needs --to2")
+                        "and Bautin points), --from-pd or --from-ns; needs --to2")
     p.add_argument("--to2", metavar="VALUE",
                    help="with --param2: where the curve ends in Q")
     p.add_argument("--to", metavar="VALUE",

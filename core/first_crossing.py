@@ -1,0 +1,61 @@
+"""The first real crossing of a kind on a one-parameter branch: where a period-doubling or
+a torus curve starts (core.flip_continuation, core.torus_continuation).
+
+The branch from a Hopf point is walked towards an end; a multiplier through the unit
+circle between two points is judged (core.continuation.judged_crossing: beyond the
+multipliers' uncertainty on both sides, located on corrected orbits) once WIDEN more
+points are walked past it, or the walk has ended: the judge may widen a side by up to
+WIDEN points when the nearest are within the uncertainty, and a candidate judged as soon
+as it is walked has no points after it. (On the 3-slip branch at tau = 10 the torus at
+k = 9.8623 is undetermined from the points at 9.781 and 10.280 alone, |mu| - 1 = -7.6e-5
+uncertain by 8.4e-6 at the latter, and real with the point at 10.779.)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from core.branch_start import BranchSpec, past_end, start
+from core.continuation import Bifurcation, Branch, judged_crossing
+from core.multiplier_crossing import WIDEN, crossing_multiplier
+from core.orbit import OrbitError
+
+
+def first_crossing(spec: BranchSpec, kind: str, candidate: Callable[[complex], bool]
+                   ) -> tuple[Branch, Bifurcation, int]:
+    """The branch of ``spec`` walked until a crossing of ``kind`` (period-doubling, torus)
+    is judged real: the branch, the bifurcation and the index of the point after it.
+    ``candidate`` says which crossing multipliers (at the point after) may be one.
+    OrbitError when the branch ends, or passes its end, with none."""
+    what = "period doubling" if kind == "period-doubling" else "torus bifurcation"
+    branch, _ = start(spec)
+    branch.first()
+    turns: set[int] = set()
+    pending: list[int] = []
+    ended = ""
+    while not ended:
+        try:
+            point = branch.advance(1e-9)
+        except OrbitError as exc:
+            ended = str(exc)
+            point = None
+        last = len(branch.points) - 1
+        if point is not None:
+            if branch.points[last - 1].tangent_p * point.tangent_p < 0:
+                turns.add(last)
+            moved = crossing_multiplier(branch.points[last - 1].multipliers, point.multipliers)
+            if moved is not None and candidate(moved[1]):
+                pending.append(last)
+            if past_end(spec, branch.points[0].value, point):
+                ended = f"up to {spec.end:g}"
+            elif last >= spec.max_points:
+                ended = f"within {spec.max_points} points"
+        while pending and (ended or pending[0] + WIDEN <= last):
+            i = pending.pop(0)
+            found = judged_crossing(branch, i, turns)
+            if found is not None and found.type == kind:
+                return branch, found, i
+    raise OrbitError(f"no {what} on the branch in {spec.name} {ended}")
+
+
+__all__ = ["first_crossing"]
