@@ -27,7 +27,6 @@ UNIT_MARGIN on both sides.
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -72,9 +71,15 @@ RESONANCES = {0.0: "resonance-1:4", -0.5: "resonance-1:3", -1.0: "resonance-1:2"
 
 def crossings(a: CurvePoint, b: CurvePoint, largest: float = 0.0, what: str = "fold"
               ) -> list[Codim2]:
-    """Codimension-two points between two consecutive points of a curve of ``what`` (fold
-    or period-doubling; see the module doc); ``largest``: the largest amplitude on the curve
-    (CUSP_AMPLITUDE; a cusp is a fold curve's only)."""
+    """Codimension-two points between two consecutive points of a curve of ``what`` (fold,
+    period-doubling or torus; see the module doc); ``largest``: the largest amplitude on
+    the curve (CUSP_AMPLITUDE; a cusp is a fold curve's only)."""
+    return _coefficients(a, b, largest, what) + through_circle([a, b], 1, what)
+
+
+def _coefficients(a: CurvePoint, b: CurvePoint, largest: float, what: str) -> list[Codim2]:
+    """A cusp (a fold's quadratic coefficient changing sign) or a strong resonance (a
+    torus's kappa passing one) between a and b."""
     found: list[Codim2] = []
     if what == "fold" and a.curvature * b.curvature < 0:
         s = a.curvature / (a.curvature - b.curvature)
@@ -91,24 +96,57 @@ def crossings(a: CurvePoint, b: CurvePoint, largest: float = 0.0, what: str = "f
                 s = (a.kappa - at) / (a.kappa - b.kappa)
                 found.append(_between(kind, a, b, s, f"kappa = cos(arg mu) passes {at:g} "
                                       f"({a.kappa:.8g} -> {b.kappa:.8g})"))
-    ma, mb = others(a.multipliers, what), others(b.multipliers, what)
+    return found
+
+
+def through_circle(points: list[CurvePoint], j: int, what: str) -> list[Codim2]:
+    """The multipliers (but the bifurcation's own) that are clear of the circle at point j
+    (UNIT_MARGIN) on the other side than at the last point before it where they were
+    clear: followed back point by point (each to its nearest), so that a slow crossing,
+    within the margin at the points next to it, is found once (one of a complex pair, Im
+    >= 0). Located between the two points where |mu| - 1 changes sign if it does so once
+    on the way; if it changes sign more often within the margin, where it crosses is not
+    decided: "undetermined", with the figures. (The 3-slip orbit's second pair near the
+    cube roots of unity, along its torus curve from tau = 10 to 20, wanders between
+    0.999989 and 1.000014 before leaving the circle: the N-slip clusters move by ~1e-5
+    under dt -> dt/2, tests/integration/test_real_crossings.py.)"""
+    b = points[j]
     at_minus_one, complex_pair, at_plus_one = KINDS[what]
-    for mu_b in mb:
-        if abs(abs(mu_b) - 1.0) < UNIT_MARGIN:
+    found: list[Codim2] = []
+    for mu_b in others(b.multipliers, what):
+        if mu_b.imag < 0 or abs(abs(mu_b) - 1.0) < UNIT_MARGIN:
             continue
-        mu_a = ma[int(np.argmin(np.abs(ma - mu_b)))] if ma.size else None
-        if mu_a is None or abs(abs(mu_a) - 1.0) < UNIT_MARGIN:
+        path = [(j, complex(mu_b))]          # the multiplier followed back, j downwards
+        while path[-1][0] > 0:
+            rest = others(points[path[-1][0] - 1].multipliers, what)
+            if not rest.size:
+                break
+            mu = complex(rest[int(np.argmin(np.abs(rest - path[-1][1])))])
+            path.append((path[-1][0] - 1, mu))
+            if abs(abs(mu) - 1.0) >= UNIT_MARGIN:
+                break
+        (i, mu_a), off = path[-1], [abs(mu) - 1.0 for _, mu in reversed(path)]
+        if len(path) == 1 or abs(off[0]) < UNIT_MARGIN or off[0] * off[-1] >= 0:
             continue
-        if (abs(mu_a) - 1.0) * (abs(mu_b) - 1.0) >= 0:
-            continue
-        s = (abs(mu_a) - 1.0) / ((abs(mu_a) - 1.0) - (abs(mu_b) - 1.0))
         if abs(mu_b.imag) > 1e-4:
             kind = complex_pair
         elif mu_b.real < 0:
             kind = at_minus_one
         else:
             kind = at_plus_one
-        found.append(_between(kind, a, b, s, f"multiplier {mu_a:.6g} -> {mu_b:.6g}"))
+        changes = [k for k in range(len(off) - 1) if off[k] * off[k + 1] < 0]
+        if len(changes) == 1:
+            k = changes[0]
+            lo, hi = points[i + k], points[i + k + 1]
+            s = off[k] / (off[k] - off[k + 1])
+            found.append(_between(kind, lo, hi, s, f"multiplier {mu_a:.6g} -> {mu_b:.6g}"))
+        else:
+            s = off[0] / (off[0] - off[-1])
+            found.append(_between("undetermined", points[i], b, s, (
+                f"a {kind} crossing: multiplier {mu_a:.6g} -> {mu_b:.6g}, |mu| - 1 changing "
+                f"sign {len(changes)} times within {UNIT_MARGIN:g} of the circle between "
+                f"these two points ({len(off) - 2} between): where it crosses is not "
+                "decided")))
     return found
 
 
@@ -138,8 +176,9 @@ def codim2_points(curve: FoldCurve) -> list[Codim2]:
     found: list[Codim2] = []
     pts = curve.points
     largest = max((p.amplitude for p in pts), default=0.0)
-    for a, b in itertools.pairwise(pts):
-        found.extend(crossings(a, b, largest, curve.what))
+    for j in range(1, len(pts)):
+        found.extend(_coefficients(pts[j - 1], pts[j], largest, curve.what))
+        found.extend(through_circle(pts, j, curve.what))
     if curve.end.startswith("the amplitude vanished"):
         a, b = pts[-2], pts[-1]
         a2, b2 = a.amplitude ** 2, b.amplitude ** 2

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core.codim2 import crossings, others
+from core.codim2 import crossings, others, through_circle
 from core.floquet import Multipliers
 from core.fold_continuation import CurvePoint
 
@@ -92,3 +92,25 @@ def test_the_torus_walk_ends_where_its_pair_meets_on_the_real_axis():
     assert curve.ended(_torus(1.0, -0.9999999, [])) == ""
     assert "1:2 resonance" in curve.ended(_torus(1.0, -1.0001, []))
     assert "1:1 resonance" in curve.ended(_torus(1.0, 1.0001, []))
+
+
+def test_a_slow_crossing_within_the_margin_next_to_it_is_found_once():
+    """A pair creeping through the circle: within UNIT_MARGIN at the points either side
+    of the crossing, clear two points before and after; one fold-ns (not one per member
+    of the pair), where |mu| - 1 changes sign (points 2 and 3)."""
+    moduli = [0.99996, 0.999995, 0.999998, 1.000003, 1.000006, 1.00004, 1.00005]
+    pts = [_point(float(i), 1.0, [r * np.exp(2.1j), r * np.exp(-2.1j), 0.5])
+           for i, r in enumerate(moduli)]
+    found = [c for j in range(1, len(pts)) for c in through_circle(pts, j, "fold")]
+    (c,) = found
+    assert c.type == "fold-ns"
+    assert c.first == pytest.approx(2.0 + 2e-6 / (2e-6 + 3e-6))
+
+
+def test_a_crossing_that_wanders_within_the_margin_is_undetermined():
+    moduli = [0.99996, 0.999995, 1.000004, 0.999996, 1.000003, 1.00004]
+    pts = [_point(float(i), 1.0, [r * np.exp(2.1j), r * np.exp(-2.1j)])
+           for i, r in enumerate(moduli)]
+    (c,) = [c for j in range(1, len(pts)) for c in through_circle(pts, j, "fold")]
+    assert c.type == "undetermined" and "fold-ns crossing" in c.note
+    assert "3 times" in c.note and 0.0 < c.first < 5.0
