@@ -22,17 +22,22 @@ the other multipliers, the pair on the circle left out: flip-ns (one through -1)
 normal-form coefficient vanishing) is not looked for: that coefficient is not computed.
 
 Multiplier crossings count only when the multiplier is off the circle by more than
-UNIT_MARGIN on both sides.
+UNIT_MARGIN on both sides and, along a walked curve, by more than CLEAR times its
+uncertainty (its change under dt -> dt/2, core.multiplier_crossing) at the two points
+either side; otherwise they are "undetermined" with the figures.
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 from core.floquet import Multipliers
 from core.fold_continuation import CurvePoint, FoldCurve
+from core.multiplier_crossing import CLEAR, uncertainty
 
 #: The margin a multiplier crossing must clear on both sides: at a fold two multipliers
 #: sit at +1 (the flow's and the fold's); round-off moves multipliers that sit on the
@@ -99,7 +104,12 @@ def _coefficients(a: CurvePoint, b: CurvePoint, largest: float, what: str) -> li
     return found
 
 
-def through_circle(points: list[CurvePoint], j: int, what: str) -> list[Codim2]:
+#: A point's multiplier's uncertainty: (point, mu) -> its change under dt -> dt/2.
+PointError = Callable[[CurvePoint, complex], float]
+
+
+def through_circle(points: list[CurvePoint], j: int, what: str,
+                   error: PointError | None = None) -> list[Codim2]:
     """The multipliers (but the bifurcation's own) that are clear of the circle at point j
     (UNIT_MARGIN) on the other side than at the last point before it where they were
     clear: followed back point by point (each to its nearest), so that a slow crossing,
@@ -109,7 +119,10 @@ def through_circle(points: list[CurvePoint], j: int, what: str) -> list[Codim2]:
     decided: "undetermined", with the figures. (The 3-slip orbit's second pair near the
     cube roots of unity, along its torus curve from tau = 10 to 20, wanders between
     0.999989 and 1.000014 before leaving the circle: the N-slip clusters move by ~1e-5
-    under dt -> dt/2, tests/integration/test_real_crossings.py.)"""
+    under dt -> dt/2, tests/integration/test_real_crossings.py.) With ``error``, a
+    crossing is claimed only where |mu| - 1 at those two clear points lies beyond CLEAR
+    times its uncertainty (core.multiplier_crossing's rule for branches), and is
+    undetermined with the figures otherwise."""
     b = points[j]
     at_minus_one, complex_pair, at_plus_one = KINDS[what]
     found: list[Codim2] = []
@@ -135,7 +148,13 @@ def through_circle(points: list[CurvePoint], j: int, what: str) -> list[Codim2]:
         else:
             kind = at_plus_one
         changes = [k for k in range(len(off) - 1) if off[k] * off[k + 1] < 0]
-        if len(changes) == 1:
+        unclear = _unclear(points[i], b, mu_a, mu_b, error)
+        if len(changes) == 1 and unclear:
+            s = off[0] / (off[0] - off[-1])
+            found.append(_between("undetermined", points[i], b, s, f"a {kind} crossing: "
+                                  f"{unclear}: not beyond {CLEAR:g} uncertainties on both "
+                                  "sides"))
+        elif len(changes) == 1:
             k = changes[0]
             lo, hi = points[i + k], points[i + k + 1]
             s = off[k] / (off[k] - off[k + 1])
@@ -148,6 +167,33 @@ def through_circle(points: list[CurvePoint], j: int, what: str) -> list[Codim2]:
                 f"these two points ({len(off) - 2} between): where it crosses is not "
                 "decided")))
     return found
+
+
+def _unclear(a: CurvePoint, b: CurvePoint, mu_a: complex, mu_b: complex,
+             error: PointError | None) -> str:
+    """"" when ``error`` is None or |mu| - 1 at a and at b lies beyond CLEAR times the
+    multiplier's uncertainty there; else the figures."""
+    if error is None:
+        return ""
+    ua, ub = error(a, mu_a), error(b, mu_b)
+    ea, eb = abs(mu_a) - 1.0, abs(mu_b) - 1.0
+    if abs(ea) > CLEAR * ua and abs(eb) > CLEAR * ub:
+        return ""
+    return (f"|mu| - 1 = {ea:+.1e} at ({a.first:.6g}, {a.second:.6g}) (uncertain by "
+            f"{ua:.1e}) and {eb:+.1e} at ({b.first:.6g}, {b.second:.6g}) (uncertain by "
+            f"{ub:.1e}; the change under dt -> dt/2)")
+
+
+def point_error(curve: FoldCurve) -> PointError:
+    """The uncertainty of a multiplier of a curve point: its change when the point's orbit
+    is corrected again at dt / 2 (core.multiplier_crossing.uncertainty); infinite for a
+    point without its unknowns."""
+    def error(p: CurvePoint, mu: complex) -> float:
+        if p.y is None:
+            return math.inf
+        n = curve.size
+        return uncertainty(curve.map_at(p.y), p.y[:n], float(p.y[n]), p.multipliers, mu)
+    return error
 
 
 #: The multiplier a curve's own bifurcation puts on the circle, besides the flow's.
@@ -172,13 +218,15 @@ def _between(kind: str, a: CurvePoint, b: CurvePoint, s: float, note: str) -> Co
 
 
 def codim2_points(curve: FoldCurve) -> list[Codim2]:
-    """The codimension-two points along a walked curve, in order."""
+    """The codimension-two points along a walked curve, in order; a multiplier's crossing
+    judged against its uncertainty at the points either side (``point_error``)."""
     found: list[Codim2] = []
     pts = curve.points
     largest = max((p.amplitude for p in pts), default=0.0)
+    error = point_error(curve)
     for j in range(1, len(pts)):
         found.extend(_coefficients(pts[j - 1], pts[j], largest, curve.what))
-        found.extend(through_circle(pts, j, curve.what))
+        found.extend(through_circle(pts, j, curve.what, error))
     if curve.end.startswith("the amplitude vanished"):
         a, b = pts[-2], pts[-1]
         a2, b2 = a.amplitude ** 2, b.amplitude ** 2

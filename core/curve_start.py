@@ -204,7 +204,9 @@ def resume(spec: CurveSpec, saved: list[SavedCurvePoint]) -> Walk:
     curve.points = [CurvePoint(s.first, s.second, s.period, float(s.amplitude or 0.0),
                                float(s.curvature if s.curvature is not None else math.nan),
                                _multipliers(s), int(s.newton_steps or 0),
-                               _kappa(s, n, border)) for s in saved]
+                               _kappa(s, n, border),
+                               None if s.state is None else s.state[3:3 + n + 3].copy())
+                      for s in saved]
     return FoldWalk(spec, curve)
 
 

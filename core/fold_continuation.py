@@ -91,6 +91,9 @@ class CurvePoint:
     newton_steps: int
     #: A torus point's kappa = cos(arg mu) of its pair on the circle (NaN on other curves).
     kappa: float = math.nan
+    #: The unknowns (z, T, p, q): where a multiplier's uncertainty is measured from
+    #: (core.codim2).
+    y: np.ndarray | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass
@@ -278,7 +281,8 @@ class FoldCurve:
         self.z_ref, self.zdot_ref = y[:n].copy(), shot.d_dT.copy()
         m_y = shot.traj[1, self.n_delay:shot.col + 1]
         point = CurvePoint(float(y[-2]), float(y[-1]), float(y[n]), float(np.ptp(m_y)),
-                           curvature, multipliers(pm, shot, CURVE_MULTIPLIERS), steps)
+                           curvature, multipliers(pm, shot, CURVE_MULTIPLIERS), steps,
+                           y=y.copy())
         self.y = y
         self.points.append(point)
         return point
@@ -354,8 +358,17 @@ def step(curve: FoldCurve, to: float, max_points: int, min_step: float = 1e-6
         curve.end = str(exc)
         return None
     if (point.second - to) * curve.direction >= 0:
+        try:
+            fixed = _fixed_at(curve, to)
+        except (OrbitError, ParameterError, np.linalg.LinAlgError) as exc:
+            # the chord back to ``to`` is too far from a curve that bends within the last
+            # step (the 3-slip torus curve's last step to tau = 5 spans k 80 to 90): the
+            # point past ``to`` stays the last
+            curve.end = (f"passed {curve.names[1]} = {to:g} (the last point at "
+                         f"{point.second:.6g}; the point at {to:g} itself: {exc})")
+            return point
         curve.points.pop()
-        point = curve._accept(*_fixed_at(curve, to))
+        point = curve._accept(*fixed)
         curve.end = f"reached {curve.names[1]} = {to:g}"
     else:
         curve.end = curve.ended(point)

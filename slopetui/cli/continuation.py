@@ -35,8 +35,8 @@ if TYPE_CHECKING:
 
 
 def _check(args: argparse.Namespace) -> None:
-    """--from-hopf, --from-run, --from-fold, --from-pd and --from-ns as numbers (one line naming a bad one; the
-    rest are continuation_spec's and curve_spec's)."""
+    """--from-hopf, --from-run, --from-fold, --from-pd and --from-ns as numbers (one line
+    naming a bad one; the rest are continuation_spec's and curve_spec's)."""
     if args.from_hopf is not None:
         args.from_hopf = int_arg("from-hopf", args.from_hopf, 1, MAX_HOPF_BRANCH,
                                  note=" (the Hopf branch: 1 the first root crossing)")

@@ -1,8 +1,8 @@
 """A curve in two parameters (core.curve_start) in its plane: the fold of cycles, period
-doubling, torus bifurcation or Hopf curve as points, the first parameter across and the second up (the phase diagrams'
-orientation: k across, tau up), and its codimension-two points marked by a capital letter
-of their own, so that the plane reads with colour off. A Hopf curve's points are drawn by
-the sign of l1: '+' subcritical, '-' supercritical.
+doubling, torus bifurcation or Hopf curve as points, the first parameter across and the
+second up (the phase diagrams' orientation: k across, tau up), and its codimension-two
+points marked by a capital letter of their own, so that the plane reads with colour off.
+A Hopf curve's points are drawn by the sign of l1: '+' subcritical, '-' supercritical.
 """
 
 from __future__ import annotations

@@ -6,6 +6,7 @@ once and in order."""
 
 from __future__ import annotations
 
+import functools
 from dataclasses import replace
 
 import numpy as np
@@ -37,6 +38,7 @@ class StopAfter:
         return row is not None and row.n_points >= self.n
 
 
+@functools.cache  # once for both stores
 def _uninterrupted(spec: CurveSpec) -> tuple[list[tuple[float, float, float]], list[str]]:
     walk = start(spec)
     points = []

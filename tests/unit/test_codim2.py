@@ -114,3 +114,14 @@ def test_a_crossing_that_wanders_within_the_margin_is_undetermined():
     (c,) = [c for j in range(1, len(pts)) for c in through_circle(pts, j, "fold")]
     assert c.type == "undetermined" and "fold-ns crossing" in c.note
     assert "3 times" in c.note and 0.0 < c.first < 5.0
+
+
+@pytest.mark.parametrize(("u", "kind"), [(1e-7, "fold-ns"), (1e-5, "undetermined")])
+def test_a_crossing_is_claimed_only_beyond_ten_uncertainties_on_both_sides(u, kind):
+    moduli = [0.99996, 1.00005]
+    pts = [_point(float(i), 1.0, [r * np.exp(2.1j), r * np.exp(-2.1j)])
+           for i, r in enumerate(moduli)]
+    (c,) = through_circle(pts, 1, "fold", lambda p, mu: u)
+    assert c.type == kind
+    if kind == "undetermined":
+        assert "uncertain by 1.0e-05" in c.note and "not beyond 10" in c.note
