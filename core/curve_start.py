@@ -173,7 +173,7 @@ def start(spec: CurveSpec) -> Walk:
             raise ValueError(f"a {spec.start} curve needs the branch's end (branch_end)")
         begin = CROSSING_STARTS[spec.start][1]
         return FoldWalk(spec, begin(spec.params, (spec.name, spec.second), spec.dt,
-                                    spec.branch_end, max_step=spec.max_step,
+                                    spec.branch_end, spec.to, max_step=spec.max_step,
                                     hopf_branch=spec.hopf_branch))
     curve = start_at_fold(spec.params, (spec.name, spec.second), spec.to, spec.dt,
                           max_step=spec.max_step, hopf_branch=spec.hopf_branch)

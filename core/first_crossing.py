@@ -13,12 +13,14 @@ uncertain by 8.4e-6 at the latter, and real with the point at 10.779.)
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 from core.branch_start import BranchSpec, past_end, start
 from core.continuation import Bifurcation, Branch, judged_crossing
 from core.multiplier_crossing import WIDEN, crossing_multiplier
 from core.orbit import OrbitError
+from core.params import Params
 
 
 def first_crossing(spec: BranchSpec, kind: str, candidate: Callable[[complex], bool]
@@ -58,4 +60,19 @@ def first_crossing(spec: BranchSpec, kind: str, candidate: Callable[[complex], b
     raise OrbitError(f"no {what} on the branch in {spec.name} {ended}")
 
 
-__all__ = ["first_crossing"]
+def branch_dt(p: Params, second: str, reach: float, dt: float) -> float:
+    """The grid step of the branch a curve in (., ``second``) starts from: ``dt``, or finer
+    when ``second`` is tau and the curve goes to a larger tau: along the curve the delay
+    grid keeps its N = tau / dt points (core.fold_continuation), so N is chosen for the
+    larger tau and dt stays at most the one asked for (as core.fold_start does)."""
+    if second != "tau" or reach <= p.tau:
+        return dt
+    return p.tau / math.ceil(reach / dt - 1e-9)
+
+
+def towards(p: Params, second: str, reach: float) -> float:
+    """The direction a curve starting at ``p`` goes in ``second`` to reach ``reach``."""
+    return 1.0 if reach > getattr(p, second) else -1.0
+
+
+__all__ = ["branch_dt", "first_crossing", "towards"]

@@ -27,7 +27,7 @@ import numpy as np
 from core.branch_start import BranchSpec
 from core.branch_switch import flip_vector, orbit_at
 from core.continuation import Bifurcation, Branch
-from core.first_crossing import first_crossing
+from core.first_crossing import branch_dt, first_crossing, towards
 from core.fold_continuation import BORDER_RTOL, CurvePoint, FoldCurve, LinearParts
 from core.orbit import PeriodMap, Shot
 from core.params import Params
@@ -102,13 +102,17 @@ class FlipCurve(FoldCurve):
 
 
 def start_at_flip(spec_params: Params, names: tuple[str, str], dt: float, end: float,
-                  step: float = 0.05, max_step: float = 0.5, hopf_branch: int = 1,
-                  max_points: int = 400, branch_step: float = 0.5) -> FlipCurve:
+                  reach: float, step: float = 0.05, max_step: float = 0.5,
+                  hopf_branch: int = 1, max_points: int = 400, branch_step: float = 0.5
+                  ) -> FlipCurve:
     """The curve's start: the first real period doubling on the branch in names[0] from
-    the Hopf point (``first_flip``), continued in names[1] (``flip_curve_at``)."""
-    branch, pd = first_flip(spec_params, names[0], dt, end, hopf_branch, max_points,
-                            branch_step)
-    return flip_curve_at(branch, pd, names[1], step, max_step)
+    the Hopf point (``first_flip``), continued in names[1] (``flip_curve_at``) towards
+    ``reach`` (the branch's grid chosen for it: core.first_crossing.branch_dt)."""
+    branch, pd = first_flip(spec_params, names[0], branch_dt(spec_params, names[1], reach, dt),
+                            end, hopf_branch, max_points, branch_step)
+    curve = flip_curve_at(branch, pd, names[1], step, max_step)
+    curve.direction = towards(spec_params, names[1], reach)
+    return curve
 
 
 def first_flip(spec_params: Params, name: str, dt: float, end: float, hopf_branch: int = 1,

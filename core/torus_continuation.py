@@ -50,7 +50,7 @@ import numpy as np
 from core.branch_start import BranchSpec
 from core.branch_switch import multiplier_vector, orbit_at
 from core.continuation import Bifurcation, Branch
-from core.first_crossing import first_crossing
+from core.first_crossing import branch_dt, first_crossing, towards
 from core.flip_continuation import FlipCurve
 from core.fold_continuation import CURVE_NEWTON, CURVE_TOL, FD_REL, CurvePoint, LinearParts
 from core.orbit import Grid, OrbitError, PeriodMap, Shot
@@ -277,13 +277,18 @@ def torus_curve_at(branch: Branch, ns: Bifurcation, after: int, second: str,
 
 
 def start_at_torus(spec_params: Params, names: tuple[str, str], dt: float, end: float,
-                   step: float = 0.05, max_step: float = 0.5, hopf_branch: int = 1,
-                   max_points: int = 400, branch_step: float = 0.5) -> TorusCurve:
+                   reach: float, step: float = 0.05, max_step: float = 0.5,
+                   hopf_branch: int = 1, max_points: int = 400, branch_step: float = 0.5
+                   ) -> TorusCurve:
     """The curve's start: the first real torus on the branch in names[0] from the Hopf
-    point (``first_torus``), continued in names[1] (``torus_curve_at``)."""
-    branch, ns, after = first_torus(spec_params, names[0], dt, end, hopf_branch, max_points,
-                                    branch_step)
-    return torus_curve_at(branch, ns, after, names[1], step, max_step)
+    point (``first_torus``), continued in names[1] (``torus_curve_at``) towards ``reach``
+    (the branch's grid chosen for it: core.first_crossing.branch_dt)."""
+    branch, ns, after = first_torus(spec_params, names[0],
+                                    branch_dt(spec_params, names[1], reach, dt), end,
+                                    hopf_branch, max_points, branch_step)
+    curve = torus_curve_at(branch, ns, after, names[1], step, max_step)
+    curve.direction = towards(spec_params, names[1], reach)
+    return curve
 
 
 __all__ = ["TorusCurve", "first_torus", "start_at_torus", "torus_curve_at"]

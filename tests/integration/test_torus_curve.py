@@ -66,14 +66,27 @@ def test_the_2_slip_torus_curve_keeps_a_pair_on_the_circle_and_crosses_it_there(
 
 def test_the_one_parameter_continuation_finds_the_torus_where_the_curve_passes():
     saved, _ = _curve(2, 10.5, 20)
-    _, ns, _ = first_torus(Params(tau=10.5), "k", 10.5 / 1000, 25.0, hopf_branch=2)
+    n_delay = int(saved[-1].state[0])  # 1050: chosen for tau = 10.5 at dt = 0.01
+    assert n_delay == 1050
+    _, ns, _ = first_torus(Params(tau=10.5), "k", 10.5 / n_delay, 25.0, hopf_branch=2)
     # the one-parameter location carries the near-defective pair's ARPACK error (5e-9 in
     # |mu| there): 4.7e-6 apart in k, where the curve's point has |mu| - 1 = -3e-11
     assert ns.type == "torus" and abs(ns.value - saved[-1].first) < 2e-5
 
 
+def test_a_torus_curve_asked_downwards_goes_down():
+    saved, walk = _curve(2, 9.9, 4)
+    assert walk.end == "reached tau = 9.9"
+    seconds = [p.second for p in saved]
+    assert seconds == sorted(seconds, reverse=True) and seconds[-1] == 9.9
+    assert int(saved[0].state[0]) == 1000  # no larger tau to choose the grid for
+
+
 def test_the_3_slip_torus_curve_beside_a_second_pair_near_the_circle():
-    saved, walk = _curve(3, 10.1, 6)
+    # downwards: the grid is the branch's at dt = 0.01. (Upwards, to tau = 10.1, it is
+    # chosen for 10.1, dt = 10 / 1010, and the start moves to k = 9.8713: this slow
+    # crossing, d|mu|/dk ~ 1.3e-4, lies within ~2e-2 in k of the RK4 scheme's own.)
+    saved, walk = _curve(3, 9.9, 5)
     assert abs(saved[0].first - 9.8623) < 1e-3
     for p in (saved[1], saved[-1]):
         assert abs(_pair_off_circle(p.first, p.second, p.state)) < 1e-9
