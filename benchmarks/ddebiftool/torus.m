@@ -1,4 +1,4 @@
-function torus(stage,degree,intervals)
+function torus(stage,degree,intervals,tau0,kref,kstart,krange)
 %% The torus (Neimark-Sacker) bifurcation of the 2-slip orbit (the branch born
 % at the second Hopf point in k at tau = 10, defaults of eq. 8, d = 1e-4).
 % stage 'point': the branch from the Hopf point down past k = 5.2 (free k, c),
@@ -16,44 +16,50 @@ function torus(stage,degree,intervals)
 if nargin<1, stage='point'; end
 if nargin<2, degree=4; end
 if nargin<3, intervals=60; end
+% tau0, kref: where the torus is sought (kref: slopetui's k, only to centre
+% the secant's two start points at kref -+ 1%, and to print the difference);
+% kstart, krange: the steady-state sweep in k that finds the second Hopf point
+if nargin<4, tau0=10; end
+if nargin<5, kref=5.2567084; end
+if nargin<6, kstart=5.5; end
+if nargin<7, krange=2; end
 setup_path();
 t0=tic;
 switch stage
-    case 'point', torus_point(degree,intervals,t0);
+    case 'point', torus_point(degree,intervals,t0,tau0,kref,kstart,krange);
     otherwise, torus_curve(stage,t0);
 end
 end
 
-function torus_point(degree,intervals,t0)
-tau0=10;
+function torus_point(degree,intervals,t0,tau0,kref,kstart,krange)
 fprintf('collocation: degree %d, %d intervals (adaptive mesh)\n',degree,intervals);
 % the second Hopf point of the sweep in k at tau = 10 (k_H = 6.678)
-[~,~,funcs,ip,hbr]=hopf_point(tau0,5.5,true,2,2);
+[~,~,funcs,ip,hbr]=hopf_point(tau0,kstart,true,2,krange);
 [pbr,suc]=SetupPsol(funcs,hbr,1,'contpar',[ip.k,ip.c],'degree',degree,...
-    'intervals',intervals,'radius',1e-3,'max_bound',[ip.k,7.5],'min_bound',[ip.k,0.3]);
+    'intervals',intervals,'radius',1e-3,'max_bound',[ip.k,max(7.5,1.2*kref)],'min_bound',[ip.k,0.3]);
 if ~suc, error('psol init failed'); end
 pbr.method.continuation.plot=0;
 pbr.method.point.extra_condition=1;
 pbr.method.continuation.steplength_growth_factor=1.2;
 pbr.method.point.adapt_mesh_after_correct=1;
 pbr.method.point.adapt_mesh_before_correct=1;
-pbr.parameter.max_step=[ip.k,0.1;0,0.2];
+pbr.parameter.max_step=[ip.k,0.1*max(1,kref/5);0,0.2*max(1,kref/5)];
 % down from the Hopf point, through the fold of this branch, and back up past
-% k = 5.3 (the 2-slip orbit slopetui continues is the branch beyond the fold)
-for it=1:30
+% kref (at tau = 10 the 2-slip orbit slopetui continues is the branch beyond the fold)
+for it=1:40
     pbr=br_contn(funcs,pbr,10);
     k=orbit_measures(pbr.point,ip); [~,i]=min(k);
-    if i<numel(k)-2 && k(end)>5.35, break; end
+    if i<numel(k)-2 && k(end)>1.02*kref, break; end
 end
 for i=1:numel(k)
     fprintf('BRANCHPT k=%.8f T=%.8f\n',k(i),pbr.point(i).period);
 end
 fprintf('BRANCH %d points, k from %.6f to %.6f, T at the end %.6f (%.0fs)\n',numel(k),...
     k(1),k(end),pbr.point(end).period,toc(t0));
-if min(k)>5.2, error('the branch did not reach k = 5.2'); end
+
 % the points past the branch's fold in k
 [~,ifold]=min(k); idx=ifold:numel(k);
-ks=[5.20,5.2567084,5.30]; g=zeros(size(ks)); pts=[];
+ks=kref*[0.99,1,1.01]; g=zeros(size(ks)); pts=[];
 for i=1:numel(ks)
     [pt,ok]=orbit_at_k(funcs,pbr,ip,ks(i),idx);
     if ~ok, error('orbit at k=%g failed',ks(i)); end
@@ -72,17 +78,17 @@ for it=1:6
     ka=kb; ga=gb; pa=pb; kb=kn; gb=gn; pb=pn;
     if abs(kb-ka)<1e-8, break; end
 end
-fprintf('SECANT |mu|-1 = 0 at k=%.9f (tau=10; slopetui 5.2567084, diff %.2e), T=%.8f (%.0fs)\n',...
-    kb,kb-5.2567084,pb.period,toc(t0));
+fprintf('SECANT |mu|-1 = 0 at k=%.9f (tau=%g; slopetui %.9g, diff %.2e, rel %.1e), T=%.8f (%.0fs)\n',...
+    kb,tau0,kref,kb-kref,(kb-kref)/kref,pb.period,toc(t0));
 ptor=pb;
 % DDE-BIFTOOL's own torus system at tau = 10, free k, c (and omega, period)
 br=pbr; br.point=ptor;
 [trfuncs,trbr,suc]=torus_setup(funcs,br,ip,[ip.k,ip.c]);
-if ~suc, warning('on','all'); fprintf('TORUS SetupTorusBifurcation at tau=10 failed\n'); end
+if ~suc, fprintf('TORUS SetupTorusBifurcation at tau=%g failed\n',tau0); end
 s=trfuncs.get_comp(trbr.point(1),'solution'); om=trfuncs.get_comp(trbr.point(1),'omega');
-fprintf('TORUS tau=10 success=%d k=%.9f T=%.8f omega=%.9f (mu = exp(+-i pi omega) = %.9f +- %.3ei) (%.0fs)\n',...
-    suc,s.parameter(ip.k),s.period,om,cos(pi*om),abs(sin(pi*om)),toc(t0));
-save('-mat','torus_point.mat','ptor','pbr','ip');
+fprintf('TORUS tau=%g success=%d k=%.9f T=%.8f omega=%.9f (mu = exp(+-i pi omega) = %.9f +- %.3ei) | slopetui %.9g diff %.2e (%.0fs)\n',...
+    tau0,suc,s.parameter(ip.k),s.period,om,cos(pi*om),abs(sin(pi*om)),kref,s.parameter(ip.k)-kref,toc(t0));
+save('-mat',sprintf('torus_point_%g.mat',tau0),'ptor','pbr','ip');
 end
 
 function [trfuncs,trbr,suc]=torus_setup(funcs,br,ip,contpar)
@@ -105,22 +111,26 @@ J=p_axpy(0,p,[]); J.profile(1,1)=1;
 end
 
 function [g,pt]=pair_report(funcs,br,pt,ip,tag)
-%% multipliers of pt near -1; g = |mu| - 1 of the largest of them (the pair)
+%% multipliers of pt near -1; g = sqrt(|mu1 mu2|) - 1 of the two closest to -1:
+% |mu| - 1 while they are a complex pair, and smooth in k where they split
+% into two reals (at tau = 20 they are complex only within about 1e-3 of the
+% torus in k: -1.000109, -1.000017 at k = 2.2010; -0.999985, -0.999907 at
+% 2.2454), where |mu| - 1 of the larger one has a kink
 br.point=pt;
 [~,~,~,p2]=GetStability(br,'funcs',funcs,'exclude_trivial',false);
 pt=p2(1); mu=pt.stability.mu(:);
-near=mu(abs(mu+1)<0.05); [~,o]=sort(abs(near),'descend'); near=near(o);
+[~,o]=sort(abs(mu+1)); near=mu(o(1:2));
 [~,o1]=sort(abs(mu-1)); triv=mu(o1(1:2));
-g=abs(near(1))-1;
-fprintf('%s k=%.9f T=%.8f mu near -1: %s |mu|-1: %s; trivial |mu-1| %.1e %.1e\n',tag,...
-    pt.parameter(ip.k),pt.period,mat2str(near.',10),mat2str(abs(near.')-1,4),...
+g=sqrt(abs(near(1)*near(2)))-1;
+fprintf('%s k=%.9f T=%.8f mu near -1: %s |mu|-1: %s sqrt(|mu1 mu2|)-1: %.4g; trivial |mu-1| %.1e %.1e\n',tag,...
+    pt.parameter(ip.k),pt.period,mat2str(near.',10),mat2str(abs(near.')-1,4),g,...
     abs(triv(1)-1),abs(triv(2)-1));
 end
 
 function torus_curve(spec,t0)
 %% spec = 'curve:taulo:tauhi'
 a=strsplit(spec,':'); taulo=str2double(a{2}); tauhi=str2double(a{3});
-S=load('torus_point.mat'); funcs=slope_funcs(); ip=S.ip; pbr=S.pbr;
+S=load('torus_point_10.mat'); funcs=slope_funcs(); ip=S.ip; pbr=S.pbr;
 br=pbr; br.point=S.ptor;
 [trfuncs,trbr,suc]=torus_setup(funcs,br,ip,[ip.k,ip.tau,ip.c]);
 if ~suc, fprintf('TORUS SetupTorusBifurcation with tau free failed\n'); return; end
