@@ -1,4 +1,4 @@
-function torus(stage,degree,intervals,tau0,kref,kstart,krange)
+function torus(stage,degree,intervals,tau0,kref,kstart,krange,which)
 %% The torus (Neimark-Sacker) bifurcation of the 2-slip orbit (the branch born
 % at the second Hopf point in k at tau = 10, defaults of eq. 8, d = 1e-4).
 % stage 'point': the branch from the Hopf point down past k = 5.2 (free k, c),
@@ -23,18 +23,23 @@ if nargin<4, tau0=10; end
 if nargin<5, kref=5.2567084; end
 if nargin<6, kstart=5.5; end
 if nargin<7, krange=2; end
+% which: the Hopf point the branch starts at (2: the 2-slip orbit, its pair
+% near -1; 3: the 3-slip orbit, its pairs near exp(+-2 pi i/3))
+if nargin<8, which=2; end
 setup_path();
 t0=tic;
 switch stage
-    case 'point', torus_point(degree,intervals,t0,tau0,kref,kstart,krange);
+    case 'point', torus_point(degree,intervals,t0,tau0,kref,kstart,krange,which);
     otherwise, torus_curve(stage,t0);
 end
 end
 
-function torus_point(degree,intervals,t0,tau0,kref,kstart,krange)
+function torus_point(degree,intervals,t0,tau0,kref,kstart,krange,which)
+if nargin<8, which=2; end
+target=exp(2i*pi/which);   % -1 for the 2-slip orbit
 fprintf('collocation: degree %d, %d intervals (adaptive mesh)\n',degree,intervals);
 % the second Hopf point of the sweep in k at tau = 10 (k_H = 6.678)
-[~,~,funcs,ip,hbr]=hopf_point(tau0,kstart,true,2,krange);
+[~,~,funcs,ip,hbr]=hopf_point(tau0,kstart,true,which,krange);
 [pbr,suc]=SetupPsol(funcs,hbr,1,'contpar',[ip.k,ip.c],'degree',degree,...
     'intervals',intervals,'radius',1e-3,'max_bound',[ip.k,max(7.5,1.2*kref)],'min_bound',[ip.k,0.3]);
 if ~suc, error('psol init failed'); end
@@ -63,7 +68,7 @@ ks=kref*[0.99,1,1.01]; g=zeros(size(ks)); pts=[];
 for i=1:numel(ks)
     [pt,ok]=orbit_at_k(funcs,pbr,ip,ks(i),idx);
     if ~ok, error('orbit at k=%g failed',ks(i)); end
-    [g(i),pt]=pair_report(funcs,pbr,pt,ip,'ORBIT');
+    [g(i),pt]=pair_report(funcs,pbr,pt,ip,'ORBIT',target);
     pts=[pts,pt]; %#ok<AGROW>
 end
 % secant on g(k) = |mu| - 1 of the pair near -1, from k = 5.20 and 5.30
@@ -74,7 +79,7 @@ for it=1:6
     start.parameter(ip.k)=kn; start.stability=[];
     [pn,ok]=p_correc(funcs,start,ip.c,[],pbr.method.point);
     if ~ok, error('secant orbit at k=%.9f failed',kn); end
-    [gn,pn]=pair_report(funcs,pbr,pn,ip,'SECANT');
+    [gn,pn]=pair_report(funcs,pbr,pn,ip,'SECANT',target);
     ka=kb; ga=gb; pa=pb; kb=kn; gb=gn; pb=pn;
     if abs(kb-ka)<1e-8, break; end
 end
@@ -83,7 +88,7 @@ fprintf('SECANT |mu|-1 = 0 at k=%.9f (tau=%g; slopetui %.9g, diff %.2e, rel %.1e
 ptor=pb;
 % DDE-BIFTOOL's own torus system at tau = 10, free k, c (and omega, period)
 br=pbr; br.point=ptor;
-[trfuncs,trbr,suc]=torus_setup(funcs,br,ip,[ip.k,ip.c]);
+[trfuncs,trbr,suc]=torus_setup(funcs,br,ip,[ip.k,ip.c],target);
 if ~suc, fprintf('TORUS SetupTorusBifurcation at tau=%g failed\n',tau0); end
 s=trfuncs.get_comp(trbr.point(1),'solution'); om=trfuncs.get_comp(trbr.point(1),'omega');
 fprintf('TORUS tau=%g success=%d k=%.9f T=%.8f omega=%.9f (mu = exp(+-i pi omega) = %.9f +- %.3ei) | slopetui %.9g diff %.2e (%.0fs)\n',...
@@ -91,11 +96,13 @@ fprintf('TORUS tau=%g success=%d k=%.9f T=%.8f omega=%.9f (mu = exp(+-i pi omega
 save('-mat',sprintf('torus_point_%g.mat',tau0),'ptor','pbr','ip');
 end
 
-function [trfuncs,trbr,suc]=torus_setup(funcs,br,ip,contpar)
-%% SetupTorusBifurcation at br.point(1); the critical pair is the one near -1
+function [trfuncs,trbr,suc]=torus_setup(funcs,br,ip,contpar,target)
+%% SetupTorusBifurcation at br.point(1); the critical pair is the one near
+% target (upper half plane), the largest in modulus if there are two
+if nargin<5, target=-1; end
 dim=size(br.point(1).profile,1);
 st=dde_psol_eig(funcs,br.point(1),br.method.stability);
-mu=st.mu(:); [~,j]=min(abs(mu-(-1)+0.0i)+1e3*(imag(mu)<0));
+mu=st.mu(:); up=mu(abs(mu-target)<0.05 & imag(mu)>=0); [~,j]=max(abs(up)); mu=up;
 [trfuncs,trbr,suc]=SetupTorusBifurcation(funcs,br,1,'contpar',contpar,...
     'nremove',[1,1],'closest',mu(j),'sys_deri',1e-6,'dir',[],...
     'extra_cond',{@(p,pref)solpin(p)});
@@ -110,18 +117,24 @@ r=p.profile(1,1);
 J=p_axpy(0,p,[]); J.profile(1,1)=1;
 end
 
-function [g,pt]=pair_report(funcs,br,pt,ip,tag)
+function [g,pt]=pair_report(funcs,br,pt,ip,tag,target)
 %% multipliers of pt near -1; g = sqrt(|mu1 mu2|) - 1 of the two closest to -1:
 % |mu| - 1 while they are a complex pair, and smooth in k where they split
 % into two reals (at tau = 20 they are complex only within about 1e-3 of the
 % torus in k: -1.000109, -1.000017 at k = 2.2010; -0.999985, -0.999907 at
 % 2.2454), where |mu| - 1 of the larger one has a kink
+if nargin<6, target=-1; end
 br.point=pt;
 [~,~,~,p2]=GetStability(br,'funcs',funcs,'exclude_trivial',false);
 pt=p2(1); mu=pt.stability.mu(:);
 [~,o]=sort(abs(mu+1)); near=mu(o(1:2));
 [~,o1]=sort(abs(mu-1)); triv=mu(o1(1:2));
 g=sqrt(abs(near(1)*near(2)))-1;
+if abs(target+1)>1e-12
+    % 3-slip: the pairs near exp(+-2 pi i/3); g = |mu| - 1 of the largest
+    up=mu(abs(mu-target)<0.05 & imag(mu)>=0); [~,o]=sort(abs(up),'descend');
+    near=up(o); g=abs(near(1))-1;
+end
 fprintf('%s k=%.9f T=%.8f mu near -1: %s |mu|-1: %s sqrt(|mu1 mu2|)-1: %.4g; trivial |mu-1| %.1e %.1e\n',tag,...
     pt.parameter(ip.k),pt.period,mat2str(near.',10),mat2str(abs(near.')-1,4),g,...
     abs(triv(1)-1),abs(triv(2)-1));
