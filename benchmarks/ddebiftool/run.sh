@@ -57,6 +57,12 @@ if [[ "$what" == all || "$what" == torus ]]; then
               "8.56365,6.4813,5.5,2.5" "5.162098,13.373043,5.5,4.5"; do
     oct "torus('point',4,60,$spec)" 2>&1 | grep -v '^BR_CONTN' | tee "torus_point_${spec%%,*}.log"
   done
-  # the curve in (k, tau) from tau = 10 (reads torus_point_10.mat), 50 s a point
+  # the 3-slip orbit's torus at tau = 10 (third Hopf point, pairs near exp(+-2 pi i/3))
+  oct "torus('point',4,60,10,9.8622765,5.5,4.5,3)" 2>&1 | grep -v '^BR_CONTN' | tee torus_point_10_3slip.log
+  oct "torus('point',4,120,10,9.8622765,5.5,4.5,3)" 2>&1 | grep -v '^BR_CONTN' | tee torus_point_10_3slip_n120.log
+  oct "torus('point',4,120,10,5.2567084,5.5,2)" 2>&1 | grep -v '^BR_CONTN' | tee torus_point_10_n120.log
+  # the curve in (k, tau) from tau = 10 (reads torus_point_10.mat: rerun the first line
+  # before it, as the 120-interval run above rewrites it), 50 s a point
+  oct "torus('point',4,60,10,5.2567084,5.5,2)" > /dev/null 2>&1
   oct "torus('curve:9.9:10.5')" 2>&1 | grep -v '^BR_CONTN' | tee torus_curve_10.5.log
 fi

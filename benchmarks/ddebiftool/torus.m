@@ -93,7 +93,8 @@ if ~suc, fprintf('TORUS SetupTorusBifurcation at tau=%g failed\n',tau0); end
 s=trfuncs.get_comp(trbr.point(1),'solution'); om=trfuncs.get_comp(trbr.point(1),'omega');
 fprintf('TORUS tau=%g success=%d k=%.9f T=%.8f omega=%.9f (mu = exp(+-i pi omega) = %.9f +- %.3ei) | slopetui %.9g diff %.2e (%.0fs)\n',...
     tau0,suc,s.parameter(ip.k),s.period,om,cos(pi*om),abs(sin(pi*om)),kref,s.parameter(ip.k)-kref,toc(t0));
-save('-mat',sprintf('torus_point_%g.mat',tau0),'ptor','pbr','ip');
+if which==2, fn=sprintf('torus_point_%g.mat',tau0); else, fn=sprintf('torus_point_%g_%dslip.mat',tau0,which); end
+save('-mat',fn,'ptor','pbr','ip');
 end
 
 function [trfuncs,trbr,suc]=torus_setup(funcs,br,ip,contpar,target)
