@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Cross-check of slopetui's periodic-orbit continuation with DDE-BIFTOOL in GNU Octave.
-# Usage: DDEBIFTOOL=/path/to/DDE-Biftool bash run.sh [all|tau10|folds|hopfcurve|pofoldcurve|threeslip]
+# Usage: DDEBIFTOOL=/path/to/DDE-Biftool bash run.sh [all|tau10|folds|hopfcurve|pofoldcurve|threeslip|torus]
 #    or: bash run.sh /path/to/DDE-Biftool [all|...]   (needs: apt-get install octave)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -49,4 +49,20 @@ if [[ "$what" == all || "$what" == threeslip ]]; then
     ../../.venv/bin/python write_seed.py 18 10 1e-6 3 threeslip_seed.txt
   fi
   for n in 60 120; do oct "threeslip($n)"; done 2>&1 | tee threeslip.log
+fi
+if [[ "$what" == all || "$what" == torus ]]; then
+  # the 2-slip orbit's torus: secant on |mu| - 1 and SetupTorusBifurcation at fixed tau
+  # (tau, slopetui's k, and the steady-state sweep that finds the second Hopf point)
+  for spec in "10,5.2567084,5.5,2" "10.5,4.927606587,5.5,2" "20,2.2231999,5.5,1.5" \
+              "8.56365,6.4813,5.5,2.5" "5.162098,13.373043,5.5,4.5"; do
+    oct "torus('point',4,60,$spec)" 2>&1 | grep -v '^BR_CONTN' | tee "torus_point_${spec%%,*}.log"
+  done
+  # the 3-slip orbit's torus at tau = 10 (third Hopf point, pairs near exp(+-2 pi i/3))
+  oct "torus('point',4,60,10,9.8622765,5.5,4.5,3)" 2>&1 | grep -v '^BR_CONTN' | tee torus_point_10_3slip.log
+  oct "torus('point',4,120,10,9.8622765,5.5,4.5,3)" 2>&1 | grep -v '^BR_CONTN' | tee torus_point_10_3slip_n120.log
+  oct "torus('point',4,120,10,5.2567084,5.5,2)" 2>&1 | grep -v '^BR_CONTN' | tee torus_point_10_n120.log
+  # the curve in (k, tau) from tau = 10 (reads torus_point_10.mat: rerun the first line
+  # before it, as the 120-interval run above rewrites it), 50 s a point
+  oct "torus('point',4,60,10,5.2567084,5.5,2)" > /dev/null 2>&1
+  oct "torus('curve:9.9:10.5')" 2>&1 | grep -v '^BR_CONTN' | tee torus_curve_10.5.log
 fi
