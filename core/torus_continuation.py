@@ -91,8 +91,8 @@ class TorusCurve(FlipCurve):
 
     def _G(self, y: np.ndarray, kappa: float, x0: np.ndarray | None = None
            ) -> tuple[np.ndarray, np.ndarray]:
-        """G at (y, kappa) and the bordered solutions: (V's two columns, G's entries) as one
-        vector, (v1, v2, G11, G21, G12, G22)."""
+        """G's entries (G11, G21, G12, G22) at (y, kappa), and the two bordered solutions as
+        one vector, (v1, G11, G21, v2, G12, G22): where the next solves start."""
         n = self.size
         _, shot, pm = self._F(y)
         w = np.concatenate((pm.g.weights, [1.0, 1.0]))
