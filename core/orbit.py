@@ -40,6 +40,12 @@ NEWTON_MAX = 25
 #: GMRES's relative tolerance for one Newton step (inexact Newton: tightened as the
 #: residual falls, never looser than this).
 GMRES_RTOL = 1e-6
+#: The most RK4 steps one shot integrates. A Newton step far off an orbit can ask for any
+#: period: a continuation in c at tau = 2, k = 12 asked for ~1e9 near c = -42.6 and died of
+#: a MemoryError allocating its trajectory (40 bytes a step, and as much again for each
+#: product with dP/dz). 1e6 steps is a period of 1e4 at dt = 0.01; the longest periods
+#: continued are ~60 (small k, tau = 20): 6000 steps.
+MAX_SHOT_STEPS = 1_000_000
 
 
 class OrbitError(ValueError):
@@ -134,6 +140,11 @@ class PeriodMap:
         self.coef = coefficients(p)
 
     def steps(self, T: float) -> tuple[int, float]:
+        """Whole steps of dt in T and the fraction left; OrbitError for a period no shot
+        integrates (not finite, or more than MAX_SHOT_STEPS steps)."""
+        if not math.isfinite(T) or T / self.g.dt > MAX_SHOT_STEPS:
+            raise OrbitError(f"a period of {T:.4g} is beyond one shot ({MAX_SHOT_STEPS:,} steps "
+                             f"of dt = {self.g.dt:g}): Newton has left the orbit")
         m = math.floor(T / self.g.dt)
         return max(m, 1), T / self.g.dt - max(m, 1)
 
