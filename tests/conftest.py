@@ -69,13 +69,16 @@ def pytest_ignore_collect(collection_path: Path, config: pytest.Config) -> bool 
 
 @pytest.hookimpl(tryfirst=True)  # before xdist's worker reads the groups into the test ids
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    from tests.xdist_plan import SERIAL_GROUP, WALL_CLOCK  # pytest imports its plugins itself
+    from tests.xdist_plan import COMPUTATION, SERIAL_GROUP, WALL_CLOCK  # pytest imports its plugins itself
 
     for item in items:
         path = item.path.resolve()
         if path.is_relative_to(TESTS) and path.relative_to(TESTS).parts[0] in SLOW_TIERS:
             item.add_marker(pytest.mark.slow)
-            item.add_marker(pytest.mark.xdist_group(SERIAL_GROUP))  # one process, in turn
+            if item.get_closest_marker(COMPUTATION):  # beside the group, a module together
+                item.add_marker(pytest.mark.xdist_group(f"{COMPUTATION}:{path.stem}"))
+            else:
+                item.add_marker(pytest.mark.xdist_group(SERIAL_GROUP))  # one process, in turn
         elif item.get_closest_marker(WALL_CLOCK):
             item.add_marker(pytest.mark.xdist_group(SERIAL_GROUP))
 

@@ -11,6 +11,12 @@ mark the slow tiers' group.
   test that asserts on wall-clock durations is marked ``wall_clock``: it joins the group,
   at full priority (tests/unit/test_estimate.py failed at UNIT_NICE in a loaded CI run: a
   sweep foretold at 1.1 s took 7.5 s).
+- An integration module that only computes (no process, pool, server or application
+  started, nothing timed) is marked ``computation``: it runs beside the group like the unit
+  tier, at UNIT_NICE, its tests kept together in one process (its own group: they share
+  module caches, e.g. test_real_crossings.py's branch walks). Measured: with the curve and
+  crossing modules in the group the suite took 13 min 56 s on a quiet machine, the group
+  the whole of it.
 - The controller warms the kernels up before any worker starts, as a pool does.
 """
 
@@ -24,6 +30,7 @@ import pytest
 #: and the unit tests marked WALL_CLOCK).
 SERIAL_GROUP = "slow-tiers"
 WALL_CLOCK = "wall_clock"
+COMPUTATION = "computation"
 #: A process's niceness while it runs unit tests beside the group. A pool's workers run at
 #: their pytest's niceness + 10 (slopetui.queue.defaults.WORKER_NICE): a unit test at the
 #: group's own niceness took most of a core from them. test_hysteresis_worker.py took 147 s
@@ -41,6 +48,9 @@ def xdist_controller(config: pytest.Config) -> bool:
 
 
 def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line("markers", f"{COMPUTATION}: an integration module that only "
+                            "computes: under -n 2 it runs beside the slow tiers' process "
+                            "(tests/xdist_plan.py)")
     config.addinivalue_line("markers", f"{WALL_CLOCK}: asserts on wall-clock durations; "
                             "under -n 2 it runs in the slow tiers' process, at full priority "
                             "(tests/xdist_plan.py)")

@@ -20,6 +20,8 @@ from core.point import run_point
 from core.solve import SolverSettings
 from tests.radau_reference import radau
 
+pytestmark = pytest.mark.computation  # only computes: beside the slow tiers (tests/xdist_plan.py)
+
 
 def refined_amplitude(t: np.ndarray, y: np.ndarray) -> float:
     _, top = find_peaks(t, y)

@@ -15,6 +15,8 @@ from core.solve import SolverSettings
 from core.spectrum import spectrum
 from core.stability import leading_exponent
 
+pytestmark = pytest.mark.computation  # only computes: beside the slow tiers (tests/xdist_plan.py)
+
 PAPER = SolverSettings()
 CERTIFIED = SolverSettings(stop="certified")
 

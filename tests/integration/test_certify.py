@@ -15,6 +15,8 @@ from core.point import run_batch, run_point
 from core.solve import SolverSettings, simulate
 from core.stability import hopf_period, leading_exponent
 
+pytestmark = pytest.mark.computation  # only computes: beside the slow tiers (tests/xdist_plan.py)
+
 
 def test_the_default_orbit_is_certified_as_core_periodic_orbit_finds_it():
     p = Params(k=10, tau=10)

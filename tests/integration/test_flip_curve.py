@@ -7,7 +7,11 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from slopetui.cli import main
+
+pytestmark = pytest.mark.computation  # only computes: beside the slow tiers (tests/xdist_plan.py)
 
 
 def test_from_pd_on_a_branch_with_no_period_doubling_says_so(capsys):

@@ -21,6 +21,8 @@ from core.params import Params
 from core.stability import hopf_k
 from slopetui.cli import main
 
+pytestmark = pytest.mark.computation  # only computes: beside the slow tiers (tests/xdist_plan.py)
+
 #: DDE-BIFTOOL's folds (benchmarks/ddebiftool/README.md: collocation degree 4 on 60
 #: intervals, mesh-checked on 120): (k, period) at tau = 10 and 2.
 BIFTOOL = {10.0: (1.21390035, 11.70289849), 2.0: (6.44776173, 2.70394973)}

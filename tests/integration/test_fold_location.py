@@ -16,6 +16,8 @@ from core.params import Params
 from core.shooting import correct
 from slopetui.cli import main
 
+pytestmark = pytest.mark.computation  # only computes: beside the slow tiers (tests/xdist_plan.py)
+
 TAU = 5.965229
 
 

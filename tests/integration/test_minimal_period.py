@@ -18,6 +18,8 @@ from core.params import Params
 from core.point import run_point
 from core.solve import SolverSettings
 
+pytestmark = pytest.mark.computation  # only computes: beside the slow tiers (tests/xdist_plan.py)
+
 H = 0.005          # the reference's step
 T_END = 2e4
 TAIL = 400.0       # where its maxima are read

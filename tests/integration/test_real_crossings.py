@@ -24,6 +24,8 @@ from core.orbit_seed import simulate_from
 from core.params import Params
 from core.shooting import correct
 
+pytestmark = pytest.mark.computation  # only computes: beside the slow tiers (tests/xdist_plan.py)
+
 
 @functools.cache
 def _branch(n: int):

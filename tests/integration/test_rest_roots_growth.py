@@ -4,10 +4,13 @@ simulation started next to the rest state grows at the root's rate while it stay
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from core.params import Params
 from core.rest_stability import rest_roots
 from core.solve import SolverSettings, simulate
+
+pytestmark = pytest.mark.computation  # only computes: beside the slow tiers (tests/xdist_plan.py)
 
 
 def test_a_run_next_to_an_unstable_rest_state_grows_at_the_leading_root() -> None:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import functools
 
 import numpy as np
+import pytest
 
 from core.curve_start import CurveSpec, start
 from core.floquet import multipliers
@@ -21,6 +22,8 @@ from core.orbit import Grid, PeriodMap
 from core.params import Params
 from core.shooting import correct
 from core.torus_continuation import first_torus
+
+pytestmark = pytest.mark.computation  # only computes: beside the slow tiers (tests/xdist_plan.py)
 
 
 @functools.cache
