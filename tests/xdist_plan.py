@@ -14,9 +14,9 @@ mark the slow tiers' group.
 - An integration module that only computes (no process, pool, server or application
   started, nothing timed) is marked ``computation``: it runs beside the group like the unit
   tier, at UNIT_NICE, its tests kept together in one process (its own group: they share
-  module caches, e.g. test_real_crossings.py's branch walks). Measured: with the curve and
-  crossing modules in the group the suite took 13 min 56 s on a quiet machine, the group
-  the whole of it.
+  module caches, e.g. test_real_crossings.py's branch walks). Measured in clean-clone
+  `.ci/run`s on a quiet machine: the suite took 13 min 56 s with the ten such modules in
+  the group (the group the whole of it), 10 min 55 s with them beside it.
 - The controller warms the kernels up before any worker starts, as a pool does.
 """
 
