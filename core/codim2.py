@@ -148,24 +148,22 @@ def through_circle(points: list[CurvePoint], j: int, what: str,
         else:
             kind = at_plus_one
         changes = [k for k in range(len(off) - 1) if off[k] * off[k + 1] < 0]
-        unclear = _unclear(points[i], b, mu_a, mu_b, error)
-        if len(changes) == 1 and unclear:
-            s = off[0] / (off[0] - off[-1])
-            found.append(_between("undetermined", points[i], b, s, f"a {kind} crossing: "
-                                  f"{unclear}: not beyond {CLEAR:g} uncertainties on both "
-                                  "sides"))
-        elif len(changes) == 1:
-            k = changes[0]
-            lo, hi = points[i + k], points[i + k + 1]
-            s = off[k] / (off[k] - off[k + 1])
-            found.append(_between(kind, lo, hi, s, f"multiplier {mu_a:.6g} -> {mu_b:.6g}"))
-        else:
-            s = off[0] / (off[0] - off[-1])
+        s = off[0] / (off[0] - off[-1])
+        if len(changes) != 1:
             found.append(_between("undetermined", points[i], b, s, (
                 f"a {kind} crossing: multiplier {mu_a:.6g} -> {mu_b:.6g}, |mu| - 1 changing "
                 f"sign {len(changes)} times within {UNIT_MARGIN:g} of the circle between "
                 f"these two points ({len(off) - 2} between): where it crosses is not "
                 "decided")))
+        elif unclear := _unclear(points[i], b, mu_a, mu_b, error):  # two orbits at dt/2
+            found.append(_between("undetermined", points[i], b, s, f"a {kind} crossing: "
+                                  f"{unclear}: not beyond {CLEAR:g} uncertainties on both "
+                                  "sides"))
+        else:
+            k = changes[0]
+            lo, hi = points[i + k], points[i + k + 1]
+            found.append(_between(kind, lo, hi, off[k] / (off[k] - off[k + 1]),
+                                  f"multiplier {mu_a:.6g} -> {mu_b:.6g}"))
     return found
 
 

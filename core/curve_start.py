@@ -204,17 +204,15 @@ def resume(spec: CurveSpec, saved: list[SavedCurvePoint]) -> Walk:
     curve.points = [CurvePoint(s.first, s.second, s.period, float(s.amplitude or 0.0),
                                float(s.curvature if s.curvature is not None else math.nan),
                                _multipliers(s), int(s.newton_steps or 0),
-                               _kappa(s, n, border),
+                               _kappa(s, n, border) if kind is TorusCurve else math.nan,
                                None if s.state is None else s.state[3:3 + n + 3].copy())
                       for s in saved]
     return FoldWalk(spec, curve)
 
 
 def _kappa(s: SavedCurvePoint, n: int, border: int) -> float:
-    """A torus point's kappa: its border's last number (NaN for the other curves)."""
-    if s.state is None or border != 2 * n + 1:
-        return math.nan
-    return float(s.state[3 + n + 3 + border - 1])
+    """A torus point's kappa: its border's last number."""
+    return math.nan if s.state is None else float(s.state[3 + n + 3 + border - 1])
 
 
 def _multipliers(s: SavedCurvePoint) -> Multipliers:

@@ -361,9 +361,10 @@ def step(curve: FoldCurve, to: float, max_points: int, min_step: float = 1e-6
         try:
             fixed = _fixed_at(curve, to)
         except (OrbitError, ParameterError, np.linalg.LinAlgError) as exc:
-            # the chord back to ``to`` is too far from a curve that bends within the last
-            # step (the 3-slip torus curve's last step to tau = 5 spans k 80 to 90): the
-            # point past ``to`` stays the last
+            # the chord back to ``to`` can be too far from a curve that bends within the
+            # last step: the point past ``to`` stays the last (seen only when the walk went
+            # the wrong way, from tau = 10.03 back to 5, before curves were given their
+            # direction; a safety net, not a case measured since)
             curve.end = (f"passed {curve.names[1]} = {to:g} (the last point at "
                          f"{point.second:.6g}; the point at {to:g} itself: {exc})")
             return point

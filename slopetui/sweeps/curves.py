@@ -66,7 +66,7 @@ def point_record(name: str, second: str, p: CurvePointRow, kind: str = "fold"
 
 def _multipliers(p: CurvePointRow) -> Any:
     """The stored multipliers as core.floquet.Multipliers (by modulus, as saved)."""
-    import numpy as np  # light at start: only a stored fold's or period doubling's point
+    import numpy as np  # light at start: only a stored point with multipliers
 
     from core.floquet import Multipliers
     values = np.array([complex(re, im) for re, im in (p.multipliers or [])])
