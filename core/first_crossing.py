@@ -15,9 +15,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import TypeVar
 
 from core.branch_start import BranchSpec, past_end, start
 from core.continuation import Bifurcation, Branch, judged_crossing
+from core.fold_continuation import FoldCurve
 from core.multiplier_crossing import WIDEN, crossing_multiplier
 from core.orbit import OrbitError
 from core.params import Params
@@ -39,7 +41,7 @@ def first_crossing(spec: BranchSpec, kind: str, candidate: Callable[[complex], b
         try:
             point = branch.advance(1e-9)
         except OrbitError as exc:
-            ended = str(exc)
+            ended = f": {exc}"
             point = None
         last = len(branch.points) - 1
         if point is not None:
@@ -49,15 +51,15 @@ def first_crossing(spec: BranchSpec, kind: str, candidate: Callable[[complex], b
             if moved is not None and candidate(moved[1]):
                 pending.append(last)
             if past_end(spec, branch.points[0].value, point):
-                ended = f"up to {spec.end:g}"
+                ended = f" up to {spec.end:g}"
             elif last >= spec.max_points:
-                ended = f"within {spec.max_points} points"
+                ended = f" within {spec.max_points} points"
         while pending and (ended or pending[0] + WIDEN <= last):
             i = pending.pop(0)
             found = judged_crossing(branch, i, turns)
             if found is not None and found.type == kind:
                 return branch, found, i
-    raise OrbitError(f"no {what} on the branch in {spec.name} {ended}")
+    raise OrbitError(f"no {what} on the branch in {spec.name}{ended}")
 
 
 def branch_dt(p: Params, second: str, reach: float, dt: float) -> float:
@@ -75,4 +77,28 @@ def towards(p: Params, second: str, reach: float) -> float:
     return 1.0 if reach > getattr(p, second) else -1.0
 
 
-__all__ = ["branch_dt", "first_crossing", "towards"]
+#: A curve started at a crossing (core.flip_continuation's, core.torus_continuation's).
+C = TypeVar("C", bound=FoldCurve)
+#: The first real crossing of a kind on the branch from a Hopf point: (params, name, dt,
+#: end, hopf_branch, max_points, branch_step) -> (branch, crossing, index of the point
+#: after it).
+First = Callable[[Params, str, float, float, int, int, float], tuple[Branch, Bifurcation, int]]
+
+
+def start_at_crossing(first: First, curve_at: Callable[..., C], spec_params: Params,
+                      names: tuple[str, str], dt: float, end: float, reach: float,
+                      step: float, max_step: float, hopf_branch: int, max_points: int,
+                      branch_step: float) -> C:
+    """A curve's start at the first real crossing on the branch in names[0] from the
+    ``hopf_branch``-th Hopf point (``first``, up to ``end``), corrected into the curve in
+    names[1] by ``curve_at`` (branch, crossing, second, step, max_step, after=index), which
+    goes towards ``reach`` on the branch's grid chosen for it (``branch_dt``)."""
+    branch, found, after = first(spec_params, names[0],
+                                 branch_dt(spec_params, names[1], reach, dt), end,
+                                 hopf_branch, max_points, branch_step)
+    curve = curve_at(branch, found, names[1], step, max_step, after=after)
+    curve.direction = towards(spec_params, names[1], reach)
+    return curve
+
+
+__all__ = ["branch_dt", "first_crossing", "start_at_crossing", "towards"]

@@ -27,7 +27,7 @@ import numpy as np
 from core.branch_start import BranchSpec
 from core.branch_switch import flip_vector, orbit_at
 from core.continuation import Bifurcation, Branch
-from core.first_crossing import branch_dt, first_crossing, towards
+from core.first_crossing import first_crossing, start_at_crossing
 from core.fold_continuation import BORDER_RTOL, CurvePoint, FoldCurve, LinearParts
 from core.orbit import PeriodMap, Shot
 from core.params import Params
@@ -77,16 +77,21 @@ class FlipCurve(FoldCurve):
         x = x / sw
         return float(x[-1]), x
 
-    def _linear(self, y: np.ndarray, free_q: bool) -> LinearParts:
+    def _orbit_parts(self, y: np.ndarray, free_q: bool
+                     ) -> tuple[np.ndarray, Shot, np.ndarray, np.ndarray, np.ndarray | None]:
+        """F at y and the orbit rows' solutions d0, phi1, phi2 (the module doc)."""
         n = self.size
         F, shot, pm = self._F(y)
         d0 = np.concatenate((self._orbit_solve(pm, shot, -F), [0.0, 0.0]))
-        f_p = self._dF(y, n + 1)
-        phi1 = np.concatenate((self._orbit_solve(pm, shot, -f_p), [1.0, 0.0]))
+        phi1 = np.concatenate((self._orbit_solve(pm, shot, -self._dF(y, n + 1)), [1.0, 0.0]))
         phi2 = None
         if free_q:
-            f_q = self._dF(y, n + 2)
-            phi2 = np.concatenate((self._orbit_solve(pm, shot, -f_q), [0.0, 1.0]))
+            phi2 = np.concatenate((self._orbit_solve(pm, shot, -self._dF(y, n + 2)),
+                                   [0.0, 1.0]))
+        return F, shot, d0, phi1, phi2
+
+    def _linear(self, y: np.ndarray, free_q: bool) -> LinearParts:
+        F, shot, d0, phi1, phi2 = self._orbit_parts(y, free_q)
         g, null = self._g(y)
         return LinearParts(F, g, d0, phi1, phi2, shot, null)
 
@@ -107,32 +112,31 @@ def start_at_flip(spec_params: Params, names: tuple[str, str], dt: float, end: f
                   ) -> FlipCurve:
     """The curve's start: the first real period doubling on the branch in names[0] from
     the Hopf point (``first_flip``), continued in names[1] (``flip_curve_at``) towards
-    ``reach`` (the branch's grid chosen for it: core.first_crossing.branch_dt)."""
-    branch, pd = first_flip(spec_params, names[0], branch_dt(spec_params, names[1], reach, dt),
-                            end, hopf_branch, max_points, branch_step)
-    curve = flip_curve_at(branch, pd, names[1], step, max_step)
-    curve.direction = towards(spec_params, names[1], reach)
-    return curve
+    ``reach`` (core.first_crossing.start_at_crossing)."""
+    return start_at_crossing(first_flip, flip_curve_at, spec_params, names, dt, end, reach,
+                             step, max_step, hopf_branch, max_points, branch_step)
 
 
 def first_flip(spec_params: Params, name: str, dt: float, end: float, hopf_branch: int = 1,
-               max_points: int = 400, branch_step: float = 0.5) -> tuple[Branch, Bifurcation]:
+               max_points: int = 400, branch_step: float = 0.5
+               ) -> tuple[Branch, Bifurcation, int]:
     """The one-parameter branch in ``name`` from the Hopf point at ``spec_params`` walked
     towards ``end`` (steps of at most ``branch_step``) until a multiplier crosses -1 for real
-    (core.first_crossing): the branch and that period doubling. OrbitError when the branch
-    ends, or passes ``end``, with none."""
+    (core.first_crossing): the branch, that period doubling and the index of the point
+    after it. OrbitError when the branch ends, or passes ``end``, with none."""
     spec = BranchSpec(spec_params, name, dt, True, end, max_points, branch_step, hopf_branch)
-    branch, pd, _ = first_crossing(spec, "period-doubling",
-                                   lambda mu: mu.real < 0 and abs(mu.imag) < 1e-6)
-    return branch, pd
+    return first_crossing(spec, "period-doubling",
+                          lambda mu: mu.real < 0 and abs(mu.imag) < 1e-6)
 
 
 def flip_curve_at(branch: Branch, pd: Bifurcation, second: str, step: float = 0.05,
-                  max_step: float = 0.5) -> FlipCurve:
-    """The period doubling ``pd`` of ``branch`` as the start of its curve in (branch.name,
-    ``second``): its orbit (core.branch_switch.orbit_at) with the flip eigenvector as the
-    border; ``first()`` corrects it onto the period doubling with ``second`` fixed."""
-    pm, z, period, shot = orbit_at(branch, pd.value)
+                  max_step: float = 0.5, after: int | None = None) -> FlipCurve:
+    """The period doubling ``pd`` of ``branch`` (between its points ``after`` - 1 and
+    ``after``, if given: a branch past a fold passes a value more than once) as the start
+    of its curve in (branch.name, ``second``): its orbit (core.branch_switch.orbit_at) with
+    the flip eigenvector as the border; ``first()`` corrects it onto the period doubling
+    with ``second`` fixed."""
+    pm, z, period, shot = orbit_at(branch, pd.value, after)
     _, v = flip_vector(pm, shot)
     q = pm.p
     y0 = np.concatenate((z, [period, pd.value, getattr(q, second)]))

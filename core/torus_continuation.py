@@ -50,10 +50,10 @@ import numpy as np
 from core.branch_start import BranchSpec
 from core.branch_switch import multiplier_vector, orbit_at
 from core.continuation import Bifurcation, Branch
-from core.first_crossing import branch_dt, first_crossing, towards
+from core.first_crossing import first_crossing, start_at_crossing
 from core.flip_continuation import FlipCurve
 from core.fold_continuation import CURVE_NEWTON, CURVE_TOL, FD_REL, CurvePoint, LinearParts
-from core.orbit import Grid, OrbitError, PeriodMap, Shot
+from core.orbit import Grid, OrbitError, PeriodMap
 from core.params import Params
 from core.shooting import solve_krylov, weighted_dot
 
@@ -128,19 +128,6 @@ class TorusCurve(FlipCurve):
             return np.zeros(4)
         eps = FD_REL * max(1.0, math.sqrt(weighted_dot(y, y, self.weights()))) / size
         return (self._G(y + eps * d, kappa, x0)[0] - G) / eps
-
-    def _orbit_parts(self, y: np.ndarray, free_q: bool
-                     ) -> tuple[np.ndarray, Shot, np.ndarray, np.ndarray, np.ndarray | None]:
-        """F at y and the orbit rows' solutions d0, phi1, phi2 (FlipCurve's, without g)."""
-        n = self.size
-        F, shot, pm = self._F(y)
-        d0 = np.concatenate((self._orbit_solve(pm, shot, -F), [0.0, 0.0]))
-        phi1 = np.concatenate((self._orbit_solve(pm, shot, -self._dF(y, n + 1)), [1.0, 0.0]))
-        phi2 = None
-        if free_q:
-            phi2 = np.concatenate((self._orbit_solve(pm, shot, -self._dF(y, n + 2)),
-                                   [0.0, 1.0]))
-        return F, shot, d0, phi1, phi2
 
     def correct(self, y_pred: np.ndarray, t: np.ndarray | None
                 ) -> tuple[np.ndarray, int, float, LinearParts]:
@@ -257,12 +244,13 @@ def first_torus(spec_params: Params, name: str, dt: float, end: float, hopf_bran
     return first_crossing(spec, "torus", lambda mu: abs(mu.imag) > 1e-6)
 
 
-def torus_curve_at(branch: Branch, ns: Bifurcation, after: int, second: str,
-                   step: float = 0.05, max_step: float = 0.5) -> TorusCurve:
-    """The torus ``ns`` of ``branch`` (between its points ``after`` - 1 and ``after``) as
-    the start of its curve in (branch.name, ``second``): its orbit, the border from the
-    crossing pair's eigenvector, kappa = cos(arg mu); ``first()`` corrects it onto the
-    torus with ``second`` fixed."""
+def torus_curve_at(branch: Branch, ns: Bifurcation, second: str, step: float = 0.05,
+                   max_step: float = 0.5, after: int | None = None) -> TorusCurve:
+    """The torus ``ns`` of ``branch`` (between its points ``after`` - 1 and ``after``, if
+    given: the 2-slip branch passes k = 5.2567 before its fold and after it) as the start
+    of its curve in (branch.name, ``second``): its orbit, the border from the crossing
+    pair's eigenvector, kappa = cos(arg mu); ``first()`` corrects it onto the torus with
+    ``second`` fixed."""
     pm, z, period, shot = orbit_at(branch, ns.value, after)
     mu, v = multiplier_vector(pm, shot, ns.multiplier)
     if abs(mu.imag) == 0.0:
@@ -271,7 +259,7 @@ def torus_curve_at(branch: Branch, ns: Bifurcation, after: int, second: str,
     b1, b2 = _orthonormal(v.real.copy(), v.imag.copy(), pm.g.weights)
     q = pm.p
     y0 = np.concatenate((z, [period, ns.value, getattr(q, second)]))
-    c = np.concatenate((b1, b2, [math.cos(math.atan2(abs(mu.imag), mu.real))]))
+    c = np.concatenate((b1, b2, [mu.real / abs(mu)]))
     return TorusCurve(q, (branch.name, second), branch.g0.n_delay, pm.g.dt, y0, c, z.copy(),
                       shot.d_dT.copy(), step, max_step)
 
@@ -282,13 +270,9 @@ def start_at_torus(spec_params: Params, names: tuple[str, str], dt: float, end: 
                    ) -> TorusCurve:
     """The curve's start: the first real torus on the branch in names[0] from the Hopf
     point (``first_torus``), continued in names[1] (``torus_curve_at``) towards ``reach``
-    (the branch's grid chosen for it: core.first_crossing.branch_dt)."""
-    branch, ns, after = first_torus(spec_params, names[0],
-                                    branch_dt(spec_params, names[1], reach, dt), end,
-                                    hopf_branch, max_points, branch_step)
-    curve = torus_curve_at(branch, ns, after, names[1], step, max_step)
-    curve.direction = towards(spec_params, names[1], reach)
-    return curve
+    (core.first_crossing.start_at_crossing)."""
+    return start_at_crossing(first_torus, torus_curve_at, spec_params, names, dt, end, reach,
+                             step, max_step, hopf_branch, max_points, branch_step)
 
 
 __all__ = ["TorusCurve", "first_torus", "start_at_torus", "torus_curve_at"]
