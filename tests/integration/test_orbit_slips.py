@@ -9,12 +9,14 @@ import math
 import numpy as np
 import pytest
 
+from core.certify import STABLE_MARGIN, orbit_verdict
 from core.history import CarriedState
 from core.orbit import Grid
 from core.orbit_seed import simulate as simulate_orbit_scheme
 from core.orbit_seed import simulate_from, slip_onsets, state_at, state_from_carried
 from core.params import Params
 from core.periodic_orbit import Orbit, find_orbit
+from core.point import run_point
 from core.solve import SolverSettings, simulate
 
 
@@ -65,6 +67,26 @@ def test_the_run_kernel_from_the_orbit_stays_on_it(three_slip):
     gaps = np.diff(onsets(tr.window_t, tr.window[1]))
     assert len(gaps) > 100
     assert np.abs(gaps / o.period - 1).max() < 1e-5
+
+
+def test_a_run_on_the_three_slip_orbit_is_undetermined_not_unstable(three_slip):
+    """Its pair at |mu| = 0.9999913 lies within core.certify.STABLE_MARGIN of the circle:
+    the run's certificate claims neither stability nor instability (it used to say "the
+    orbit is not stable" of an orbit every long run approaches)."""
+    o = three_slip
+    c = carried(o)
+    r = run_point(o.params, SolverSettings(method="rk4", dt=o.grid.dt, t_end=2000.0,
+                                           window=500.0, history=c.name), c)
+    cert = r.certificate
+    assert not cert.certified
+    assert cert.text.startswith("the orbit's stability is undetermined: a multiplier within "
+                                f"{STABLE_MARGIN:g} of the unit circle"), cert.text
+    assert "unstable" not in cert.text and "not stable" not in cert.text
+    assert abs(cert.period / o.period - 1) < 1e-8           # the orbit, at period T_1 / 3
+    assert cert.slips == o.maxima_per_period == 1
+    top = max(abs(m) for m in cert.multipliers)
+    assert 1 - STABLE_MARGIN <= top < 1                    # measured 0.9999913
+    assert orbit_verdict(top) == "marginal"
 
 
 def test_a_finer_step_gives_the_same_period(three_slip):
