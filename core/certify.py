@@ -13,7 +13,10 @@ says which attractor the run has reached, by a second, independent argument:
   certificate says so. Its minimal period is confirmed (a shot over a fraction of the
   period that also closes makes that fraction the period), and its Floquet multipliers
   (core.floquet), the flow's and the translation's (both 1) apart, lie inside the unit
-  circle by STABLE_MARGIN.
+  circle by STABLE_MARGIN (or by the flow multiplier's distance from 1, if larger). Where
+  that step may be what failed (sharp slips: Newton leaves the orbit, finds one other than
+  the window's, or leaves its minimal period undecided), all of it is tried once more at
+  dt / REFINE, and the certificate says so.
 
 Anything else is not certified, the certificate saying why. The Newton iteration has a
 budget (NEWTON_BUDGET steps, KRYLOV_BUDGET products a step): a run that needs more is "not
@@ -23,7 +26,7 @@ certified: budget", so that certification costs a bounded share of a run (docs/s
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -79,14 +82,31 @@ STABLE_MARGIN = 1e-5
 #: off: Euler at tau = 0.5, k = 37.6 (amplitude 0.790 against the orbit's 0.496, which RK4
 #: at dt 1e-4 confirms), or RK4 at CERTIFY_DT itself where the slips are sharp (b = 24,
 #: k = 12, tau = 7.43: RK4 at 0.01 gives 10.237, at 1e-3 9.771, Euler at 1e-3 and 5e-4
-#: 9.773 and 9.772). The regenerated report found 1700 of its 5381 runs so: the
-#: certificate then says so and blames neither (the run's own dt_error does).
+#: 9.773 and 9.772). The regenerated report found 1700 of its 5381 runs so (before the
+#: retry at dt / REFINE, which certifies the second kind): the certificate then says so,
+#: and blames the run's scheme only when both steps find the same orbit.
 MATCH_TOL = 0.01
 #: A shot over T / j closes (the period is T / j, not T) when its residual is below this
 #: fraction of the orbit's amplitude: Newton's tolerance is 1e-10, an orbit of period T that
 #: is not T / j-periodic misses by the difference of its distinct maxima (2e-4 A at the
 #: closest we measured: tau = 10, k = 20).
 SUBPERIOD_TOL = 1e-6
+#: ... but a miss below this fraction may be the certifier's step's, not the orbit's: at
+#: b = 22, k = 12, tau = 2 (sharp slips) the window returns after 8 periods of 3.8024 and
+#: at dt 0.01 the shots over T / 8, T / 4, T / 2 miss by 1.3e-4, 1.8e-4, 2.7e-5 of the
+#: amplitude; at dt 0.005 by 7.0e-6, 7.5e-6, 4.8e-6, at 0.0025 by 8.8e-7, 6.9e-7, 3.8e-7, at
+#: 0.00125 by 1.3e-8, 9e-9, 3.1e-8 (RK4's cubic end interpolation breaks the orbit's time
+#: symmetry by its error). Such a miss is decided at REFINE times finer (_minimal), where a
+#: scheme's miss falls more than SHRINK times and below CLOSED_FINE (the measured fall: 71 to
+#: 260 times, over dt / 4), and an orbit's own difference does not fall (by less than FELL).
+AMBIGUOUS = 1e-2
+SHRINK, CLOSED_FINE, FELL = 32.0, 1e-5, 4.0
+#: Where the certifier's step may be what failed (Newton left the orbit, the orbit is not
+#: the window's, its period is undecided, or the flow multiplier's error leaves its
+#: stability undecided), the certificate is tried again once at dt / REFINE. Measured:
+#: b = 24, k = 12, tau = 7.43 (sharp slips), the orbit at dt 0.01 has amplitude 10.202
+#: and 13 maxima, at 0.005 and 0.0025 9.77107 and 1 maximum (period 9.2035415, 9.2035377).
+REFINE = 4
 #: The window's decay rate agrees with the leading root within this fraction of the root
 #: (Euler's map carries a bias: -0.00393 against the root -0.003944 at tau = 10, k = 4,
 #: 0.4 %; 0.36 % at tau = 0.2, k = 12), or within DECAY_RATE_ABS where the decay is too slow
@@ -212,11 +232,10 @@ def _decay_rate(t: np.ndarray, y: np.ndarray, level: float) -> float:
 
 
 def _periodic(tr: Trajectory, s: Summary) -> Certificate:
-    """Newton-Krylov shooting from the end of the window, seeded with its return time."""
-    # imported here: the orbit kernels and scipy's sparse solvers serve only this path
-    from core.floquet import multipliers
-    from core.orbit import Grid, OrbitError, PeriodMap
-    from core.shooting import correct
+    """Newton-Krylov shooting from the end of the window, seeded with its return time, at
+    the certifier's step; once more at REFINE times finer where that step may be what
+    failed (_Attempt.retry)."""
+    from core.orbit import Grid, OrbitError
 
     p = tr.params
     try:
@@ -227,103 +246,191 @@ def _periodic(tr: Trajectory, s: Summary) -> Certificate:
     if len(t) < 2 or t[-1] - t[0] < p.tau + 2 * g.dt:
         return Certificate(False, f"the window ({t[-1] - t[0] if len(t) else 0:g}) is shorter "
                                   f"than the delay: no final state to shoot from")
+    first = _attempt(tr, s, g)
+    if not first.retry:
+        return first.certificate
+    fine = Grid.of(p, g.dt / REFINE)
+    return _attempt(tr, s, fine, coarse=first).certificate
+
+
+@dataclass(frozen=True)
+class _Attempt:
+    """One certification at one step: its certificate; ``retry``: a finer step may decide
+    what this one could not (``why``: what it could not, for the finer one's text);
+    ``closures``: the shots over T / j that closed only to between SUBPERIOD_TOL and
+    AMBIGUOUS of the amplitude (j -> miss / amplitude); ``dt``: the step."""
+
+    certificate: Certificate
+    retry: bool = False
+    why: str = ""
+    closures: dict[int, float] = field(default_factory=dict)
+    dt: float = math.nan
+    #: The orbit found, where it is not the window's.
+    period: float = math.nan
+    amplitude: float = math.nan
+
+
+def _attempt(tr: Trajectory, s: Summary, g: Grid, coarse: _Attempt | None = None) -> _Attempt:
+    """Certification on the grid ``g``; ``coarse``: the attempt at the coarser step it
+    follows (its undecided closures are decided here against it, its failure is named)."""
+    # imported here: the orbit kernels and scipy's sparse solvers serve only this path
+    from core.floquet import multipliers
+    from core.orbit import OrbitError, PeriodMap
+    from core.shooting import correct
+
+    p = tr.params
+    t = tr.window_t
     z0 = state_from_window(t, tr.window, g, float(t[-1]))
     zdot = (z0 - state_from_window(t, tr.window, g, float(t[-1]) - g.dt)) / g.dt
     pm = PeriodMap(p, g)
     where = f"RK4 at dt {g.dt:.4g}"
+    if coarse is not None:
+        where += f", refined: at dt {coarse.dt:.4g} {coarse.why}"
     try:
         sol = correct(pm, z0, s.period, z0, zdot, max_steps=NEWTON_BUDGET,
                       max_products=KRYLOV_BUDGET)
     except OrbitError as exc:
-        budget = (f"not certified within the budget ({NEWTON_BUDGET} Newton steps of "
-                  f"{KRYLOV_BUDGET} Krylov products): " if "did not converge" in str(exc) else "")
-        return Certificate(False, f"{budget}Newton from the final state ({where}): {exc}")
-    sol = _minimal(pm, sol)
+        budget = "did not converge" in str(exc)
+        head = (f"not certified within the budget ({NEWTON_BUDGET} Newton steps of "
+                f"{KRYLOV_BUDGET} Krylov products): " if budget else "")
+        # a budget spent on a slow transient is not the step's doing; a Newton that left
+        # the orbit may be (b = 24, k = 12, tau = 7.43: at dt 0.01 it diverged, at 0.0025
+        # it converged in one step)
+        return _Attempt(Certificate(False, f"{head}Newton from the final state ({where}): {exc}"),
+                        retry=not budget, why=f"Newton failed ({exc})", dt=g.dt)
+    sol, closures, undecided = _minimal(pm, sol, coarse)
     m_y = sol.shot.traj[1, g.n_delay:sol.shot.col + 1]
     amplitude = float(np.ptp(m_y))
+    if undecided:
+        return _Attempt(Certificate(False, f"the orbit's period is not decided ({where}): "
+                                           f"{undecided}"), dt=g.dt)
+    if closures:
+        said = ", ".join(f"T / {j} to {r:.1e}" for j, r in closures.items())
+        return _Attempt(Certificate(False, f"the orbit's period is not decided ({where}): "
+                                           f"period T = {sol.period:.8g}, shots over {said} "
+                                           "of its amplitude"),
+                        retry=True, why=f"left its period undecided (shots over {said} of "
+                                        "its amplitude)", closures=closures, dt=g.dt)
     apart = _apart(s, sol.period, amplitude)
     if apart:
-        return Certificate(False, f"the orbit Newton found from the final state ({where}: "
-                                  f"period {sol.period:.8g}, amplitude {amplitude:.6g}) is not "
-                                  f"the window's ({apart}): the run's scheme or the "
-                                  "certifier's is off at its step, or it is another orbit")
+        same = coarse is not None and not _apart(
+            replace(s, period=coarse.period, amplitude=coarse.amplitude), sol.period, amplitude,
+            MATCH_TOL / 10)
+        blame = ("the run's scheme is off at its step (the certifier's orbit is the same at "
+                 "both steps), or it is another orbit" if same else
+                 "the run's scheme or the certifier's is off at its step, or it is another orbit")
+        return _Attempt(Certificate(False, f"the orbit Newton found from the final state "
+                                           f"({where}: period {sol.period:.8g}, amplitude "
+                                           f"{amplitude:.6g}) is not the window's ({apart}): "
+                                           f"{blame}"),
+                        retry=True, why=f"found another orbit (period {sol.period:.8g}, "
+                                        f"amplitude {amplitude:.6g})", dt=g.dt,
+                        period=sol.period, amplitude=amplitude)
     try:
         mult = multipliers(pm, sol.shot, N_MULTIPLIERS, ARNOLDI_VECTORS, ARNOLDI_RESTARTS)
     except (OrbitError, ValueError) as exc:  # ValueError: ARPACK's sizes at a tiny delay
-        return Certificate(False, f"not certified within the budget: an orbit of period "
-                                  f"{sol.period:.6g} ({where}), its multipliers not found "
-                                  f"({ARNOLDI_RESTARTS} Arnoldi restarts): {exc}")
+        return _Attempt(Certificate(False, f"not certified within the budget: an orbit of "
+                                           f"period {sol.period:.6g} ({where}), its multipliers "
+                                           f"not found ({ARNOLDI_RESTARTS} Arnoldi restarts): "
+                                           f"{exc}"), dt=g.dt)
     maxima = orbit_maxima(m_y)
     others = tuple(complex(m) for m in mult.nontrivial)
     top = max((abs(m) for m in others), default=0.0)
+    error = abs(mult.flow - 1.0)
     said = (f"period {sol.period:.8g}, amplitude {amplitude:.6g}, {len(maxima)} "
-            f"slip{'s' if len(maxima) != 1 else ''} a period, |multipliers| <= {top:.6f} ({where}; "
-            f"Newton {sol.steps} steps, residual {sol.residual:.1e})")
-    verdict = orbit_verdict(top)
-    return Certificate(verdict == "stable", f"{VERDICT_TEXT[verdict]}: {said}", sol.period,
-                       amplitude, len(maxima), maxima, others)
+            f"slip{'s' if len(maxima) != 1 else ''} a period, |multipliers| <= {top:.6g} "
+            f"({where}; Newton {sol.steps} steps, residual {sol.residual:.1e}"
+            + (f"; flow multiplier {error:.1e} from 1" if error > STABLE_MARGIN else "") + ")")
+    verdict = orbit_verdict(top, error)
+    return _Attempt(Certificate(verdict == "stable", f"{VERDICT_TEXT[verdict]}: {said}",
+                                sol.period, amplitude, len(maxima), maxima, others),
+                    retry=verdict == "marginal" and error > STABLE_MARGIN,
+                    why=f"left its stability undecided (flow multiplier {error:.1e} from 1)",
+                    dt=g.dt)
 
 
 #: What a certificate says of an orbit by its verdict (orbit_verdict).
 VERDICT_TEXT = {
     "stable": "stable orbit",
     "unstable": "the orbit is unstable",
-    "marginal": (f"the orbit's stability is undetermined: a multiplier within "
-                 f"{STABLE_MARGIN:g} of the unit circle, nearer than a certificate decides"),
+    "marginal": ("the orbit's stability is undetermined: a multiplier nearer the unit circle "
+                 "than a certificate decides"),
 }
 
 
-def orbit_verdict(top: float) -> str:
+def orbit_verdict(top: float, error: float = 0.0) -> str:
     """"stable", "marginal" or "unstable" by ``top``, the largest modulus of the orbit's
-    nontrivial multipliers, against STABLE_MARGIN. Marginal is not "unstable": the 3-slip
-    orbit at k = 18, tau = 10 has |mu| = 0.9999913 (DDE-BIFTOOL 0.99999133) and attracts
-    (a run from eq. 19 approaches it at ln|mu| / T), but so near the circle a certificate
-    claims neither."""
-    if top > 1.0 + STABLE_MARGIN:
+    nontrivial multipliers, against STABLE_MARGIN or the multipliers' ``error`` if larger
+    (the flow multiplier's distance from 1, which is exactly 1 in the model). Marginal is
+    not "unstable": the 3-slip orbit at k = 18, tau = 10 has |mu| = 0.9999913 (DDE-BIFTOOL
+    0.99999133) and attracts (a run from eq. 19 approaches it at ln|mu| / T), but so near
+    the circle a certificate claims neither."""
+    margin = max(STABLE_MARGIN, error)
+    if top > 1.0 + margin:
         return "unstable"
-    if top >= 1.0 - STABLE_MARGIN:
+    if top >= 1.0 - margin:
         return "marginal"
     return "stable"
 
 
-def _apart(s: Summary, period: float, amplitude: float) -> str:
-    """How the orbit Newton found differs from the window's, if by more than MATCH_TOL
+def _apart(s: Summary, period: float, amplitude: float, tol: float = MATCH_TOL) -> str:
+    """How the orbit Newton found differs from the window's, if by more than ``tol``
     (empty: it is the window's orbit). The window may return after a multiple of the
     orbit's period (a flat maximum's timing noise), so its period is compared with the
     nearest multiple."""
     if not (math.isfinite(s.amplitude) and s.amplitude > 0.0):
         return "the window has no amplitude"
     far = []
-    if abs(amplitude / s.amplitude - 1.0) > MATCH_TOL:
+    if abs(amplitude / s.amplitude - 1.0) > tol:
         far.append(f"amplitude {s.amplitude:.6g}")
     j = max(1, round(s.period / period)) if math.isfinite(s.period) else 1
-    if math.isfinite(s.period) and abs(s.period / (j * period) - 1.0) > MATCH_TOL:
+    if math.isfinite(s.period) and abs(s.period / (j * period) - 1.0) > tol:
         far.append(f"period {s.period:.8g}")
     return ", ".join(far)
 
 
-def _minimal(pm: PeriodMap, sol: Solution) -> Solution:
-    """The orbit at its minimal period: a shot over sol.period / j (j up to the orbit's
-    maxima per period) that closes to SUBPERIOD_TOL of the amplitude is corrected at that
-    period (the window may return after a multiple of it)."""
+def _minimal(pm: PeriodMap, sol: Solution, coarse: _Attempt | None = None
+             ) -> tuple[Solution, dict[int, float], str]:
+    """The orbit at its minimal period (the window may return after a multiple of it), the
+    shots over T / j this step leaves undecided, and why the period is undetermined (empty
+    if it is not). A shot over sol.period / j (j up to the orbit's maxima per period) that
+    closes to SUBPERIOD_TOL of the amplitude is corrected at that period; one that misses
+    by less than AMBIGUOUS is undecided at the certifier's step (its miss may be the
+    scheme's) and decided at the finer one (``coarse``: the attempt that left it): there the
+    period is T / j if the miss fell as the scheme's error falls (below SUBPERIOD_TOL, or
+    SHRINK times and below CLOSED_FINE), T if it did not fall (by less than FELL), and
+    undetermined between."""
     from core.orbit import OrbitError
     from core.shooting import correct
     m_y = sol.shot.traj[1, pm.g.n_delay:sol.shot.col + 1]
     amplitude = float(np.ptp(m_y))
     w = pm.g.weights
+    unsure: dict[int, float] = {}
+    closures, coarse_dt = (coarse.closures, coarse.dt) if coarse is not None else ({}, math.nan)
     for j in range(len(orbit_maxima(m_y)), 1, -1):
         try:
             shot = pm.shoot(sol.z, sol.period / j)
         except OrbitError:
             continue
         d = shot.value - sol.z
-        if math.sqrt(float(np.dot(d * w, d))) < SUBPERIOD_TOL * amplitude:
+        miss = math.sqrt(float(np.dot(d * w, d))) / amplitude
+        before = closures.get(j)
+        closed = miss < SUBPERIOD_TOL or (
+            before is not None and miss < CLOSED_FINE and miss < before / SHRINK)
+        if closed and not unsure:
             try:
                 return correct(pm, sol.z, sol.period / j, sol.z, shot.d_dT,
-                               max_steps=NEWTON_BUDGET, max_products=KRYLOV_BUDGET)
+                               max_steps=NEWTON_BUDGET, max_products=KRYLOV_BUDGET), {}, ""
             except OrbitError:
                 continue
-    return sol
+        if before is not None and not closed and miss < before / FELL:
+            return sol, {}, (f"period T = {sol.period:.8g}; a shot over T / {j} misses by "
+                             f"{before:.1e} of the amplitude at dt {coarse_dt:.4g} "
+                             f"and {miss:.1e} at {pm.g.dt:.4g}: the miss falls with the "
+                             "step, but not to where T / j would be certain")
+        if coarse is None and miss < AMBIGUOUS:
+            unsure[j] = miss
+    return sol, unsure, ""
 
 
 def state_from_window(t: np.ndarray, window: np.ndarray, g: Grid, at: float) -> np.ndarray:

@@ -115,6 +115,9 @@ def test_an_orbit_other_than_the_runs_is_not_certified_for_it():
     rec = r.as_record()
     assert not r.certificate.certified and not r.certificate.scheme_off
     assert "is not the window's (amplitude 0.78" in r.certificate.text
+    # tried again at dt / 4: the certifier's orbit is the same (amplitude 0.4955, 0.4958)
+    assert "refined: at dt 0.01 found another orbit" in r.certificate.text
+    assert "the certifier's orbit is the same at both steps" in r.certificate.text
     assert rec["multipliers"] == [] and rec["slips"] == 0
     assert "dt-sensitive" in r.summary.flags and "(certified)" not in r.summary.detail
     ref = run_point(Params(k=37.6, tau=0.5), SolverSettings(method="rk4", dt=1e-4,
@@ -123,16 +126,45 @@ def test_an_orbit_other_than_the_runs_is_not_certified_for_it():
     assert abs(rec["amplitude"] / ref.summary.amplitude - 1) > 0.5  # Euler's own error
 
 
-def test_a_mismatch_the_certifiers_own_step_makes_blames_not_the_run():
+def test_a_mismatch_the_certifiers_own_step_makes_is_refined_away():
     """At b = 24, k = 12, tau = 7.43 (sharp slips) RK4 at the certifier's dt 0.01 gives an
     amplitude of 10.237 where RK4 at dt 1e-3 gives 9.771 and the run's Euler 9.773: the
-    run is not certified, and not flagged dt-sensitive for the certifier's error."""
+    certificate is tried again at dt / 4, where the orbit is the window's, and certified
+    there, saying so; the run is not flagged dt-sensitive for the certifier's error (before,
+    it was not certified: "is not the window's")."""
     p = Params(k=12.0, tau=7.43157894736842, b=24.0)
     r = run_point(p, SolverSettings(t_end=2e4, lyap=False))
     ref = run_point(p, SolverSettings(method="rk4", dt=1e-3, t_end=2e4, lyap=False))
     assert abs(r.summary.amplitude / ref.summary.amplitude - 1) < 1e-3
-    assert not r.certificate.certified and "is not the window's" in r.certificate.text
+    c = r.certificate
+    assert c.certified, c.text
+    # tau / 2975 = 0.002497, refined from tau / 744 = 0.009989 (Grid.of's whole steps)
+    assert "(RK4 at dt 0.002497, refined: at dt 0.009989 " in c.text
+    assert abs(c.amplitude / ref.summary.amplitude - 1) < 1e-3
+    orbit = find_orbit(p, dt=0.001)                          # an independent, finer orbit
+    assert c.period == pytest.approx(orbit.period, rel=1e-6)
+    assert c.slips == 1 and r.summary.maxima_per_period == 1
     assert "dt-sensitive" not in r.summary.flags
+
+
+def test_a_period_the_certifiers_step_leaves_undecided_is_decided_at_a_finer_one():
+    """b = 22, k = 12, tau = 2 (sharp slips): the window returns after 8 periods of 3.8024
+    and Newton converges there at dt 0.01, where the shots over T / 8, T / 4, T / 2 miss by
+    1.3e-4, 1.8e-4, 2.7e-5 of the amplitude (RK4's end interpolation, not the orbit). The
+    certificate called it a period-30.419 orbit with 8 slips, and the run "complex"; at
+    dt / 4 the misses fall 70 to 260 times and the orbit is certified at its period."""
+    p = Params(k=12.0, tau=2.0, b=22.0)
+    r = run_point(p, SolverSettings(t_end=2e4, lyap=False))
+    c = r.certificate
+    assert c.certified, c.text
+    assert "refined: at dt 0.01 left its period undecided (shots over T / 8 to 1.3e-04" in c.text
+    orbit = find_orbit(p, dt=0.001)                          # from its own simulation
+    assert orbit.maxima_per_period == 1
+    assert c.period == pytest.approx(orbit.period, rel=1e-6)  # measured 3.8023699, 3.8023700
+    assert c.slips == 1
+    s = r.summary
+    assert (s.regime, s.period_count, s.maxima_per_period) == ("oscillatory", 1, 1), s.detail
+    assert s.detail.startswith("period-1, 1 maximum")
 
 
 def test_a_window_that_grows_where_theory_decays_is_not_a_certified_rest():
