@@ -65,14 +65,20 @@ class Orbit:
     @property
     def maxima_per_period(self) -> int:
         """Local maxima of m_y in one period (a period-1 orbit may have several)."""
-        y = np.concatenate((self.m_y, self.m_y[1:3]))  # wrap around the section
-        t = np.arange(y.size, dtype=float)
-        peak_t, _ = find_peaks(t, y)
-        return int(np.sum((peak_t >= 1) & (peak_t < self.m_y.size)))
+        return maxima_in(self.m_y)
 
     @property
     def stable(self) -> bool:
         return self.multipliers.stable
+
+
+def maxima_in(m_y: np.ndarray) -> int:
+    """Local maxima of ``m_y`` over one period (sampled every step, first and last sample
+    the same point)."""
+    y = np.concatenate((m_y, m_y[1:3]))  # wrap around the section
+    t = np.arange(y.size, dtype=float)
+    peak_t, _ = find_peaks(t, y)
+    return int(np.sum((peak_t >= 1) & (peak_t < m_y.size)))
 
 
 def orbit_from(p: Params, g: Grid, sol: Solution, count: int = 10, slips: int = 1) -> Orbit:

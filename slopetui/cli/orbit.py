@@ -11,6 +11,7 @@ from core.classify import maxima_words
 from core.floquet import UNIT_TOL
 from core.orbit import Grid
 from core.orbit_seed import state_from_carried
+from core.orbit_step import step_check
 from core.params import PARAM_NAMES, ParameterError, Params
 from core.periodic_orbit import OrbitError, find_orbit
 from slopetui.cli.arguments.orbit import MAX_SLIPS
@@ -22,6 +23,7 @@ from slopetui.sweeps.orbit_point import seed_length
 
 if TYPE_CHECKING:
     from core.history import CarriedState
+    from core.orbit_step import StepCheck
     from core.periodic_orbit import Orbit
 
 #: Multipliers printed and in --json (the leading ones, by modulus).
@@ -33,9 +35,10 @@ def point_of(args: argparse.Namespace) -> tuple[Params, float]:
     return orbit_point.point_of(vars(args))
 
 
-def record(o: Orbit, runtime_s: float, t_seed: float) -> dict[str, object]:
-    """The --json object: the orbit, its multipliers and how it was found, then what it
-    was computed at (``params``, ``solver``, ``engine``: slopetui.provenance)."""
+def record(o: Orbit, check: StepCheck, runtime_s: float, t_seed: float) -> dict[str, object]:
+    """The --json object: the orbit, its multipliers and how it was found, the orbit at
+    half the step (``step_check``: core.orbit_step), then what it was computed at
+    (``params``, ``solver``, ``engine``: slopetui.provenance)."""
     m = o.multipliers
     values = m.values[:max(SHOWN, m.flow_index + 1)]
     return {
@@ -52,13 +55,14 @@ def record(o: Orbit, runtime_s: float, t_seed: float) -> dict[str, object]:
         "dt": o.grid.dt,
         "newton_steps": o.newton_steps,
         "residual": o.residual,
+        "step_check": check.record(),
         "runtime_s": runtime_s,
         # RK4 is the orbit's map (core.period_map); t_seed: the simulation of its first guess
         **computed_at(o.params, {"method": "rk4", "dt": o.grid.dt, "t_seed": t_seed}),
     }
 
 
-def render(o: Orbit, runtime_s: float) -> str:
+def render(o: Orbit, check: StepCheck, runtime_s: float) -> str:
     m = o.multipliers
     p = o.params
     lines = [
@@ -71,8 +75,9 @@ def render(o: Orbit, runtime_s: float) -> str:
            if m.verdict() == "marginal" else ")"),
         f"checks       flow multiplier {abs(m.flow - 1):.1e} from 1, translation multiplier "
         f"{m.translation:.15g}",
+        f"step check   {check.text(maxima_words(check.maxima_per_period) + ' per period')}",
         f"newton       {o.newton_steps} steps, residual {o.residual:.1e}, RK4 at dt = {o.grid.dt:g}; "
-        f"{runtime_s:.2f} s",
+        f"{runtime_s:.2f} s (with the step check)",
         "multipliers  (leading, by modulus; * the flow's)",
     ]
     for i, v in enumerate(m.values[:max(SHOWN, m.flow_index + 1)]):
@@ -132,6 +137,8 @@ def handle(args: argparse.Namespace) -> int:
     except OrbitError as exc:
         print(f"slopetui orbit: no orbit: {exc}", file=sys.stderr)
         return 1
+    check = step_check(orbit)
     took = time.process_time() - t0
-    print(json_text(record(orbit, took, t_seed)) if args.json else render(orbit, took))
+    print(json_text(record(orbit, check, took, t_seed)) if args.json
+          else render(orbit, check, took))
     return 0

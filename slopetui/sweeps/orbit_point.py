@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 from core.params import PARAM_NAMES, ParameterError, Params
 
 if TYPE_CHECKING:
+    from core.orbit_step import StepCheck
     from core.periodic_orbit import Orbit
 
 #: The seed simulation's shortest length: returns are looked for in its second half,
@@ -83,8 +84,11 @@ def seed_length(text: object, params: Params, dt: float) -> float:
     return value
 
 
-def compute_orbit(params: Params, dt: float, t_seed: float) -> Orbit:
+def compute_orbit(params: Params, dt: float, t_seed: float) -> tuple[Orbit, StepCheck]:
     """The orbit a simulation from eq. 19 settles on, corrected by shooting, with its
-    multipliers (core.periodic_orbit.find_orbit); OrbitError where there is none."""
-    from core.periodic_orbit import find_orbit  # numpy, numba, scipy: module docstring
-    return find_orbit(params, dt, t_seed)
+    multipliers (core.periodic_orbit.find_orbit), and the same orbit at half the step
+    (core.orbit_step); OrbitError where there is none."""
+    from core.orbit_step import step_check  # numpy, numba, scipy: module docstring
+    from core.periodic_orbit import find_orbit
+    orbit = find_orbit(params, dt, t_seed)
+    return orbit, step_check(orbit)

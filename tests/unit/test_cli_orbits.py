@@ -18,6 +18,30 @@ def test_orbit_json_has_the_documented_keys(capsys):
     assert abs(rec["flow_multiplier"][0] - 1) < 1e-7 and rec["maxima_per_period"] == 1
 
 
+def test_orbit_json_checks_the_orbit_at_half_the_step(capsys):
+    assert main(["orbit", "--k", "10", "--tau", "10", "--json"]) == 0
+    check = json.loads(capsys.readouterr().out)["step_check"]
+    assert check["dt"] == 0.005 and check["resolved"] is True and check["reason"] == ""
+    assert abs(check["period_change"]) < 1e-7 and abs(check["amplitude_change"]) < 1e-6
+    assert check["maxima_per_period"] == 1
+
+
+def test_an_orbit_its_step_does_not_resolve_says_so(capsys):
+    """Sharp slips (b = 24, k = 12, tau = 7.43): at dt 0.01 the orbit has amplitude 10.20
+    and 13 maxima a period, at 0.005 (and 0.0025, 1e-3) 9.771 and one; the command printed
+    the first as the orbit, with nothing to say it is the step's."""
+    assert main(["orbit", "--b", "24", "--k", "12", "--tau", "7.43", "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    check = rec["step_check"]
+    assert rec["maxima_per_period"] > 1 and check["maxima_per_period"] == 1
+    assert check["resolved"] is False and check["amplitude_change"] > 0.01
+    assert abs(check["amplitude"] - 9.771) < 1e-3
+    assert "not resolved at dt 0.01" in check["reason"]
+    assert main(["orbit", "--b", "24", "--k", "12", "--tau", "7.43", "--dt", "0.0025"]) == 0
+    out = capsys.readouterr().out
+    assert "amplitude 9.77108" in out and "1 maximum per period: resolved" in out
+
+
 def test_orbit_text_marks_the_flow_multiplier(capsys):
     assert main(["orbit", "--k", "10", "--tau", "10"]) == 0
     out = capsys.readouterr().out

@@ -18,6 +18,7 @@ from slopetui.tui.screens.analysis_form import Analysis, Checked, Field
 
 if TYPE_CHECKING:
     from core.branch_start import BranchSpec
+    from core.orbit_step import StepCheck
     from core.periodic_orbit import Orbit
     from slopetui.queue.hysteresis_jobs import HysteresisSpec
     from slopetui.store.database import Database
@@ -123,12 +124,14 @@ def _check_orbit(values: dict[str, str]) -> Checked:
                    f"a state of {2 * round(params.tau / dt):,} numbers (2 tau / dt)")
 
 
-def orbit_text(o: Orbit) -> str:
-    """The orbit's period, amplitude and leading multipliers, as `slopetui orbit` says them."""
+def orbit_text(o: Orbit, check: StepCheck) -> str:
+    """The orbit's period, amplitude, step check and leading multipliers, as `slopetui
+    orbit` says them."""
     m = o.multipliers
     lines = [f"period {o.period:.8g}, amplitude {o.amplitude:.5g} (peak to peak of m_y), "
              f"{'stable' if o.stable else 'unstable'} ({m.unstable_count} multipliers outside "
              "the unit circle)",
+             f"step check {check.text(f'{check.maxima_per_period} maxima a period')}",
              f"Newton: {o.newton_steps} steps, residual {o.residual:.1e}; multipliers (* the "
              "flow's):"]
     for i, v in enumerate(m.values[:SHOWN]):
@@ -140,7 +143,7 @@ def orbit_text(o: Orbit) -> str:
 def _start_orbit(_db: Database, request: tuple[Params, float, float]) -> str:
     from core.orbit import OrbitError  # numpy: loaded once an orbit is computed
     try:
-        return orbit_text(orbit_point.compute_orbit(*request))
+        return orbit_text(*orbit_point.compute_orbit(*request))
     except OrbitError as exc:
         return f"no orbit: {exc}"
 
