@@ -221,6 +221,7 @@ def test_the_orbit_form_computes_in_the_background_and_shows_the_multipliers(db)
                              or "no orbit" in text_of(form, "result"), timeout=180)
             shown = text_of(form, "result")
             assert "period " in shown and "multipliers outside the unit circle" in shown
+            assert "step check at dt 0.005: " in shown and "1 maximum a period: resolved" in shown
             assert app.screen is form  # it stays open on the result
 
     run(scenario)

@@ -127,11 +127,12 @@ def _check_orbit(values: dict[str, str]) -> Checked:
 def orbit_text(o: Orbit, check: StepCheck) -> str:
     """The orbit's period, amplitude, step check and leading multipliers, as `slopetui
     orbit` says them."""
+    from core.classify import maxima_words  # numpy: loaded once an orbit is computed
     m = o.multipliers
     lines = [f"period {o.period:.8g}, amplitude {o.amplitude:.5g} (peak to peak of m_y), "
              f"{'stable' if o.stable else 'unstable'} ({m.unstable_count} multipliers outside "
              "the unit circle)",
-             f"step check {check.text(f'{check.maxima_per_period} maxima a period')}",
+             f"step check {check.text(maxima_words(check.maxima_per_period) + ' a period')}",
              f"Newton: {o.newton_steps} steps, residual {o.residual:.1e}; multipliers (* the "
              "flow's):"]
     for i, v in enumerate(m.values[:SHOWN]):
