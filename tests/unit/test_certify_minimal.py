@@ -84,7 +84,7 @@ def test_at_the_finer_step_a_miss_that_fell_as_the_schemes_is_the_period(correct
     for fine in (6.9e-7, 4e-6):
         corrected.clear()
         sol, unsure, why = _minimal(Map({4: fine}), solution(), coarse({4: 1.8e-4}))
-        assert corrected == [2.0] and sol.period == 2.0 and why == "", fine
+        assert corrected == [2.0] and sol.period == 2.0 and why == "" and unsure == {}, fine
 
 
 def test_at_the_finer_step_a_miss_that_did_not_fall_is_the_orbits_own(corrected):
