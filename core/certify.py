@@ -342,7 +342,8 @@ def _attempt(tr: Trajectory, s: Summary, g: Grid, coarse: _Attempt | None = None
             f"({where}; Newton {sol.steps} steps, residual {sol.residual:.1e}"
             + (f"; flow multiplier {error:.1e} from 1" if error > STABLE_MARGIN else "") + ")")
     verdict = orbit_verdict(top, error)
-    return _Attempt(Certificate(verdict == "stable", f"{VERDICT_TEXT[verdict]}: {said}",
+    head = VERDICT_TEXT[verdict].format(margin=max(STABLE_MARGIN, error))
+    return _Attempt(Certificate(verdict == "stable", f"{head}: {said}",
                                 sol.period, amplitude, len(maxima), maxima, others),
                     retry=verdict == "marginal" and error > STABLE_MARGIN,
                     why=f"left its stability undecided (flow multiplier {error:.1e} from 1)",
@@ -353,8 +354,8 @@ def _attempt(tr: Trajectory, s: Summary, g: Grid, coarse: _Attempt | None = None
 VERDICT_TEXT = {
     "stable": "stable orbit",
     "unstable": "the orbit is unstable",
-    "marginal": ("the orbit's stability is undetermined: a multiplier nearer the unit circle "
-                 "than a certificate decides"),
+    "marginal": ("the orbit's stability is undetermined: a multiplier within {margin:.1g} of "
+                 "the unit circle, nearer than a certificate decides"),
 }
 
 
