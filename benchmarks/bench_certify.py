@@ -21,14 +21,12 @@ measured once, before the rounds, and printed apart (a worker pays it once).
 from __future__ import annotations
 
 import argparse
-import math
 import statistics
 import time
 
-from core.certify import CERTIFY_DT, MAX_DELAY_STEPS, Certificate, _attempt, certify
+from core.certify import Certificate, certify
 from core.classify import Summary, classify
 from core.lyapunov import estimate
-from core.orbit import Grid
 from core.params import Params
 from core.point import run_point
 from core.solve import SolverSettings, Trajectory, simulate
@@ -47,11 +45,8 @@ POINTS = {
 
 
 def first_attempt(tr: Trajectory, label: Summary) -> Certificate:
-    """The certification's first attempt alone (core.certify._periodic without its retry)."""
-    if label.attractor != "periodic" or not math.isfinite(label.period):
-        return certify(tr, label)
-    g = Grid.of(tr.params, max(CERTIFY_DT, tr.params.tau / MAX_DELAY_STEPS))
-    return _attempt(tr, label, g).certificate
+    """The certification's first attempt alone (no retry at dt / 4)."""
+    return certify(tr, label, retry=False)
 
 
 def main() -> None:

@@ -159,8 +159,10 @@ class Certificate:
 NOT_ATTEMPTED = Certificate(False, "not attempted")
 
 
-def certify(tr: Trajectory, s: Summary) -> Certificate:
-    """The certificate of a run whose window is classified as ``s``."""
+def certify(tr: Trajectory, s: Summary, retry: bool = True) -> Certificate:
+    """The certificate of a run whose window is classified as ``s``; ``retry`` = False:
+    an orbit's first attempt alone, without the retry at dt / REFINE (what the retry
+    costs and gains is measured against it: benchmarks/bench_certify.py)."""
     if tr.blew_up:
         return Certificate(False, f"blew up at t = {tr.t_blowup:.6g}")
     if s.attractor == "fixed-point":
@@ -170,7 +172,7 @@ def certify(tr: Trajectory, s: Summary) -> Certificate:
     if s.attractor == "periodic" and s.period_count > 0:
         if not math.isfinite(s.period):
             return Certificate(False, "too few maxima in the window to seed the period")
-        return _periodic(tr, s)
+        return _periodic(tr, s, retry)
     if s.attractor in ("fast-branch", "variance-state"):
         return Certificate(False, f"rest on a steady state off the fixed point ({s.attractor}): "
                                   "no linear theory of it here")
@@ -231,7 +233,7 @@ def _decay_rate(t: np.ndarray, y: np.ndarray, level: float) -> float:
     return float(np.polyfit(centres[keep], np.log(amps[keep]), 1)[0])
 
 
-def _periodic(tr: Trajectory, s: Summary) -> Certificate:
+def _periodic(tr: Trajectory, s: Summary, retry: bool = True) -> Certificate:
     """Newton-Krylov shooting from the end of the window, seeded with its return time, at
     the certifier's step; once more at REFINE times finer where that step may be what
     failed (_Attempt.retry)."""
@@ -247,7 +249,7 @@ def _periodic(tr: Trajectory, s: Summary) -> Certificate:
         return Certificate(False, f"the window ({t[-1] - t[0] if len(t) else 0:g}) is shorter "
                                   f"than the delay: no final state to shoot from")
     first = _attempt(tr, s, g)
-    if not first.retry:
+    if not (retry and first.retry):
         return first.certificate
     fine = Grid.of(p, g.dt / REFINE)
     return _attempt(tr, s, fine, coarse=first).certificate

@@ -117,3 +117,6 @@ def test_the_retry_runs_at_a_quarter_of_the_step(monkeypatch):
                          window=None)
     assert _periodic(tr, None) == "at 0.0025"
     assert steps == [(0.01, False), (0.0025, True)]
+    steps.clear()                                # the first attempt alone (the benchmarks')
+    assert _periodic(tr, None, retry=False) == "at 0.01"
+    assert steps == [(0.01, False)]
